@@ -1,0 +1,15 @@
+#pragma once
+// Subcommands of the `edx` command. Each adds itself to the app; its callback runs the library
+// call and throws CLI::RuntimeError(code) to exit with a non-zero status.
+#include <CLI/CLI.hpp>
+
+namespace edx::cli {
+
+/// `edx eval`: trajectory error (ATE, RPE, KITTI segment errors) of an estimate file.
+void add_eval_command(CLI::App& app);
+/// `edx gen`: renders a synthetic dataset of one of the four scenarios in the EuRoC layout.
+void add_gen_command(CLI::App& app);
+/// `edx trace`: runs the pipeline over a dataset and writes a trace database.
+void add_trace_command(CLI::App& app);
+
+}  // namespace edx::cli

@@ -1,0 +1,65 @@
+// Entry point of the `edx` command: registers the subcommands and maps failures to exit codes:
+// 0 success, 1 bad input or failed work (one-line message), 2 bad command line.
+#include <fmt/core.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <string>
+
+#include "cli/commands.hpp"
+#include "cli/version.hpp"
+#include "edx_revision.hpp"
+
+namespace {
+
+constexpr const char* kDescription =
+    "edx: design-space exploration of localization accelerators (after the Eudoxus paper).\n"
+    "Benchmarks run through the bootstrap script: ./edx bench des [--json]";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  spdlog::set_default_logger(spdlog::stderr_color_mt("edx"));
+  spdlog::set_pattern("edx: %^%l%$: %v");
+
+  CLI::App app{kDescription, "edx"};
+  app.set_version_flag(
+      "--version", std::string("edx ") + edx::cli::kVersion + " (" + edx::kSourceRevision + ")");
+  // At most one subcommand; a missing one is reported after parsing so that an unknown word
+  // is named as such rather than as a missing subcommand (CLI11 checks requirements first).
+  app.require_subcommand(0, 1);
+  app.fallthrough(false);
+
+  edx::cli::add_eval_command(app);
+  edx::cli::add_gen_command(app);
+  edx::cli::add_trace_command(app);
+
+  try {
+    app.parse(argc, argv);
+    if (app.get_subcommands().empty()) {
+      fmt::print(stderr, "edx: a subcommand is required (see edx --help)\n");
+      return 2;
+    }
+  } catch (const CLI::RuntimeError& e) {
+    return e.get_exit_code();  // a subcommand already reported its failure
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::string message = e.what();
+    if (const auto newline = message.find('\n'); newline != std::string::npos) {
+      message.resize(newline);
+    }
+    fmt::print(stderr, "edx: {} (see edx --help)\n", message);
+    return 2;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "edx: error: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}

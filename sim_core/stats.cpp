@@ -1,0 +1,296 @@
+#include "sim_core/stats.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <stdexcept>
+
+namespace edx::sim {
+
+// ---------------------------------------------------------------------------------- SampleSet
+
+void SampleSet::add(double value) {
+  if (!std::isfinite(value)) {
+    throw std::invalid_argument("edx::sim::SampleSet::add: sample is not a finite number");
+  }
+  samples_.push_back(value);
+  sorted_valid_ = false;
+  moments_valid_ = false;
+}
+
+void SampleSet::clear() noexcept {
+  samples_.clear();
+  sorted_.clear();
+  sorted_valid_ = moments_valid_ = true;
+  mean_ = squared_deviations_ = 0.0;
+}
+
+void SampleSet::require(std::size_t minimum, const char* statistic) const {
+  if (samples_.size() < minimum) {
+    throw std::domain_error(std::string("edx::sim::SampleSet::") + statistic + " needs at least " +
+                            std::to_string(minimum) + " sample(s), have " +
+                            std::to_string(samples_.size()));
+  }
+}
+
+void SampleSet::update_moments() const {
+  if (moments_valid_) return;
+  // Two passes: mean first, then the sum of squared deviations from it (numerically stable).
+  double sum = 0.0;
+  for (double x : samples_) sum += x;
+  mean_ = sum / static_cast<double>(samples_.size());
+  double squares = 0.0;
+  for (double x : samples_) squares += (x - mean_) * (x - mean_);
+  squared_deviations_ = squares;
+  moments_valid_ = true;
+}
+
+double SampleSet::sum() const {
+  double sum = 0.0;
+  for (double x : samples_) sum += x;
+  return sum;
+}
+
+double SampleSet::mean() const {
+  require(1, "mean");
+  update_moments();
+  return mean_;
+}
+
+double SampleSet::sd() const {
+  require(2, "sd");
+  update_moments();
+  return std::sqrt(squared_deviations_ / static_cast<double>(samples_.size() - 1));
+}
+
+double SampleSet::population_sd() const {
+  require(1, "population_sd");
+  update_moments();
+  return std::sqrt(squared_deviations_ / static_cast<double>(samples_.size()));
+}
+
+double SampleSet::rsd() const {
+  const double deviation = sd();
+  const double average = mean();
+  if (average == 0.0) throw std::domain_error("edx::sim::SampleSet::rsd: the mean is zero");
+  return deviation / average;
+}
+
+const std::vector<double>& SampleSet::sorted() const {
+  if (!sorted_valid_) {
+    sorted_ = samples_;
+    std::sort(sorted_.begin(), sorted_.end());
+    sorted_valid_ = true;
+  }
+  return sorted_;
+}
+
+double SampleSet::min() const {
+  require(1, "min");
+  return sorted().front();
+}
+
+double SampleSet::max() const {
+  require(1, "max");
+  return sorted().back();
+}
+
+double SampleSet::percentile(double p) const {
+  require(1, "percentile");
+  if (!(p >= 0.0 && p <= 100.0)) {
+    throw std::invalid_argument("edx::sim::SampleSet::percentile(" + std::to_string(p) +
+                                "): expected 0 <= p <= 100");
+  }
+  const std::vector<double>& x = sorted();
+  // h = (n - 1) p / 100; interpolate between x[floor h] and x[floor h + 1].
+  const double h = static_cast<double>(x.size() - 1) * p / 100.0;
+  const auto lower = static_cast<std::size_t>(std::floor(h));
+  const double fraction = h - static_cast<double>(lower);
+  if (fraction == 0.0 || lower + 1 >= x.size()) return x[lower];
+  return x[lower] + fraction * (x[lower + 1] - x[lower]);
+}
+
+// ------------------------------------------------------------------------------- TimeWeighted
+
+TimeWeighted::TimeWeighted(const Simulator& sim, double initial)
+    : sim_(&sim), current_(initial), max_(initial), start_(sim.now()), last_change_(sim.now()) {}
+
+void TimeWeighted::set(double value) {
+  const Time now = sim_->now();
+  // Close the constant piece [last_change_, now) at the old value.
+  area_ += current_ * static_cast<double>(now - last_change_);
+  last_change_ = now;
+  current_ = value;
+  max_ = std::max(max_, value);
+}
+
+void TimeWeighted::reset() {
+  start_ = last_change_ = sim_->now();
+  area_ = 0.0;
+  max_ = current_;
+}
+
+double TimeWeighted::integral() const {
+  return area_ + current_ * static_cast<double>(sim_->now() - last_change_);
+}
+
+Time TimeWeighted::elapsed() const { return sim_->now() - start_; }
+
+double TimeWeighted::mean() const {
+  const Time window = elapsed();
+  if (window == 0) {
+    throw std::domain_error("edx::sim::TimeWeighted::mean: the averaging window is empty");
+  }
+  return integral() / static_cast<double>(window);
+}
+
+// ------------------------------------------------------------------------------ StatsRegistry
+
+namespace {
+
+std::vector<std::string> split_name(const std::string& name) {
+  std::vector<std::string> segments;
+  std::size_t begin = 0;
+  for (;;) {
+    const std::size_t dot = name.find('.', begin);
+    segments.push_back(
+        name.substr(begin, dot == std::string::npos ? std::string::npos : dot - begin));
+    if (dot == std::string::npos) break;
+    begin = dot + 1;
+  }
+  return segments;
+}
+
+/// Value of an optional statistic: calls `statistic` and maps std::domain_error to null.
+template <class Function>
+nlohmann::json defined_or_null(Function statistic) {
+  try {
+    return statistic();
+  } catch (const std::domain_error&) {
+    return nullptr;
+  }
+}
+
+nlohmann::json describe(const SampleSet& s) {
+  return {{"count", s.count()},
+          {"mean", defined_or_null([&] { return s.mean(); })},
+          {"sd", defined_or_null([&] { return s.sd(); })},
+          {"rsd", defined_or_null([&] { return s.rsd(); })},
+          {"min", defined_or_null([&] { return s.min(); })},
+          {"p50", defined_or_null([&] { return s.p50(); })},
+          {"p90", defined_or_null([&] { return s.p90(); })},
+          {"p99", defined_or_null([&] { return s.p99(); })},
+          {"max", defined_or_null([&] { return s.max(); })}};
+}
+
+nlohmann::json describe(const TimeWeighted& t) {
+  return {{"mean", defined_or_null([&] { return t.mean(); })},
+          {"max", t.max()},
+          {"current", t.current()},
+          {"elapsed_ps", t.elapsed()}};
+}
+
+std::string format_number(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+}  // namespace
+
+void StatsRegistry::insert(const std::string& name, Entry entry) {
+  const auto fail = [&](const std::string& why) {
+    throw std::invalid_argument("edx::sim::StatsRegistry: statistic '" + name + "' " + why);
+  };
+  for (const std::string& segment : split_name(name)) {
+    if (segment.empty()) fail("has an empty name segment");
+    for (char c : segment) {
+      if (c == ' ' || c == '\t' || c == '\n' || c == '\r') fail("contains whitespace");
+    }
+  }
+  if (entries_.count(name) != 0) fail("is already registered");
+  // A name may not be both a leaf and a group: no registered name may be a segment prefix of
+  // this one, and this one may not be a segment prefix of a registered name.
+  for (std::size_t dot = name.find('.'); dot != std::string::npos; dot = name.find('.', dot + 1)) {
+    if (entries_.count(name.substr(0, dot)) != 0) {
+      fail("lies below the registered statistic '" + name.substr(0, dot) + "'");
+    }
+  }
+  const std::string group = name + ".";
+  const auto below = entries_.lower_bound(group);
+  if (below != entries_.end() && below->first.compare(0, group.size(), group) == 0) {
+    fail("is a group of the registered statistic '" + below->first + "'");
+  }
+  entries_.emplace(name, std::move(entry));
+}
+
+void StatsRegistry::add(const std::string& name, const Counter& counter) { insert(name, &counter); }
+
+void StatsRegistry::add(const std::string& name, const SampleSet& samples) {
+  insert(name, &samples);
+}
+
+void StatsRegistry::add(const std::string& name, const TimeWeighted& quantity) {
+  insert(name, &quantity);
+}
+
+void StatsRegistry::add_gauge(const std::string& name, std::function<double()> gauge) {
+  if (!gauge) {
+    throw std::invalid_argument("edx::sim::StatsRegistry: gauge '" + name + "' is empty");
+  }
+  insert(name, std::move(gauge));
+}
+
+nlohmann::json StatsRegistry::to_json() const {
+  nlohmann::json root = nlohmann::json::object();
+  for (const auto& [name, entry] : entries_) {
+    nlohmann::json* node = &root;
+    for (const std::string& segment : split_name(name)) node = &(*node)[segment];
+    if (const auto* counter = std::get_if<const Counter*>(&entry)) {
+      *node = (*counter)->value();
+    } else if (const auto* samples = std::get_if<const SampleSet*>(&entry)) {
+      *node = describe(**samples);
+    } else if (const auto* quantity = std::get_if<const TimeWeighted*>(&entry)) {
+      *node = describe(**quantity);
+    } else {
+      *node = defined_or_null(std::get<std::function<double()>>(entry));
+    }
+  }
+  return root;
+}
+
+std::vector<std::pair<std::string, double>> StatsRegistry::to_listing() const {
+  std::vector<std::pair<std::string, double>> listing;
+  const auto emit_fields = [&](const std::string& name, const nlohmann::json& fields) {
+    for (const auto& [field, value] : fields.items()) {
+      if (!value.is_null()) listing.emplace_back(name + "." + field, value.get<double>());
+    }
+  };
+  for (const auto& [name, entry] : entries_) {
+    if (const auto* counter = std::get_if<const Counter*>(&entry)) {
+      listing.emplace_back(name, static_cast<double>((*counter)->value()));
+    } else if (const auto* samples = std::get_if<const SampleSet*>(&entry)) {
+      emit_fields(name, describe(**samples));
+    } else if (const auto* quantity = std::get_if<const TimeWeighted*>(&entry)) {
+      emit_fields(name, describe(**quantity));
+    } else {
+      const nlohmann::json value = defined_or_null(std::get<std::function<double()>>(entry));
+      if (!value.is_null()) listing.emplace_back(name, value.get<double>());
+    }
+  }
+  std::sort(listing.begin(), listing.end());
+  return listing;
+}
+
+std::string StatsRegistry::to_text() const {
+  std::string text;
+  for (const auto& [name, value] : to_listing()) {
+    text += name;
+    text += ' ';
+    text += format_number(value);
+    text += '\n';
+  }
+  return text;
+}
+
+}  // namespace edx::sim

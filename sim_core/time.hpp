@@ -1,0 +1,52 @@
+#pragma once
+// Simulated time: an unsigned count of picoseconds. Integer time makes event order exact and
+// runs reproducible; 2^64 ps is about 213 days of simulated time.
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+
+namespace edx::sim {
+
+/// Simulated time (or a duration) in integer picoseconds.
+using Time = std::uint64_t;
+
+/// The largest representable time; also used as "no limit" by Simulator::run_until.
+inline constexpr Time kTimeMax = std::numeric_limits<Time>::max();
+
+namespace detail {
+/// value * scale, throwing std::overflow_error instead of wrapping around.
+constexpr Time scaled(std::uint64_t value, std::uint64_t scale, const char* overflow_message) {
+  if (value > kTimeMax / scale) throw std::overflow_error(overflow_message);
+  return value * scale;
+}
+}  // namespace detail
+
+/// `value` picoseconds.
+constexpr Time ps(std::uint64_t value) { return value; }
+/// `value` nanoseconds (x 10^3 ps).
+constexpr Time ns(std::uint64_t value) {
+  return detail::scaled(value, 1'000, "edx::sim: time overflow in ns()");
+}
+/// `value` microseconds (x 10^6 ps).
+constexpr Time us(std::uint64_t value) {
+  return detail::scaled(value, 1'000'000, "edx::sim: time overflow in us()");
+}
+/// `value` milliseconds (x 10^9 ps).
+constexpr Time ms(std::uint64_t value) {
+  return detail::scaled(value, 1'000'000'000, "edx::sim: time overflow in ms()");
+}
+
+/// `value` seconds rounded to the nearest picosecond (halves away from zero); throws
+/// std::out_of_range for negative, non-finite or unrepresentable values.
+Time seconds(double value);
+
+/// `t` in seconds (t / 10^12).
+constexpr double to_seconds(Time t) { return static_cast<double>(t) * 1e-12; }
+/// `t` in milliseconds (t / 10^9).
+constexpr double to_ms(Time t) { return static_cast<double>(t) * 1e-9; }
+/// `t` in microseconds (t / 10^6).
+constexpr double to_us(Time t) { return static_cast<double>(t) * 1e-6; }
+/// `t` in nanoseconds (t / 10^3).
+constexpr double to_ns(Time t) { return static_cast<double>(t) * 1e-3; }
+
+}  // namespace edx::sim

@@ -1,0 +1,200 @@
+// The trace database: round trip, refusal of bad output paths, nothing half written, and
+// the reader's checks of version, layout and rows.
+#include <SQLiteCpp/Database.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "workloads/trace/reader.hpp"
+#include "workloads/trace/schema.hpp"
+#include "workloads/trace/writer.hpp"
+
+namespace edx::trace {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+TraceMeta sample_meta() {
+  TraceMeta meta;
+  for (const auto& key : kRequiredMetaKeys) meta[std::string(key)] = "test";
+  return meta;
+}
+
+FrameTrace sample_frame(std::int64_t id) {
+  FrameTrace trace;
+  trace.frame.frame_id = id;
+  trace.frame.timestamp_ns = 1'000'000 * (id + 1);
+  trace.frame.sequence = "synthetic:test";
+  trace.frame.scenario = Scenario::OutdoorUnknown;
+  trace.frame.mode = BackendMode::Vio;
+  trace.frame.gps_available = true;
+  trace.frame.estimated_pose = PoseArray{1.0 * id, 2, 3, 1, 0, 0, 0};
+  trace.frame.frontend_host_ns = 5'000'000;
+  trace.frame.backend_host_ns = 2'000'000;
+  TaskRecord fd;
+  fd.task = Task::FD;
+  fd.image = Image::Left;
+  fd.host_ns = 1200;
+  fd.pixels = 640 * 480 + 320 * 240;
+  fd.levels = 2;
+  fd.candidates = 4000;
+  fd.keypoints = 1000;
+  fd.per_level = {{0, 640, 480, 640 * 480, 0, 0}, {1, 320, 240, 320 * 240, 0, 0}};
+  TaskRecord lss;
+  lss.task = Task::LSS;
+  lss.image = Image::Left;
+  lss.points = 800;
+  lss.iterations = 5600;
+  trace.tasks = {fd, lss};
+  KernelRecord gain;
+  gain.kernel = "kalman_gain";
+  gain.accelerable = true;
+  gain.m = 120;
+  gain.n = 195;
+  gain.host_ns = 300000;
+  gain.detail_json = R"({"clones":30})";
+  gain.ops = {{Op::Syrk, 120, 120, 195, op_flags::kSymmetric, 1000},
+              {Op::Potrf, 120, 120, 0, op_flags::kSymmetric | op_flags::kLower, 800},
+              {Op::Trsm, 120, 195, 0, op_flags::kLower, 900}};
+  KernelRecord propagate;
+  propagate.kernel = "imu_propagation";
+  propagate.host_ns = 15000;
+  trace.kernels = {propagate, gain};
+  return trace;
+}
+
+class TraceTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("edx-trace-test-" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write_sample(int frames) {
+    const fs::path path = dir_ / "trace.db";
+    TraceWriter writer(path, sample_meta());
+    for (int i = 0; i < frames; ++i) writer.append(sample_frame(i));
+    writer.finish();
+    return path;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(TraceTest, RoundTripPreservesEveryField) {
+  const fs::path path = write_sample(130);  // crosses two transaction batches of 64
+  TraceReader reader(path);
+  EXPECT_EQ(reader.frame_count(), 130u);
+  EXPECT_EQ(reader.meta().at("schema_version"), std::to_string(kSchemaVersion));
+  const auto frames = reader.read_all();
+  ASSERT_EQ(frames.size(), 130u);
+  for (int i = 0; i < 130; ++i) EXPECT_EQ(frames[i], sample_frame(i)) << "frame " << i;
+}
+
+TEST_F(TraceTest, RefusesExistingOutputUnlessOverwrite) {
+  const fs::path path = write_sample(1);
+  EXPECT_THAT([&] { TraceWriter(path, sample_meta()); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("output exists")));
+  TraceWriter writer(path, sample_meta(), {.overwrite = true});
+  writer.append(sample_frame(0));
+  writer.finish();
+  EXPECT_EQ(TraceReader(path).frame_count(), 1u);
+}
+
+TEST_F(TraceTest, UnfinishedWriterLeavesNothing) {
+  const fs::path path = dir_ / "trace.db";
+  {
+    TraceWriter writer(path, sample_meta());
+    writer.append(sample_frame(0));
+  }
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+TEST_F(TraceTest, WriterRejectsBadFrames) {
+  TraceWriter writer(dir_ / "trace.db", sample_meta());
+  EXPECT_THAT([&] { writer.append(sample_frame(1)); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("out of order")));
+  FrameTrace bad = sample_frame(0);
+  bad.tasks[0].pixels += 1;
+  EXPECT_THAT([&] { writer.append(bad); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("per_level pixels sum")));
+  bad = sample_frame(0);
+  bad.frame.estimated_pose = PoseArray{0, 0, 0, 0.5, 0, 0, 0};
+  EXPECT_THAT([&] { writer.append(bad); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("quaternion norm")));
+  bad = sample_frame(0);
+  bad.kernels[1].ops[0].flags = 1u << 20;
+  EXPECT_THAT([&] { writer.append(bad); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("unknown flag bits")));
+}
+
+TEST_F(TraceTest, WriterRequiresMetadata) {
+  TraceMeta meta = sample_meta();
+  meta.erase("host_cpu");
+  EXPECT_THAT([&] { TraceWriter(dir_ / "trace.db", meta); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("'host_cpu'")));
+}
+
+TEST_F(TraceTest, ReaderRejectsOtherSchemaVersion) {
+  const fs::path path = write_sample(2);
+  {
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE);
+    db.exec("UPDATE meta SET value = '99' WHERE key = 'schema_version'");
+  }
+  EXPECT_THAT([&] { TraceReader{path}; },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("schema version 99")));
+}
+
+TEST_F(TraceTest, ReaderRejectsChangedLayout) {
+  const fs::path path = write_sample(2);
+  {
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE);
+    db.exec("ALTER TABLE ops ADD COLUMN extra INTEGER");
+  }
+  EXPECT_THAT([&] { TraceReader{path}; },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("table ops does not match")));
+}
+
+TEST_F(TraceTest, ReaderNamesTheBadRow) {
+  const fs::path path = write_sample(3);
+  {
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE);
+    db.exec("UPDATE tasks SET task = 'XX' WHERE frame_id = 2 AND seq = 1");
+  }
+  TraceReader reader(path);
+  EXPECT_THAT([&] { reader.read_all(); }, ::testing::ThrowsMessage<std::runtime_error>(HasSubstr(
+                                              "tasks row (frame 2, seq 1): unknown task 'XX'")));
+}
+
+TEST_F(TraceTest, ReaderRejectsNonIncreasingTimestamps) {
+  const fs::path path = write_sample(3);
+  {
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE);
+    db.exec("UPDATE frames SET timestamp_ns = 1 WHERE frame_id = 2");
+  }
+  TraceReader reader(path);
+  EXPECT_THAT([&] { reader.read_all(); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("frames row 2: timestamp 1")));
+}
+
+TEST_F(TraceTest, ReaderRejectsNonTrace) {
+  const fs::path path = dir_ / "other.db";
+  {
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+    db.exec("CREATE TABLE t (x INTEGER)");
+  }
+  EXPECT_THAT([&] { TraceReader{path}; },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("not an edx trace")));
+  EXPECT_THAT([&] { TraceReader{dir_ / "missing.db"}; },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("no such trace file")));
+}
+
+}  // namespace
+}  // namespace edx::trace

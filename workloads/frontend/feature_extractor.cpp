@@ -1,0 +1,331 @@
+#include "workloads/frontend/feature_extractor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+#include "workloads/frontend/task_timer.hpp"
+
+namespace edx::frontend {
+namespace {
+
+constexpr int kHalfPatch = kOrbPatchSize / 2;
+constexpr int kFastBorder = 3;  // cv::FAST never reports corners within 3 px of the image edge
+
+/// FAST with non-maximum suppression on `roi` (offset `origin` in the level image); also counts
+/// the segment-test corners before suppression into `candidates`.
+std::vector<cv::KeyPoint> fast_corners(const cv::Mat& level, const cv::Rect& roi, int threshold,
+                                       std::int64_t& candidates) {
+  std::vector<cv::KeyPoint> raw, corners;
+  const cv::Mat view = level(roi);
+  cv::FAST(view, raw, threshold, /*nonmaxSuppression=*/false);
+  candidates += static_cast<std::int64_t>(raw.size());
+  cv::FAST(view, corners, threshold, /*nonmaxSuppression=*/true);
+  for (cv::KeyPoint& corner : corners) {
+    corner.pt.x += static_cast<float>(roi.x);
+    corner.pt.y += static_cast<float>(roi.y);
+  }
+  return corners;
+}
+
+/// ORB's intensity-centroid orientation (Rublee et al. 2011), as cv::ORB computes it before
+/// its descriptors but does not expose: over the disc of radius 15 around the rounded point,
+/// m10 = sum u I(u, v), m01 = sum v I(u, v), angle = atan2(m01, m10) in degrees [0, 360).
+float intensity_centroid_angle(const cv::Mat& image, cv::Point2f point,
+                               const std::vector<int>& row_half_width) {
+  const uchar* center = &image.at<uchar>(cvRound(point.y), cvRound(point.x));
+  const int step = static_cast<int>(image.step1());
+  int m01 = 0, m10 = 0;
+  for (int u = -kHalfPatch; u <= kHalfPatch; ++u) m10 += u * center[u];
+  for (int v = 1; v <= kHalfPatch; ++v) {
+    int row_difference = 0;  // sum over u of I(u, v) - I(u, -v)
+    const int half_width = row_half_width[static_cast<std::size_t>(v)];
+    for (int u = -half_width; u <= half_width; ++u) {
+      const int below = center[u + v * step], above = center[u - v * step];
+      row_difference += below - above;
+      m10 += u * (below + above);
+    }
+    m01 += v * row_difference;
+  }
+  return cv::fastAtan2(static_cast<float>(m01), static_cast<float>(m10));
+}
+
+}  // namespace
+
+FeatureExtractor::FeatureExtractor(const FrontendOptions& options) : options_(options) {
+  // Half width of the radius-15 disc per row v, made symmetric in u and v exactly as cv::ORB
+  // does (its umax table), so that orientations agree with ORB's own.
+  disc_row_half_width_.assign(kHalfPatch + 2, 0);
+  const int vmax = cvFloor(kHalfPatch * std::sqrt(2.0) / 2 + 1);
+  const int vmin = cvCeil(kHalfPatch * std::sqrt(2.0) / 2);
+  for (int v = 0; v <= vmax; ++v) {
+    disc_row_half_width_[static_cast<std::size_t>(v)] =
+        cvRound(std::sqrt(static_cast<double>(kHalfPatch * kHalfPatch - v * v)));
+  }
+  for (int v = kHalfPatch, v0 = 0; v >= vmin; --v) {
+    while (disc_row_half_width_[static_cast<std::size_t>(v0)] ==
+           disc_row_half_width_[static_cast<std::size_t>(v0 + 1)]) {
+      ++v0;
+    }
+    disc_row_half_width_[static_cast<std::size_t>(v)] = v0;
+    ++v0;
+  }
+}
+
+ImagePyramid FeatureExtractor::build_pyramid(const cv::Mat& image) const {
+  ImagePyramid pyramid;
+  pyramid.levels.push_back(image);
+  pyramid.scales.push_back(1.0);
+  for (int level = 1; level < options_.pyramid_levels; ++level) {
+    // Same size rule as cv::ORB: cvRound(W / s^l) with s^l in float.
+    const float scale = static_cast<float>(std::pow(options_.scale_factor, level));
+    const cv::Size size(cvRound(static_cast<float>(image.cols) / scale),
+                        cvRound(static_cast<float>(image.rows) / scale));
+    if (size.width < 1 || size.height < 1) break;
+    cv::Mat resized;
+    cv::resize(pyramid.levels.back(), resized, size, 0, 0, cv::INTER_LINEAR_EXACT);
+    pyramid.levels.push_back(resized);
+    pyramid.scales.push_back(scale);
+  }
+  return pyramid;
+}
+
+DetectedCorners FeatureExtractor::detect(const cv::Mat& image, trace::TaskRecord& fd) const {
+  ScopedTaskTimer timer(fd);
+  DetectedCorners out;
+  out.pyramid = build_pyramid(image);
+  const int margin = options_.edge_margin_px;
+  const int cell = options_.grid_cell_px;
+  fd.levels += static_cast<std::int64_t>(out.pyramid.levels.size());
+  out.ranked.resize(out.pyramid.levels.size());
+
+  for (std::size_t level = 0; level < out.pyramid.levels.size(); ++level) {
+    const cv::Mat& img = out.pyramid.levels[level];
+    const float scale = static_cast<float>(out.pyramid.scales[level]);
+    const std::int64_t pixels = static_cast<std::int64_t>(img.cols) * img.rows;
+    fd.pixels += pixels;
+    fd.per_level.push_back({static_cast<int>(level), img.cols, img.rows, pixels, 0, 0});
+
+    // Corners may lie in [margin, size - margin); FAST skips 3 px at the ROI edge.
+    const cv::Rect area(margin, margin, img.cols - 2 * margin, img.rows - 2 * margin);
+    if (area.width <= 0 || area.height <= 0) continue;
+    const cv::Rect fast_roi(area.x - kFastBorder, area.y - kFastBorder,
+                            area.width + 2 * kFastBorder, area.height + 2 * kFastBorder);
+    std::vector<cv::KeyPoint> corners =
+        fast_corners(img, fast_roi, options_.fast_threshold, fd.candidates);
+
+    // Grid over the detection area; cells left empty are searched again with the low threshold.
+    const int cols = (area.width + cell - 1) / cell, rows = (area.height + cell - 1) / cell;
+    auto cell_of = [&](const cv::Point2f& p) {
+      const int cx = std::min(cols - 1, (cvRound(p.x) - area.x) / cell);
+      const int cy = std::min(rows - 1, (cvRound(p.y) - area.y) / cell);
+      return cy * cols + cx;
+    };
+    std::vector<int> per_cell(static_cast<std::size_t>(cols * rows), 0);
+    for (const cv::KeyPoint& c : corners) ++per_cell[static_cast<std::size_t>(cell_of(c.pt))];
+    // Runs of consecutive empty cells in a grid row are searched in one call (the segment test
+    // near a run's edge reads 3 px beyond it, like the full-area pass does).
+    for (int cy = 0; cy < rows; ++cy) {
+      for (int cx = 0; cx < cols;) {
+        if (per_cell[static_cast<std::size_t>(cy * cols + cx)] > 0) {
+          ++cx;
+          continue;
+        }
+        int end = cx;
+        while (end < cols && per_cell[static_cast<std::size_t>(cy * cols + end)] == 0) ++end;
+        const cv::Rect run =
+            cv::Rect(area.x + cx * cell, area.y + cy * cell, (end - cx) * cell, cell) & area;
+        const cv::Rect retry_roi(run.x - kFastBorder, run.y - kFastBorder,
+                                 run.width + 2 * kFastBorder, run.height + 2 * kFastBorder);
+        for (const cv::KeyPoint& c :
+             fast_corners(img, retry_roi, options_.fast_min_threshold, fd.candidates)) {
+          corners.push_back(c);
+        }
+        cx = end;
+      }
+    }
+
+    // Rank within each cell by FAST score; order all by (rank, score, y, x): every cell's best
+    // corner comes before any cell's second best.
+    auto by_score = [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
+      if (a.response != b.response) return a.response > b.response;
+      if (a.pt.y != b.pt.y) return a.pt.y < b.pt.y;
+      return a.pt.x < b.pt.x;
+    };
+    std::vector<std::vector<cv::KeyPoint>> buckets(per_cell.size());
+    std::size_t deepest = 0;
+    for (const cv::KeyPoint& c : corners) {
+      std::vector<cv::KeyPoint>& bucket = buckets[static_cast<std::size_t>(cell_of(c.pt))];
+      bucket.push_back(c);
+      deepest = std::max(deepest, bucket.size());
+    }
+    for (std::vector<cv::KeyPoint>& bucket : buckets)
+      std::sort(bucket.begin(), bucket.end(), by_score);
+
+    std::vector<cv::KeyPoint>& ranked = out.ranked[level];
+    ranked.reserve(corners.size());
+    std::vector<cv::KeyPoint> round;
+    for (std::size_t rank = 0; rank < deepest; ++rank) {
+      round.clear();
+      for (const std::vector<cv::KeyPoint>& bucket : buckets) {
+        if (rank < bucket.size()) round.push_back(bucket[rank]);
+      }
+      std::sort(round.begin(), round.end(), by_score);
+      for (cv::KeyPoint k : round) {
+        k.pt *= scale;
+        k.octave = static_cast<int>(level);
+        k.size = kOrbPatchSize * scale;
+        k.angle = -1;
+        ranked.push_back(k);
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<cv::KeyPoint> FeatureExtractor::select(const DetectedCorners& corners,
+                                                   std::span<const cv::Point2f> occupied,
+                                                   int budget, int min_distance_px,
+                                                   trace::TaskRecord& fd) const {
+  ScopedTaskTimer timer(fd);
+  std::vector<cv::KeyPoint> selected;
+  if (budget <= 0 || corners.pyramid.levels.empty()) return selected;
+  const cv::Mat& base = corners.pyramid.levels.front();
+  const int radius = min_distance_px;
+
+  // Free-space mask in level-0 pixels: 0 within min_feature_distance of a taken point.
+  cv::Mat free_space(base.size(), CV_8U, cv::Scalar(255));
+  auto occupy = [&](cv::Point2f p) {
+    if (radius > 0) {
+      cv::circle(free_space, cv::Point(cvRound(p.x), cvRound(p.y)), radius, cv::Scalar(0),
+                 cv::FILLED);
+    }
+  };
+  auto is_free = [&](cv::Point2f p) {
+    const int x = std::clamp(cvRound(p.x), 0, base.cols - 1);
+    const int y = std::clamp(cvRound(p.y), 0, base.rows - 1);
+    return free_space.at<uchar>(y, x) != 0;
+  };
+  for (const cv::Point2f& p : occupied) occupy(p);
+
+  // ORB's share per level: n_l = N (1 - f) / (1 - f^L) f^l with f = 1 / scale_factor.
+  const std::size_t levels = corners.ranked.size();
+  const double f = 1.0 / options_.scale_factor;
+  std::vector<int> share(levels, 0);
+  double desired = budget * (1 - f) / (1 - std::pow(f, static_cast<double>(levels)));
+  int assigned = 0;
+  for (std::size_t level = 0; level + 1 < levels; ++level) {
+    share[level] = cvRound(desired);
+    assigned += share[level];
+    desired *= f;
+  }
+  share[levels - 1] = std::max(budget - assigned, 0);
+
+  std::vector<std::size_t> next(levels, 0);  // next ranked corner to consider per level
+  auto take_from = [&](std::size_t level, int wanted) {
+    int taken = 0;
+    const std::vector<cv::KeyPoint>& ranked = corners.ranked[level];
+    while (taken < wanted && next[level] < ranked.size()) {
+      const cv::KeyPoint& k = ranked[next[level]++];
+      if (!is_free(k.pt)) continue;
+      occupy(k.pt);
+      selected.push_back(k);
+      ++taken;
+    }
+    return taken;
+  };
+  int shortfall = 0;
+  for (std::size_t level = 0; level < levels; ++level) {
+    const int wanted = share[level] + shortfall;
+    shortfall = wanted - take_from(level, wanted);
+  }
+  for (std::size_t level = 0; level < levels && shortfall > 0; ++level) {
+    shortfall -= take_from(level, shortfall);
+  }
+  fd.keypoints += static_cast<std::int64_t>(selected.size());
+  return selected;
+}
+
+ImagePyramid FeatureExtractor::smooth(const ImagePyramid& pyramid,
+                                      trace::TaskRecord& if_task) const {
+  ScopedTaskTimer timer(if_task);
+  ImagePyramid smoothed;
+  smoothed.scales = pyramid.scales;
+  const int k = options_.gaussian_kernel_px;
+  for (std::size_t level = 0; level < pyramid.levels.size(); ++level) {
+    const cv::Mat& image = pyramid.levels[level];
+    cv::Mat out;
+    cv::GaussianBlur(image, out, cv::Size(k, k), options_.gaussian_sigma, options_.gaussian_sigma,
+                     cv::BORDER_REFLECT_101);
+    smoothed.levels.push_back(out);
+    const std::int64_t pixels = static_cast<std::int64_t>(image.cols) * image.rows;
+    if_task.pixels += pixels;
+    if_task.levels += 1;
+    if_task.per_level.push_back({static_cast<int>(level), image.cols, image.rows, pixels, 0, 0});
+  }
+  if_task.window_size = k;
+  return smoothed;
+}
+
+bool FeatureExtractor::describable(const ImagePyramid& pyramid, cv::Point2f point,
+                                   int octave) const {
+  if (octave < 0 || static_cast<std::size_t>(octave) >= pyramid.levels.size()) return false;
+  const cv::Mat& level = pyramid.levels[static_cast<std::size_t>(octave)];
+  const double scale = pyramid.scales[static_cast<std::size_t>(octave)];
+  const int x = cvRound(point.x / scale), y = cvRound(point.y / scale);
+  const int margin = options_.edge_margin_px;
+  return x >= margin && y >= margin && x < level.cols - margin && y < level.rows - margin;
+}
+
+cv::Mat FeatureExtractor::describe(const ImagePyramid& pyramid, const ImagePyramid& smoothed,
+                                   std::vector<cv::KeyPoint>& keypoints,
+                                   trace::TaskRecord& fc) const {
+  ScopedTaskTimer timer(fc);
+  cv::Mat descriptors(static_cast<int>(keypoints.size()), 32, CV_8U, cv::Scalar(0));
+  // One single-level ORB per level: the filtered level image (IF output) is handed over with
+  // the keypoints in level pixels. edgeThreshold = edge margin, so ORB's border filter keeps
+  // every keypoint passed. The pixels counted are those ORB smooths again internally.
+  cv::Ptr<cv::ORB> orb =
+      cv::ORB::create(options_.features_per_image, 1.2f, 1, options_.edge_margin_px, 0, 2,
+                      cv::ORB::HARRIS_SCORE, kOrbPatchSize, options_.fast_threshold);
+  for (std::size_t level = 0; level < pyramid.levels.size(); ++level) {
+    const cv::Mat& img = pyramid.levels[level];
+    const float scale = static_cast<float>(pyramid.scales[level]);
+    std::vector<cv::KeyPoint> at_level;
+    for (std::size_t i = 0; i < keypoints.size(); ++i) {
+      if (keypoints[i].octave != static_cast<int>(level)) continue;
+      if (!describable(pyramid, keypoints[i].pt, keypoints[i].octave)) {
+        throw std::logic_error("FeatureExtractor::describe: keypoint outside the edge margin");
+      }
+      cv::KeyPoint k = keypoints[i];
+      k.pt *= 1.0f / scale;
+      k.octave = 0;
+      k.class_id = static_cast<int>(i);
+      k.angle = intensity_centroid_angle(img, k.pt, disc_row_half_width_);
+      keypoints[i].angle = k.angle;
+      at_level.push_back(k);
+    }
+    if (at_level.empty()) continue;
+    const std::size_t handed = at_level.size();
+    cv::Mat level_descriptors;
+    orb->compute(smoothed.levels.at(level), at_level, level_descriptors);
+    if (at_level.size() != handed || level_descriptors.rows != static_cast<int>(handed)) {
+      throw std::logic_error("FeatureExtractor::describe: cv::ORB dropped keypoints");
+    }
+    for (std::size_t j = 0; j < at_level.size(); ++j) {
+      level_descriptors.row(static_cast<int>(j)).copyTo(descriptors.row(at_level[j].class_id));
+    }
+    const std::int64_t pixels = static_cast<std::int64_t>(img.cols) * img.rows;
+    fc.pixels += pixels;
+    fc.levels += 1;
+    fc.per_level.push_back({static_cast<int>(level), img.cols, img.rows, pixels, 0, 0});
+  }
+  fc.keypoints += static_cast<std::int64_t>(keypoints.size());
+  fc.descriptors += static_cast<std::int64_t>(keypoints.size());
+  fc.window_size = kOrbPatchSize;
+  return descriptors;
+}
+
+}  // namespace edx::frontend

@@ -1,0 +1,78 @@
+#pragma once
+// Feature extraction of one image (paper Sec. IV "Feature Extraction", Sec. V-B FD, IF, FC):
+// an ORB scale pyramid, FAST corners with non-maximum suppression spread over a grid (FD), a
+// Gaussian filter of the pyramid (IF) and oriented rBRIEF descriptors of the filtered pyramid
+// (FC, computed by cv::ORB).
+//
+// Coordinates: keypoints are handed over in level-0 (input image) pixels; KeyPoint::octave is the
+// pyramid level they were found on, and level-l pixels are level-0 pixels / scale^l.
+#include <opencv2/core.hpp>
+#include <span>
+#include <vector>
+
+#include "workloads/frontend/frontend_options.hpp"
+#include "workloads/trace/records.hpp"
+
+namespace edx::frontend {
+
+/// Side of ORB's rBRIEF patch on a keypoint's own level (KeyPoint::size = side * level scale).
+inline constexpr int kOrbPatchSize = 31;
+
+/// ORB scale pyramid: level l is the input resized to cvRound(W / s^l) x cvRound(H / s^l)
+/// (cv::resize INTER_LINEAR_EXACT from level l-1, as cv::ORB builds it).
+struct ImagePyramid {
+  std::vector<cv::Mat> levels;
+  std::vector<double> scales;  ///< s^l: level-0 pixels per level-l pixel
+};
+
+/// FD's first stage: the pyramid and, per level, the FAST corners after non-maximum
+/// suppression, ordered for grid spreading (best of every cell first, then second best, ...).
+struct DetectedCorners {
+  ImagePyramid pyramid;
+  std::vector<std::vector<cv::KeyPoint>> ranked;  ///< per level; level-0 coordinates
+};
+
+class FeatureExtractor {
+ public:
+  /// `options` must be valid (FrontendOptions::validate).
+  explicit FeatureExtractor(const FrontendOptions& options);
+
+  /// FD, detection: builds the pyramid, runs FAST (fast_threshold) with non-maximum
+  /// suppression on every level inside the edge margin, re-runs it with fast_min_threshold in
+  /// grid cells where nothing was found, and ranks corners per cell by FAST score. Adds pixels
+  /// per level, candidates (segment-test corners before suppression) and time to `fd`.
+  DetectedCorners detect(const cv::Mat& image, trace::TaskRecord& fd) const;
+
+  /// FD, selection: picks up to `budget` corners spread over levels (ORB's geometric share
+  /// n_l proportional to s^-l, shortfalls passed on) and grid cells, none closer than
+  /// `min_distance_px` (level-0 pixels) to an `occupied` point (e.g. tracked features) or to
+  /// each other. Adds the kept keypoints and time to `fd`.
+  std::vector<cv::KeyPoint> select(const DetectedCorners& corners,
+                                   std::span<const cv::Point2f> occupied, int budget,
+                                   int min_distance_px, trace::TaskRecord& fd) const;
+
+  /// IF: Gaussian filter (gaussian_kernel_px, gaussian_sigma; ORB's 7x7, sigma 2) of every
+  /// pyramid level, the input of FC. Fills `if_task` with pixels per level.
+  ImagePyramid smooth(const ImagePyramid& pyramid, trace::TaskRecord& if_task) const;
+
+  /// FC: orientation by intensity centroid (ORB's IC angle over a radius-15 disc of the raw
+  /// level, `pyramid`) and 256-bit rBRIEF descriptors by cv::ORB::compute on IF's output
+  /// (`smoothed`), level by level. cv::ORB::compute cannot be told to skip its own 7x7 sigma-2
+  /// smoothing of the image it is given, so the descriptors see both filters (sigma ~2.8 in
+  /// all) and FC's host time includes that second pass. Sets KeyPoint::angle; returns one
+  /// 32-byte row per keypoint in input order. Every keypoint must be describable().
+  cv::Mat describe(const ImagePyramid& pyramid, const ImagePyramid& smoothed,
+                   std::vector<cv::KeyPoint>& keypoints, trace::TaskRecord& fc) const;
+
+  /// Whether a level-0 point keeps the edge margin on pyramid level `octave`.
+  bool describable(const ImagePyramid& pyramid, cv::Point2f point, int octave) const;
+
+  /// Builds the pyramid alone (also part of detect).
+  ImagePyramid build_pyramid(const cv::Mat& image) const;
+
+ private:
+  FrontendOptions options_;
+  std::vector<int> disc_row_half_width_;  ///< ORB's umax: half width of the disc per row
+};
+
+}  // namespace edx::frontend

@@ -1,0 +1,221 @@
+#include "workloads/frontend/trace_runner.hpp"
+
+#include <fmt/core.h>
+
+#include <Eigen/Geometry>
+#include <chrono>
+#include <cstdlib>
+#include <map>
+#include <stdexcept>
+
+#include "workloads/frontend/stereo_frontend.hpp"
+#include "workloads/frontend/task_timer.hpp"
+#include "workloads/frontend/trace_meta.hpp"
+#include "workloads/trace/writer.hpp"
+
+namespace edx::frontend {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Ground truth is interpolated between samples at most this far apart.
+constexpr std::int64_t kMaxGroundTruthGapNs = 250'000'000;
+/// A frame "has GPS" when a fix lies within this time of it.
+constexpr std::int64_t kGpsWindowNs = 1'000'000'000;
+
+trace::PoseArray to_pose_array(const Eigen::Isometry3d& pose) {
+  Eigen::Quaterniond q(pose.rotation());
+  q.normalize();
+  if (q.w() < 0) q.coeffs() *= -1;  // one sign for the same rotation
+  const Eigen::Vector3d t = pose.translation();
+  return {t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z()};
+}
+
+bool gps_near(const std::vector<datasets::GpsFix>& gps, std::int64_t t_ns) {
+  const auto it =
+      std::lower_bound(gps.begin(), gps.end(), t_ns - kGpsWindowNs,
+                       [](const datasets::GpsFix& fix, std::int64_t t) { return fix.t_ns < t; });
+  return it != gps.end() && std::llabs(it->t_ns - t_ns) <= kGpsWindowNs;
+}
+
+std::string task_key(trace::Task task, trace::Image image) {
+  return fmt::format("{}/{}", trace::to_string(task), trace::to_string(image));
+}
+
+nlohmann::json stats_json(const SampleStats& s) {
+  return {{"mean", s.mean}, {"sd", s.sd},   {"min", s.min},
+          {"p50", s.p50},   {"p99", s.p99}, {"max", s.max}};
+}
+
+}  // namespace
+
+std::string sequence_name(const fs::path& dataset_path, datasets::DatasetFormat format,
+                          const datasets::DatasetOptions& options) {
+  fs::path path = fs::weakly_canonical(dataset_path);
+  if (path.filename().empty()) path = path.parent_path();  // trailing separator
+  std::string name;
+  if (format == datasets::DatasetFormat::kKitti && !options.kitti_sequence.empty()) {
+    name = options.kitti_sequence;
+  } else {
+    if (path.filename() == "mav0") path = path.parent_path();
+    name = path.filename().string();
+  }
+  return fmt::format("{}:{}", datasets::to_string(format), name);
+}
+
+TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& progress) {
+  const auto run_start = std::chrono::steady_clock::now();
+  options.frontend.validate();
+  if (options.out.empty()) throw std::runtime_error("no output trace file given");
+  // Refuse an existing output before any work (TraceWriter checks again when it opens).
+  if (fs::exists(options.out) && !options.overwrite) {
+    throw std::runtime_error(fmt::format("{}: output exists (refusing to overwrite; use --force)",
+                                         options.out.string()));
+  }
+  const std::unique_ptr<datasets::Dataset> dataset =
+      datasets::open_dataset(options.dataset_path, options.format, options.dataset);
+  std::size_t frames = dataset->frame_count();
+  if (options.max_frames) frames = std::min(frames, *options.max_frames);
+  if (frames == 0) {
+    throw std::runtime_error(fmt::format("{}: no stereo frames to process", dataset->name()));
+  }
+  const datasets::StereoCalibration& calibration = dataset->calibration();
+  const datasets::CameraIntrinsics& k = calibration.rectified;
+  const trace::Scenario scenario = options.scenario.value_or(
+      options.format == datasets::DatasetFormat::kKitti || !dataset->gps().empty()
+          ? trace::Scenario::OutdoorUnknown
+          : trace::Scenario::IndoorUnknown);
+
+  TraceRunSummary summary;
+  summary.out = options.out;
+  summary.dataset = dataset->name();
+  summary.sequence = sequence_name(options.dataset_path, options.format, options.dataset);
+  summary.resolution = fmt::format("{}x{}", k.width, k.height);
+  summary.scenario = trace::to_string(scenario);
+
+  trace::TraceMeta meta = host_and_build_meta();
+  meta["dataset"] = summary.dataset;
+  meta["sequence"] = summary.sequence;
+  meta["resolution"] = summary.resolution;
+  meta["camera_model"] =
+      fmt::format("pinhole-rectified fx={:.4f} fy={:.4f} cx={:.4f} cy={:.4f} b={:.6f}m", k.fx, k.fy,
+                  k.cx, k.cy, calibration.baseline_m);
+  meta["pipeline_params"] =
+      nlohmann::json{{"frontend", to_json(options.frontend)}, {"backend_mode", "none"}}.dump();
+  meta["frames"] = std::to_string(frames);
+  meta["opencv_version"] = CV_VERSION;
+
+  trace::TraceWriterOptions writer_options;
+  writer_options.overwrite = options.overwrite;
+  trace::TraceWriter writer(options.out, meta, writer_options);
+  StereoFrontend frontend(options.frontend, {k.fx, calibration.baseline_m});
+
+  std::vector<std::vector<double>> task_ms;
+  std::vector<std::pair<trace::Task, trace::Image>> task_kinds;
+  std::vector<double> frontend_ms, left, right, tracked, added, stereo;
+  for (std::size_t i = 0; i < frames; ++i) {
+    const datasets::StereoFrame images = dataset->load_frame(i);
+    FrontendFrame result;
+    try {
+      result = frontend.process(images.left, images.right);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(fmt::format("{}: {}", dataset->name(), e.what()));
+    }
+
+    trace::FrameTrace record;
+    record.frame.frame_id = static_cast<std::int64_t>(i);
+    record.frame.timestamp_ns = images.t_ns;
+    record.frame.sequence = summary.sequence;
+    record.frame.scenario = scenario;
+    record.frame.mode = trace::BackendMode::None;
+    record.frame.gps_available = gps_near(dataset->gps(), images.t_ns);
+    record.frame.map_available = false;
+    if (const auto truth = datasets::interpolate_ground_truth(dataset->ground_truth(), images.t_ns,
+                                                              kMaxGroundTruthGapNs)) {
+      record.frame.ground_truth_pose = to_pose_array(truth->T_world_body);
+      ++summary.ground_truth_frames;
+    }
+    record.frame.frontend_host_ns = result.host_ns;
+    record.frame.backend_host_ns = 0;
+    record.tasks = result.tasks;
+    writer.append(record);
+
+    if (task_ms.empty()) {
+      task_ms.resize(result.tasks.size());
+      for (const trace::TaskRecord& t : result.tasks) task_kinds.emplace_back(t.task, t.image);
+    }
+    for (std::size_t t = 0; t < result.tasks.size() && t < task_ms.size(); ++t) {
+      task_ms[t].push_back(static_cast<double>(result.tasks[t].host_ns) * 1e-6);
+    }
+    frontend_ms.push_back(static_cast<double>(result.host_ns) * 1e-6);
+    left.push_back(result.stats.left_keypoints);
+    right.push_back(result.stats.right_keypoints);
+    tracked.push_back(result.stats.tracked);
+    added.push_back(result.stats.new_features);
+    stereo.push_back(result.stats.stereo_matches);
+    if (progress) progress(i + 1, frames);
+  }
+  writer.finish();
+
+  summary.frames = frames;
+  for (std::size_t t = 0; t < task_ms.size(); ++t) {
+    summary.tasks.push_back({task_kinds[t].first, task_kinds[t].second, summarize(task_ms[t])});
+  }
+  summary.frontend_ms = summarize(frontend_ms);
+  summary.left_keypoints = summarize(left);
+  summary.right_keypoints = summarize(right);
+  summary.tracked = summarize(tracked);
+  summary.new_features = summarize(added);
+  summary.stereo_matches = summarize(stereo);
+  summary.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
+  return summary;
+}
+
+nlohmann::json to_json(const TraceRunSummary& s) {
+  nlohmann::json tasks = nlohmann::json::object();
+  for (const TaskTimeSummary& t : s.tasks) tasks[task_key(t.task, t.image)] = stats_json(t.ms);
+  return {
+      {"out", s.out.string()},
+      {"dataset", s.dataset},
+      {"sequence", s.sequence},
+      {"resolution", s.resolution},
+      {"scenario", s.scenario},
+      {"frames", s.frames},
+      {"ground_truth_frames", s.ground_truth_frames},
+      {"task_ms", tasks},
+      {"frontend_ms", stats_json(s.frontend_ms)},
+      {"per_frame",
+       {{"left_keypoints", stats_json(s.left_keypoints)},
+        {"right_keypoints", stats_json(s.right_keypoints)},
+        {"tracked", stats_json(s.tracked)},
+        {"new_features", stats_json(s.new_features)},
+        {"stereo_matches", stats_json(s.stereo_matches)}}},
+      {"wall_seconds", s.wall_seconds},
+  };
+}
+
+std::string format_summary(const TraceRunSummary& s) {
+  std::string text;
+  text += fmt::format("trace      {}\n", s.out.string());
+  text +=
+      fmt::format("dataset    {} ({}, {}, {})\n", s.dataset, s.sequence, s.resolution, s.scenario);
+  text += fmt::format("frames     {} ({} with ground truth) in {:.1f} s\n", s.frames,
+                      s.ground_truth_frames, s.wall_seconds);
+  text += fmt::format(
+      "per frame  left keypoints {:.0f}, right keypoints {:.0f}, tracked {:.0f}, new {:.0f}, "
+      "stereo matches {:.0f} (means)\n",
+      s.left_keypoints.mean, s.right_keypoints.mean, s.tracked.mean, s.new_features.mean,
+      s.stereo_matches.mean);
+  text += fmt::format("\n{:<8} {:>9} {:>9} {:>9} {:>9}\n", "task", "mean ms", "sd ms", "p99 ms",
+                      "max ms");
+  for (const TaskTimeSummary& t : s.tasks) {
+    text += fmt::format("{:<8} {:>9.3f} {:>9.3f} {:>9.3f} {:>9.3f}\n", task_key(t.task, t.image),
+                        t.ms.mean, t.ms.sd, t.ms.p99, t.ms.max);
+  }
+  text += fmt::format("{:<8} {:>9.3f} {:>9.3f} {:>9.3f} {:>9.3f}\n", "frontend", s.frontend_ms.mean,
+                      s.frontend_ms.sd, s.frontend_ms.p99, s.frontend_ms.max);
+  return text;
+}
+
+}  // namespace edx::frontend

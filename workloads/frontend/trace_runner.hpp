@@ -1,0 +1,80 @@
+#pragma once
+// The pipeline runner behind `edx trace`: opens a dataset, runs the stereo frontend on every
+// frame, and writes the trace (docs/TRACE.md) with one frames row and ten tasks rows per frame.
+// Backends are not run yet: frames carry backend_mode none and no estimated pose. The trace is
+// written to a temporary file and renamed at the end (TraceWriter): a failed run leaves nothing.
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "workloads/datasets/dataset.hpp"
+#include "workloads/frontend/frontend_options.hpp"
+#include "workloads/frontend/sample_stats.hpp"
+#include "workloads/trace/records.hpp"
+
+namespace edx::frontend {
+
+struct TraceRunOptions {
+  std::filesystem::path dataset_path;
+  datasets::DatasetFormat format = datasets::DatasetFormat::kEuroc;
+  datasets::DatasetOptions dataset;       ///< resize (--resolution), KITTI sequence
+  std::optional<std::size_t> max_frames;  ///< first N frames only (--frames)
+  std::filesystem::path out;
+  bool overwrite = false;  ///< replace an existing trace (--force)
+  /// Scenario written on every frame; default: outdoor_unknown for KITTI and for EuRoC-layout
+  /// data with GPS, indoor_unknown otherwise.
+  std::optional<trace::Scenario> scenario;
+  /// Frontend options. Traces run the tasks one after another by default, so that each task's
+  /// host time is its own and not inflated by the other tasks of the frame competing for the
+  /// cores (OpenCV's own threading inside a task stays on).
+  FrontendOptions frontend = [] {
+    FrontendOptions o;
+    o.parallel_images = false;
+    return o;
+  }();
+};
+
+/// Host-time statistics of one task row kind over the frames, in milliseconds.
+struct TaskTimeSummary {
+  trace::Task task = trace::Task::FD;
+  trace::Image image = trace::Image::Left;
+  SampleStats ms;
+};
+
+struct TraceRunSummary {
+  std::filesystem::path out;
+  std::string dataset;     ///< meta.dataset
+  std::string sequence;    ///< meta.sequence
+  std::string resolution;  ///< meta.resolution
+  std::string scenario;
+  std::size_t frames = 0;
+  std::size_t ground_truth_frames = 0;  ///< frames with a ground-truth pose
+  std::vector<TaskTimeSummary> tasks;   ///< in row order (FD L, IF L, ...)
+  SampleStats frontend_ms;              ///< wall time of the whole frontend per frame
+  SampleStats left_keypoints, right_keypoints, tracked, new_features, stereo_matches;
+  double wall_seconds = 0;  ///< whole run, including reading images and writing
+};
+
+/// Progress: frames done, frames total.
+using TraceProgress = std::function<void(std::size_t done, std::size_t total)>;
+
+/// Runs the frontend over the dataset and writes the trace. Throws std::runtime_error with a
+/// one-line message naming the file, frame or option on bad input (unreadable or missing image,
+/// image size changing mid-sequence, existing output without overwrite, no frames).
+TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& progress = {});
+
+/// The sequence name a trace records, e.g. "euroc:V1_01_easy" (the folder holding mav0/) or
+/// "kitti:01" (the sequence folder or options.kitti_sequence).
+std::string sequence_name(const std::filesystem::path& dataset_path, datasets::DatasetFormat format,
+                          const datasets::DatasetOptions& options);
+
+/// Machine-readable summary (`edx trace --json`).
+nlohmann::json to_json(const TraceRunSummary& summary);
+/// Human-readable summary: a few header lines and a table of task times.
+std::string format_summary(const TraceRunSummary& summary);
+
+}  // namespace edx::frontend

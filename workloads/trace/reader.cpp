@@ -1,0 +1,251 @@
+#include "workloads/trace/reader.hpp"
+
+#include <SQLiteCpp/Database.h>
+#include <SQLiteCpp/Statement.h>
+#include <fmt/core.h>
+
+#include <map>
+#include <stdexcept>
+
+#include "workloads/trace/codec.hpp"
+#include "workloads/trace/schema.hpp"
+#include "workloads/trace/validate.hpp"
+
+namespace edx::trace {
+namespace {
+
+constexpr std::array<const char*, 5> kTables{"meta", "frames", "tasks", "kernels", "ops"};
+
+/// Column names and declared types of a table, in order.
+std::vector<std::pair<std::string, std::string>> table_layout(SQLite::Database& db,
+                                                              const std::string& table) {
+  std::vector<std::pair<std::string, std::string>> columns;
+  SQLite::Statement query(db, fmt::format("PRAGMA table_info({})", table));
+  while (query.executeStep()) {
+    columns.emplace_back(query.getColumn(1).getString(), query.getColumn(2).getString());
+  }
+  return columns;
+}
+
+/// Typed access to the current row of a query, with error messages naming file, table, row.
+class Row {
+ public:
+  Row(SQLite::Statement& query, std::string where) : query_(query), where_(std::move(where)) {}
+
+  std::int64_t integer(int column) const {
+    const SQLite::Column value = query_.getColumn(column);
+    if (!value.isInteger()) fail(fmt::format("column {} is not an integer", value.getName()));
+    return value.getInt64();
+  }
+  std::int64_t count(int column) const {
+    const std::int64_t value = integer(column);
+    if (value < 0)
+      fail(fmt::format("column {} is negative ({})", query_.getColumnName(column), value));
+    return value;
+  }
+  bool flag(int column) const {
+    const std::int64_t value = integer(column);
+    if (value != 0 && value != 1) {
+      fail(fmt::format("column {} must be 0 or 1, is {}", query_.getColumnName(column), value));
+    }
+    return value == 1;
+  }
+  std::string text(int column) const {
+    const SQLite::Column value = query_.getColumn(column);
+    if (!value.isText()) fail(fmt::format("column {} is not text", value.getName()));
+    return value.getString();
+  }
+  std::optional<PoseArray> pose(int first) const {
+    int nulls = 0;
+    PoseArray pose{};
+    for (int i = 0; i < 7; ++i) {
+      const SQLite::Column value = query_.getColumn(first + i);
+      if (value.isNull()) {
+        ++nulls;
+      } else if (value.isFloat() || value.isInteger()) {
+        pose[static_cast<std::size_t>(i)] = value.getDouble();
+      } else {
+        fail(fmt::format("column {} is not a number", value.getName()));
+      }
+    }
+    if (nulls == 7) return std::nullopt;
+    if (nulls != 0)
+      fail(fmt::format("pose starting at column {} is partly NULL", query_.getColumnName(first)));
+    return pose;
+  }
+  template <typename Parse>
+  auto parsed(int column, Parse parse) const {
+    const std::string value = text(column);
+    try {
+      return parse(value);
+    } catch (const std::invalid_argument& e) {
+      fail(e.what());
+    }
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error(fmt::format("{}: {}", where_, what));
+  }
+
+ private:
+  SQLite::Statement& query_;
+  std::string where_;
+};
+
+}  // namespace
+
+TraceReader::TraceReader(std::filesystem::path path) : path_(std::move(path)) {
+  const std::string file = path_.string();
+  if (!std::filesystem::is_regular_file(path_)) {
+    throw std::runtime_error(fmt::format("{}: no such trace file", file));
+  }
+  try {
+    SQLite::Database db(file, SQLite::OPEN_READONLY);
+    if (!db.tableExists("meta")) {
+      throw std::runtime_error(fmt::format("{}: not an edx trace (no meta table)", file));
+    }
+    SQLite::Statement query(db, "SELECT key, value FROM meta");
+    while (query.executeStep()) {
+      meta_[query.getColumn(0).getString()] = query.getColumn(1).getString();
+    }
+    const auto version = meta_.find("schema_version");
+    if (version == meta_.end()) {
+      throw std::runtime_error(fmt::format("{}: meta lacks schema_version", file));
+    }
+    if (version->second != std::to_string(kSchemaVersion)) {
+      throw std::runtime_error(fmt::format("{}: trace schema version {}, this edx reads version {}",
+                                           file, version->second, kSchemaVersion));
+    }
+    SQLite::Database reference(":memory:", SQLite::OPEN_READWRITE);
+    reference.exec(std::string(kSchemaSql));
+    for (const char* table : kTables) {
+      if (table_layout(db, table) != table_layout(reference, table)) {
+        throw std::runtime_error(fmt::format("{}: table {} does not match schema version {}", file,
+                                             table, kSchemaVersion));
+      }
+    }
+    for (const auto& key : kRequiredMetaKeys) {
+      if (!meta_.contains(std::string(key))) {
+        throw std::runtime_error(fmt::format("{}: meta lacks key '{}'", file, key));
+      }
+    }
+    frame_count_ =
+        static_cast<std::size_t>(db.execAndGet("SELECT COUNT(*) FROM frames").getInt64());
+  } catch (const SQLite::Exception& e) {
+    throw std::runtime_error(fmt::format("{}: cannot read trace: {}", file, e.what()));
+  }
+}
+
+std::vector<FrameTrace> TraceReader::read_all() const {
+  const std::string file = path_.string();
+  std::vector<FrameTrace> frames;
+  frames.reserve(frame_count_);
+  try {
+    SQLite::Database db(file, SQLite::OPEN_READONLY);
+    std::map<std::string, std::int64_t> last_timestamp;  // per sequence
+
+    SQLite::Statement frame_query(db, "SELECT * FROM frames ORDER BY frame_id");
+    while (frame_query.executeStep()) {
+      const std::int64_t id = frame_query.getColumn(0).getInt64();
+      const Row row(frame_query, fmt::format("{}: frames row {}", file, id));
+      if (id != static_cast<std::int64_t>(frames.size())) {
+        row.fail(fmt::format("frame ids must run 0, 1, 2, ...; expected {}", frames.size()));
+      }
+      FrameTrace trace;
+      FrameRecord& f = trace.frame;
+      f.frame_id = id;
+      f.timestamp_ns = row.integer(1);
+      f.sequence = row.text(2);
+      f.scenario = row.parsed(3, parse_scenario);
+      f.mode = row.parsed(4, parse_backend_mode);
+      f.gps_available = row.flag(5);
+      f.map_available = row.flag(6);
+      f.backend_status = row.text(7);
+      f.estimated_pose = row.pose(8);
+      f.ground_truth_pose = row.pose(15);
+      f.frontend_host_ns = row.count(22);
+      f.backend_host_ns = row.count(23);
+      auto [previous, inserted] = last_timestamp.try_emplace(f.sequence, f.timestamp_ns);
+      if (!inserted) {
+        if (f.timestamp_ns <= previous->second) {
+          row.fail(fmt::format("timestamp {} not after {} in sequence {}", f.timestamp_ns,
+                               previous->second, f.sequence));
+        }
+        previous->second = f.timestamp_ns;
+      }
+      frames.push_back(std::move(trace));
+    }
+
+    auto frame_of = [&](const Row& row, std::int64_t id) -> FrameTrace& {
+      if (id < 0 || id >= static_cast<std::int64_t>(frames.size())) {
+        row.fail(fmt::format("refers to missing frame {}", id));
+      }
+      return frames[static_cast<std::size_t>(id)];
+    };
+
+    SQLite::Statement task_query(db, "SELECT * FROM tasks ORDER BY frame_id, seq");
+    while (task_query.executeStep()) {
+      const std::int64_t id = task_query.getColumn(0).getInt64();
+      const std::int64_t seq = task_query.getColumn(1).getInt64();
+      const Row row(task_query, fmt::format("{}: tasks row (frame {}, seq {})", file, id, seq));
+      FrameTrace& frame = frame_of(row, id);
+      if (seq != static_cast<std::int64_t>(frame.tasks.size())) row.fail("seq not consecutive");
+      TaskRecord t;
+      t.task = row.parsed(2, parse_task);
+      t.image = row.parsed(3, parse_image);
+      std::int64_t* counts[] = {&t.host_ns,     &t.pixels,       &t.levels,      &t.candidates,
+                                &t.keypoints,   &t.descriptors,  &t.comparisons, &t.windows,
+                                &t.window_size, &t.search_range, &t.points,      &t.iterations};
+      int column = 4;
+      for (std::int64_t* count : counts) *count = row.count(column++);
+      t.per_level = row.parsed(column, decode_per_level);
+      frame.tasks.push_back(std::move(t));
+    }
+
+    SQLite::Statement kernel_query(db, "SELECT * FROM kernels ORDER BY frame_id, seq");
+    while (kernel_query.executeStep()) {
+      const std::int64_t id = kernel_query.getColumn(0).getInt64();
+      const std::int64_t seq = kernel_query.getColumn(1).getInt64();
+      const Row row(kernel_query, fmt::format("{}: kernels row (frame {}, seq {})", file, id, seq));
+      FrameTrace& frame = frame_of(row, id);
+      if (seq != static_cast<std::int64_t>(frame.kernels.size())) row.fail("seq not consecutive");
+      KernelRecord k;
+      k.kernel = row.text(2);
+      k.host_ns = row.count(3);
+      k.accelerable = row.flag(4);
+      k.m = row.count(5);
+      k.n = row.count(6);
+      k.k = row.count(7);
+      k.detail_json = row.text(8);
+      frame.kernels.push_back(std::move(k));
+    }
+
+    SQLite::Statement op_query(db, "SELECT * FROM ops ORDER BY frame_id, kernel_seq, seq");
+    while (op_query.executeStep()) {
+      const std::int64_t id = op_query.getColumn(0).getInt64();
+      const std::int64_t kernel_seq = op_query.getColumn(1).getInt64();
+      const std::int64_t seq = op_query.getColumn(2).getInt64();
+      const Row row(op_query, fmt::format("{}: ops row (frame {}, kernel {}, seq {})", file, id,
+                                          kernel_seq, seq));
+      FrameTrace& frame = frame_of(row, id);
+      if (kernel_seq < 0 || kernel_seq >= static_cast<std::int64_t>(frame.kernels.size())) {
+        row.fail("refers to a missing kernel");
+      }
+      KernelRecord& kernel = frame.kernels[static_cast<std::size_t>(kernel_seq)];
+      if (seq != static_cast<std::int64_t>(kernel.ops.size())) row.fail("seq not consecutive");
+      OpRecord op;
+      op.op = row.parsed(3, parse_op);
+      op.m = row.count(4);
+      op.n = row.count(5);
+      op.k = row.count(6);
+      op.flags = static_cast<std::uint32_t>(row.count(7));
+      op.host_ns = row.count(8);
+      kernel.ops.push_back(op);
+    }
+  } catch (const SQLite::Exception& e) {
+    throw std::runtime_error(fmt::format("{}: cannot read trace: {}", file, e.what()));
+  }
+  for (const FrameTrace& frame : frames) validate_frame(frame, file);
+  return frames;
+}
+
+}  // namespace edx::trace

@@ -1,0 +1,105 @@
+#include "workloads/trace/validate.hpp"
+
+#include <fmt/core.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+namespace edx::trace {
+namespace {
+
+[[noreturn]] void fail(const std::string& where, const std::string& what) {
+  throw std::runtime_error(fmt::format("{}: {}", where, what));
+}
+
+void require_non_negative(std::int64_t value, const char* name, const std::string& where) {
+  if (value < 0) fail(where, fmt::format("{} is negative ({})", name, value));
+}
+
+void validate_pose(const std::optional<PoseArray>& pose, const char* name,
+                   const std::string& where) {
+  if (!pose) return;
+  double norm2 = 0;
+  for (std::size_t i = 0; i < pose->size(); ++i) {
+    if (!std::isfinite((*pose)[i])) fail(where, fmt::format("{} has a non-finite value", name));
+    if (i >= 3) norm2 += (*pose)[i] * (*pose)[i];
+  }
+  if (std::abs(std::sqrt(norm2) - 1.0) > 1e-6) {
+    fail(where, fmt::format("{} quaternion norm is {:.9f}, expected 1", name, std::sqrt(norm2)));
+  }
+}
+
+void validate_task(const TaskRecord& task, const std::string& where) {
+  const std::pair<std::int64_t, const char*> counts[] = {
+      {task.host_ns, "host_ns"},         {task.pixels, "pixels"},
+      {task.levels, "levels"},           {task.candidates, "candidates"},
+      {task.keypoints, "keypoints"},     {task.descriptors, "descriptors"},
+      {task.comparisons, "comparisons"}, {task.windows, "windows"},
+      {task.window_size, "window_size"}, {task.search_range, "search_range"},
+      {task.points, "points"},           {task.iterations, "iterations"}};
+  for (const auto& [value, name] : counts) require_non_negative(value, name, where);
+  if (task.per_level.empty()) return;
+  std::int64_t pixels = 0;
+  for (const LevelWork& level : task.per_level) {
+    if (level.level < 0 || level.width < 0 || level.height < 0 || level.pixels < 0 ||
+        level.points < 0 || level.iterations < 0) {
+      fail(where, fmt::format("per_level entry {} has a negative value", level.level));
+    }
+    pixels += level.pixels;
+  }
+  if (pixels != task.pixels) {
+    fail(where, fmt::format("per_level pixels sum to {}, task says {}", pixels, task.pixels));
+  }
+}
+
+void validate_kernel(const KernelRecord& kernel, const std::string& where) {
+  if (kernel.kernel.empty()) fail(where, "kernel name is empty");
+  require_non_negative(kernel.host_ns, "host_ns", where);
+  require_non_negative(kernel.m, "m", where);
+  require_non_negative(kernel.n, "n", where);
+  require_non_negative(kernel.k, "k", where);
+  const auto detail = nlohmann::json::parse(kernel.detail_json, nullptr, false);
+  if (detail.is_discarded() || !detail.is_object()) {
+    fail(where, fmt::format("detail is not a JSON object: '{}'", kernel.detail_json));
+  }
+  for (std::size_t i = 0; i < kernel.ops.size(); ++i) {
+    const OpRecord& op = kernel.ops[i];
+    const std::string op_where = fmt::format("{}, op {}", where, i);
+    require_non_negative(op.m, "m", op_where);
+    require_non_negative(op.n, "n", op_where);
+    require_non_negative(op.k, "k", op_where);
+    require_non_negative(op.host_ns, "host_ns", op_where);
+    if ((op.flags & ~op_flags::kAll) != 0) {
+      fail(op_where, fmt::format("unknown flag bits 0x{:x}", op.flags & ~op_flags::kAll));
+    }
+  }
+}
+
+}  // namespace
+
+void validate_frame(const FrameTrace& trace, const std::string& where) {
+  const FrameRecord& frame = trace.frame;
+  const std::string frame_where = fmt::format("{}: frame {}", where, frame.frame_id);
+  require_non_negative(frame.frame_id, "frame_id", frame_where);
+  require_non_negative(frame.frontend_host_ns, "frontend_host_ns", frame_where);
+  require_non_negative(frame.backend_host_ns, "backend_host_ns", frame_where);
+  if (frame.sequence.empty()) fail(frame_where, "sequence is empty");
+  if (frame.backend_status.empty()) fail(frame_where, "backend_status is empty");
+  if (frame.mode != BackendMode::None && frame.estimated_pose == std::nullopt &&
+      frame.backend_status == "ok") {
+    fail(frame_where, "backend ran with status ok but recorded no estimated pose");
+  }
+  validate_pose(frame.estimated_pose, "estimated pose", frame_where);
+  validate_pose(frame.ground_truth_pose, "ground-truth pose", frame_where);
+  for (std::size_t i = 0; i < trace.tasks.size(); ++i) {
+    validate_task(trace.tasks[i],
+                  fmt::format("{}, task {} ({})", frame_where, i, to_string(trace.tasks[i].task)));
+  }
+  for (std::size_t i = 0; i < trace.kernels.size(); ++i) {
+    validate_kernel(trace.kernels[i],
+                    fmt::format("{}, kernel {} ({})", frame_where, i, trace.kernels[i].kernel));
+  }
+}
+
+}  // namespace edx::trace

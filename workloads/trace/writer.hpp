@@ -1,0 +1,48 @@
+#pragma once
+// Writes a trace database. Frames are appended in order inside batched transactions into a
+// temporary file next to the target, which is renamed onto the target by finish(): a trace
+// that was not finished (error, crash) leaves nothing behind under the target name.
+#include <SQLiteCpp/Database.h>
+#include <SQLiteCpp/Statement.h>
+
+#include <filesystem>
+#include <memory>
+
+#include "workloads/trace/records.hpp"
+
+namespace edx::trace {
+
+struct TraceWriterOptions {
+  bool overwrite = false;  ///< replace an existing file (edx trace --force)
+  int frames_per_transaction = 64;
+};
+
+class TraceWriter {
+ public:
+  /// Creates the temporary database; throws std::runtime_error if `path` exists and overwrite
+  /// is off, or if `meta` lacks a required key (schema.hpp).
+  TraceWriter(std::filesystem::path path, TraceMeta meta, TraceWriterOptions options = {});
+  ~TraceWriter();
+  TraceWriter(const TraceWriter&) = delete;
+  TraceWriter& operator=(const TraceWriter&) = delete;
+
+  /// Validates and appends one frame; frame ids must run 0, 1, 2, ...
+  void append(const FrameTrace& frame);
+  /// Commits, closes and moves the database onto the target path.
+  void finish();
+  std::size_t frames_written() const { return frames_written_; }
+
+ private:
+  void insert_frame(const FrameTrace& frame);
+
+  std::filesystem::path path_;
+  std::filesystem::path temp_path_;
+  TraceWriterOptions options_;
+  std::unique_ptr<SQLite::Database> db_;
+  std::unique_ptr<SQLite::Statement> insert_frame_, insert_task_, insert_kernel_, insert_op_;
+  std::size_t frames_written_ = 0;
+  bool in_transaction_ = false;
+  bool finished_ = false;
+};
+
+}  // namespace edx::trace
