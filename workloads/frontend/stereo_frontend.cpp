@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cstring>
 #include <exception>
-#include <future>
+#include <functional>
+#include <initializer_list>
+#include <opencv2/core/utility.hpp>
 #include <stdexcept>
 
 #include "workloads/frontend/task_timer.hpp"
@@ -26,6 +28,31 @@ void check_image(const cv::Mat& image, const char* side, std::size_t frame) {
     throw std::runtime_error(
         fmt::format("frame {}: {} image has {} channel(s) of depth {} (expected 8-bit grayscale)",
                     frame, side, image.channels(), image.depth()));
+  }
+}
+
+/// Runs `jobs` concurrently on OpenCV's thread pool (cv::parallel_for_, one stripe per job,
+/// cv::getNumThreads() threads), waits for all and rethrows the first job's exception. OpenCV
+/// runs parallel_for_ calls made inside a running one serially, so the OpenCV functions the
+/// jobs call (LK, Gaussian filter, resize) do not compete with the jobs for the cores.
+void run_concurrently(std::initializer_list<std::function<void()>> jobs) {
+  const std::vector<std::function<void()>> list(jobs);
+  std::vector<std::exception_ptr> failures(list.size());
+  cv::parallel_for_(
+      cv::Range(0, static_cast<int>(list.size())),
+      [&](const cv::Range& range) {
+        for (int j = range.start; j < range.end; ++j) {
+          const auto index = static_cast<std::size_t>(j);
+          try {
+            list[index]();
+          } catch (...) {
+            failures[index] = std::current_exception();
+          }
+        }
+      },
+      static_cast<double>(list.size()));
+  for (const std::exception_ptr& failure : failures) {
+    if (failure) std::rethrow_exception(failure);
   }
 }
 
@@ -83,17 +110,18 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
   trace::TaskRecord mo = make_task(Task::MO, Image::Stereo);
   trace::TaskRecord dr = make_task(Task::DR, Image::Stereo);
 
-  // Three independent chains: the right image's extraction (FD R, IF R, FC R), the left
-  // image's detection and filtering (FD L, IF L), and temporal matching of the left image (DC,
-  // LSS). They run on three threads, which the operating system spreads over the cores.
+  // Stage 1, three independent chains: temporal matching of the left image (DC, LSS; the
+  // longest, started first), the left image's detection and filtering (FD L, IF L) and the
+  // right image's (FD R, IF R). Stage 2: FC R beside the left features' selection and FC L,
+  // which need the tracks. With parallel_images each stage's chains share OpenCV's pool.
   std::vector<cv::KeyPoint> right_keypoints;
-  cv::Mat right_descriptors;
-  auto right_chain = [&] {
-    const DetectedCorners corners = extractor_.detect(right, fd_right);
-    right_keypoints = extractor_.select(corners, {}, options_.right_features_per_image,
+  ImagePyramid right_smoothed;
+  DetectedCorners right_corners;
+  auto right_detection = [&] {
+    right_corners = extractor_.detect(right, fd_right);
+    right_keypoints = extractor_.select(right_corners, {}, options_.right_features_per_image,
                                         options_.right_min_feature_distance_px, fd_right);
-    const ImagePyramid smoothed = extractor_.smooth(corners.pyramid, if_right);
-    right_descriptors = extractor_.describe(corners.pyramid, smoothed, right_keypoints, fc_right);
+    right_smoothed = extractor_.smooth(right_corners.pyramid, if_right);
   };
   DetectedCorners left_corners;
   ImagePyramid left_smoothed;
@@ -108,25 +136,15 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
     dc.points = static_cast<std::int64_t>(previous_points_.size());
     tracks = tracker_.track(previous_pyramid_, pyramid, previous_points_, lss);
   };
+  cv::Mat right_descriptors;
+  auto right_description = [&] {
+    right_descriptors =
+        extractor_.describe(right_corners.pyramid, right_smoothed, right_keypoints, fc_right);
+  };
   if (options_.parallel_images) {
-    std::future<void> right_done = std::async(std::launch::async, right_chain);
-    std::future<void> left_detected = std::async(std::launch::async, left_detection);
-    std::exception_ptr failure;
-    try {
-      tracking_chain();
-    } catch (...) {
-      failure = std::current_exception();
-    }
-    for (std::future<void>* done : {&right_done, &left_detected}) {
-      try {
-        done->get();
-      } catch (...) {
-        if (!failure) failure = std::current_exception();
-      }
-    }
-    if (failure) std::rethrow_exception(failure);
+    run_concurrently({tracking_chain, left_detection, right_detection});
   } else {
-    right_chain();
+    right_detection();
     left_detection();
     tracking_chain();
   }
@@ -161,8 +179,17 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
   }
   out.stats.new_features = static_cast<int>(tracks_now.size()) - out.stats.tracked;
 
-  const cv::Mat left_descriptors =
-      extractor_.describe(left_corners.pyramid, left_smoothed, left_keypoints, fc_left);
+  cv::Mat left_descriptors;
+  auto left_description = [&] {
+    left_descriptors =
+        extractor_.describe(left_corners.pyramid, left_smoothed, left_keypoints, fc_left);
+  };
+  if (options_.parallel_images) {
+    run_concurrently({left_description, right_description});
+  } else {
+    right_description();
+    left_description();
+  }
   std::vector<StereoMatch> matches =
       matcher_.match(left_keypoints, left_descriptors, right_keypoints, right_descriptors, mo);
   matcher_.refine(left, right, left_keypoints, right_keypoints, matches, dr);

@@ -5,12 +5,16 @@
 // matches the left features into the right image, and records every task it ran with its host
 // time and work counts (docs/TRACE.md, tasks table).
 //
-// Per frame, in this order (three threads when parallel_images is on):
-//   chain 1: FD(R) detection + selection, IF(R) of the right pyramid, FC(R)
-//   chain 2: FD(L) detection, IF(L) of the left pyramid
-//   chain 3: DC(L) LK pyramid of the left image, LSS(L) tracking the previous left features
-//   then:    FD(L) selection of new features away from the tracks, FC(L) on tracks + new
-//            features, MO and DR (left features against right keypoints)
+// Per frame, in this order (stages 1 and 2 each run their chains concurrently on OpenCV's
+// thread pool when parallel_images is on):
+//   stage 1, chain 1: DC(L) LK pyramid of the left image, LSS(L) tracking the previous left
+//                     features
+//            chain 2: FD(L) detection, IF(L) of the left pyramid
+//            chain 3: FD(R) detection + selection, IF(R) of the right pyramid
+//   stage 2, chain 1: FD(L) selection of new features away from the tracks, FC(L) on tracks +
+//                     new features
+//            chain 2: FC(R)
+//   then:    MO and DR (left features against right keypoints)
 // LK (DC, LSS) and SAD block matching (DR) read the images themselves, not IF's output: on the
 // synthetic world both are more accurate unfiltered (the paper has DR read the raw image too),
 // and LK's eigenvalue test keeps more tracks on EuRoC.

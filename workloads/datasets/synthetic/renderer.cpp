@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -126,7 +127,9 @@ void Renderer::bin_boxes(ViewState& view, const RenderView& rv) const {
   std::partial_sum(view.tile_begin.begin(), view.tile_begin.end(), view.tile_begin.begin());
   view.entries.resize(static_cast<std::size_t>(view.tile_begin.back()));
   std::vector<int> fill(view.tile_begin.begin(), view.tile_begin.end() - 1);
-  for (const Candidate& cand : candidates) {
+  view.shaders.resize(candidates.size() * 6);
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    const Candidate& cand = candidates[c];
     const Box& b = boxes[static_cast<std::size_t>(cand.box)];
     TileEntry e;
     for (int a = 0; a < 3; ++a) {
@@ -135,6 +138,10 @@ void Renderer::bin_boxes(ViewState& view, const RenderView& rv) const {
     }
     e.d_near = cand.d_near;
     e.box = cand.box;
+    e.shaders = static_cast<int>(6 * c);
+    for (int face = 0; face < 6; ++face) {
+      view.shaders[6 * c + static_cast<std::size_t>(face)] = world_.face_shader(cand.box, face, o);
+    }
     for (int ty = cand.ty0; ty <= cand.ty1; ++ty) {
       for (int tx = cand.tx0; tx <= cand.tx1; ++tx) {
         view.entries[static_cast<std::size_t>(
@@ -148,8 +155,6 @@ namespace {
 
 // Four rays at once (four neighbouring pixels of a row) with GCC/Clang vector extensions: the
 // slab test of one box against four rays is a handful of vector instructions.
-using Float4 = float __attribute__((vector_size(16)));
-using Int4 = std::int32_t __attribute__((vector_size(16)));
 constexpr int kLanes = 4;
 
 inline Float4 splat(float v) { return Float4{v, v, v, v}; }
@@ -165,6 +170,14 @@ inline Float4 safe_inverse4(Float4 d) {
   return splat(1.0f) / (small ? signed_tiny : d);
 }
 
+/// fast_log2() of four values, bit for bit.
+inline Float4 fast_log2_4(Float4 x) {
+  const Int4 bits = std::bit_cast<Int4>(x);
+  const Float4 exponent = __builtin_convertvector((bits >> 23) - 127, Float4);  // x > 0
+  const Float4 m = std::bit_cast<Float4>((bits & 0x007FFFFF) | 0x3F800000);     // in [1, 2)
+  return exponent + ((-0.34484843f * m + 2.02466578f) * m - 1.67487759f);
+}
+
 }  // namespace
 
 std::int64_t Renderer::render_tile_row(const ViewState& view, int tile_row, cv::Mat& out,
@@ -173,7 +186,6 @@ std::int64_t Renderer::render_tile_row(const ViewState& view, int tile_row, cv::
   const int y_begin = tile_row * kTile;
   const int y_end = std::min(y_begin + kTile, view.camera.height);
   const Eigen::Matrix3f& R = view.R_world_camera;
-  const Eigen::Vector3f& o = view.origin;
   const float inf = std::numeric_limits<float>::infinity();
   std::int64_t tests = 0;
   for (int tx = 0; tx < view.tiles_x; ++tx) {
@@ -216,11 +228,49 @@ std::int64_t Renderer::render_tile_row(const ViewState& view, int tile_row, cv::
           const auto index = static_cast<std::int32_t>(e - begin);
           best = closer ? Int4{index, index, index, index} : best;
         }
+        if (depth_row != nullptr) {
+          for (int k = 0; k < lanes; ++k) depth_row[x0 + k] = t_best[k];
+        }
+        const float* angles = &view.dirs[(static_cast<std::size_t>(y) * width + x0) * 4 + 3];
+        // Footprint of the pixel on the surface: distance x angular size, stretched by the
+        // incidence (geometric mean of the two axes of the footprint ellipse):
+        // log2(t * angle / sqrt(cos)) = log2(t^2 * angle^2 / cos) / 2.
+        if (lanes == kLanes && best[0] >= 0 && all_lanes(best == best[0])) {
+          // All four rays hit one box: the entry face of each (entry_face() in vector form).
+          const TileEntry* hit = begin + best[0];
+          const Float4 near_x = vmin(hit->lo[0] * ix, hit->hi[0] * ix);
+          const Float4 near_y = vmin(hit->lo[1] * iy, hit->hi[1] * iy);
+          const Float4 near_z = vmin(hit->lo[2] * iz, hit->hi[2] * iz);
+          const Int4 y_beats_x = near_y > near_x;
+          const Float4 near_xy = y_beats_x ? near_y : near_x;
+          const Int4 z_wins = near_z > near_xy;
+          const Int4 axis = z_wins ? Int4{} + 2 : (y_beats_x ? Int4{} + 1 : Int4{});
+          if (all_lanes(axis == axis[0])) {
+            const Float4 d_axis = axis[0] == 0 ? dx : (axis[0] == 1 ? dy : dz);
+            const Float4 inv_axis = axis[0] == 0 ? ix : (axis[0] == 1 ? iy : iz);
+            const Int4 positive = inv_axis > 0.0f;
+            if (all_lanes(positive == positive[0])) {
+              // One face for all four: shade them together (same arithmetic as below).
+              const int face = 2 * axis[0] + (positive[0] ? 0 : 1);
+              const FaceShader& shader =
+                  view.shaders[static_cast<std::size_t>(hit->shaders + face)];
+              const Float4 r[3] = {t_best * dx, t_best * dy, t_best * dz};
+              const Float4 angle = {angles[0], angles[4], angles[8], angles[12]};
+              const Float4 abs_d = d_axis < 0.0f ? -d_axis : d_axis;
+              const Float4 cos_incidence = vmax(abs_d, splat(0.05f));
+              const Float4 extent = t_best * angle;
+              const Float4 log2_footprint =
+                  0.5f * fast_log2_4(vmax(extent * extent / cos_incidence, splat(1e-30f)));
+              const Float4 radiance = shader.shade4(r, log2_footprint);
+              for (int k = 0; k < kLanes; ++k) row[x0 + k] = radiance[k];
+              continue;
+            }
+          }
+        }
         for (int k = 0; k < lanes; ++k) {
           const int x = x0 + k;
           const Eigen::Vector3f d(dx[k], dy[k], dz[k]);
           const float t = t_best[k];
-          if (depth_row != nullptr) depth_row[x] = t;
           if (best[k] < 0) {
             row[x] = world_.sky_radiance(d);
             continue;
@@ -229,16 +279,13 @@ std::int64_t Renderer::render_tile_row(const ViewState& view, int tile_row, cv::
           const Eigen::Vector3f inv(ix[k], iy[k], iz[k]);
           const int face = entry_face(Eigen::Map<const Eigen::Vector3f>(hit->lo),
                                       Eigen::Map<const Eigen::Vector3f>(hit->hi), inv);
-          const Eigen::Vector3f p = o + t * d;
-          // Footprint of the pixel on the surface: distance x angular size, stretched by the
-          // incidence (geometric mean of the two axes of the footprint ellipse):
-          // log2(t * angle / sqrt(cos)) = log2(t^2 * angle^2 / cos) / 2.
-          const float angle = view.dirs[(static_cast<std::size_t>(y) * width + x) * 4 + 3];
+          const float r[3] = {t * dx[k], t * dy[k], t * dz[k]};  // hit point - camera centre
           const float cos_incidence = std::max(std::abs(d[face >> 1]), 0.05f);
-          const float extent = t * angle;
+          const float extent = t * angles[4 * k];
           const float log2_footprint =
               0.5f * fast_log2(std::max(extent * extent / cos_incidence, 1e-30f));
-          row[x] = world_.shade_log_footprint(hit->box, face, p, log2_footprint);
+          row[x] =
+              view.shaders[static_cast<std::size_t>(hit->shaders + face)].shade(r, log2_footprint);
         }
       }
     }

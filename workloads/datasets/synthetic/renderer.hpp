@@ -7,8 +7,10 @@
 // centre, so each tile's list is sorted front to back. Rays then go in packets of four
 // neighbouring pixels (4-wide vector slab tests) through their tile's boxes only, and stop as
 // soon as the next box's distance exceeds the nearest hit of every ray of the packet. The hit
-// face is shaded with trilinear (bilinear + mip) texture sampling; rays that leave the world see
-// the sky. Tile rows of all views are rendered in parallel.
+// face is shaded with mip-mapped (brilinear, see Texture::sample) texture sampling through the
+// box's per-frame face shaders; when all four rays of a packet hit the same face (the common
+// case) they are shaded together in vector form, bit for bit as one at a time. Rays that leave
+// the world see the sky. Tile rows of all views are rendered in parallel.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <opencv2/core.hpp>
@@ -60,6 +62,7 @@ class Renderer {
     float hi[3];   ///< box.max - camera centre
     float d_near;  ///< distance from the camera centre to the box (lower bound of any hit)
     int box;
+    int shaders;  ///< index of the box's six face shaders in ViewState::shaders
   };
 
   /// Per view: unit ray directions in the camera frame and the tile bins (CSR layout).
@@ -69,6 +72,7 @@ class Renderer {
     int tiles_x = 0, tiles_y = 0;
     std::vector<int> tile_begin;  ///< tiles_x * tiles_y + 1 offsets into entries
     std::vector<TileEntry> entries;
+    std::vector<FaceShader> shaders;  ///< 6 per visible box, relative to the camera centre
     Eigen::Matrix3f R_world_camera;
     Eigen::Vector3f origin;
   };

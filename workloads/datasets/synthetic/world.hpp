@@ -5,7 +5,7 @@
 // +axis. Texture coordinates on a face follow the viewer: u runs to the viewer's right and v
 // downwards on vertical faces (u along +x, v along +y on horizontal faces), in tiles of the
 // material's size, relative to the box's uv_origin. Radiance of a hit:
-//   L = light[face] * (gain * T(u, v, lod) + offset),   T the trilinear texture sample,
+//   L = light[face] * (gain * T(u, v, lod) + offset),   T the (b)rilinear texture sample,
 // with lod = log2(footprint / texel size), footprint the pixel's extent on the surface.
 #include <Eigen/Core>
 #include <array>
@@ -106,6 +106,34 @@ inline Eigen::Vector3f safe_inverse(const Eigen::Vector3f& d) {
   return inv;
 }
 
+/// The shading of one face of one box as seen from a viewpoint o: for the surface point
+/// p = o + r,
+///   u = u_scale r[u_axis] + u_offset,  v = v_scale r[v_axis] + v_offset   (tiles),
+///   L = light_gain T(u, v, log2_footprint + lod_offset) + light_offset,
+/// i.e. face_uv() and light * (gain T + offset) with the per-face constants folded.
+struct FaceShader {
+  const Texture* texture = nullptr;
+  int u_axis = 0, v_axis = 1;
+  float u_scale = 1, v_scale = 1, u_offset = 0, v_offset = 0;
+  float lod_offset = 0;
+  float light_gain = 1, light_offset = 0;
+
+  /// Radiance at r (3 floats, relative to the viewpoint) seen with a pixel footprint of
+  /// 2^log2_footprint metres.
+  float shade(const float* r, float log2_footprint) const {
+    const float u = u_scale * r[u_axis] + u_offset;
+    const float v = v_scale * r[v_axis] + v_offset;
+    return light_gain * texture->sample(u, v, log2_footprint + lod_offset) + light_offset;
+  }
+
+  /// shade() of four points (r[axis] holds the four values of that axis), bit for bit.
+  Float4 shade4(const Float4* r, Float4 log2_footprint) const {
+    const Float4 u = u_scale * r[u_axis] + u_offset;
+    const Float4 v = v_scale * r[v_axis] + v_offset;
+    return light_gain * texture->sample4(u, v, log2_footprint + lod_offset) + light_offset;
+  }
+};
+
 class World {
  public:
   World() = default;
@@ -151,12 +179,28 @@ class World {
   /// As shade(), with log2 of the footprint given.
   float shade_log_footprint(int box, int face, const Eigen::Vector3f& p,
                             float log2_footprint) const {
+    return face_shader(box, face, Eigen::Vector3f::Zero()).shade(p.data(), log2_footprint);
+  }
+
+  /// The shading of one face of one box folded into a few constants, for points given relative
+  /// to a viewpoint `origin` (p = origin + r); see FaceShader.
+  FaceShader face_shader(int box, int face, const Eigen::Vector3f& origin) const {
     const Box& b = boxes_[static_cast<std::size_t>(box)];
     const MaterialInfo& info = material_info_[b.face_material[static_cast<std::size_t>(face)]];
-    const Eigen::Vector2f uv = face_uv(b, info, face, p);
-    const float lod = log2_footprint + info.log2_texels_per_m;
-    return face_light_[static_cast<std::size_t>(face)] *
-           (info.gain * info.texture->sample(uv.x(), uv.y(), lod) + info.offset);
+    const FaceAxes& a = kFaceAxes[static_cast<std::size_t>(face)];
+    const float light = face_light_[static_cast<std::size_t>(face)];
+    FaceShader s;
+    s.texture = info.texture;
+    s.u_axis = a.u_axis;
+    s.v_axis = a.v_axis;
+    s.u_scale = a.u_sign * info.inv_tile_u;
+    s.v_scale = a.v_sign * info.inv_tile_v;
+    s.u_offset = s.u_scale * (origin[a.u_axis] - b.uv_origin[a.u_axis]);
+    s.v_offset = s.v_scale * (origin[a.v_axis] - b.uv_origin[a.v_axis]);
+    s.lod_offset = info.log2_texels_per_m;
+    s.light_gain = light * info.gain;
+    s.light_offset = light * info.offset;
+    return s;
   }
 
   /// Radiance of the sky in world direction d (unit).
