@@ -1,14 +1,13 @@
 // `edx gen`: renders a synthetic dataset of one of the four scenarios in the EuRoC layout.
 // Thin: parses arguments, calls edx::synthetic::generate_dataset, reports progress on stderr.
 #include <fmt/core.h>
-#include <unistd.h>
 
-#include <cstdio>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "cli/commands.hpp"
+#include "cli/progress.hpp"
 #include "workloads/datasets/synthetic/generator.hpp"
 
 namespace edx::cli {
@@ -31,25 +30,6 @@ struct GenArgs {
   bool no_image_noise = false;
 };
 
-/// Progress on stderr: a line rewritten in place on a terminal, a line per quarter otherwise.
-class Progress {
- public:
-  Progress() : tty_(isatty(fileno(stderr)) != 0) {}
-  void operator()(std::string_view run, int done, int total) {
-    const std::string label = run.empty() ? "" : std::string(run) + " run ";
-    if (tty_) {
-      fmt::print(stderr, "\redx: gen: {}{}/{} frames", label, done, total);
-      if (done == total) fmt::print(stderr, "\n");
-    } else if (done == total || (4 * done) / total != (4 * (done - 1)) / total) {
-      fmt::print(stderr, "edx: gen: {}{}/{} frames\n", label, done, total);
-    }
-    std::fflush(stderr);
-  }
-
- private:
-  bool tty_;
-};
-
 void run_gen(const GenArgs& a) {
   synthetic::GenerateOptions o;
   o.scenario = synthetic::parse_scenario(a.scenario);
@@ -65,9 +45,12 @@ void run_gen(const GenArgs& a) {
   o.gps.dropout_mean_s = a.gps_dropout_duration;
   o.imu.noise_free = a.imu_noise_free;
   o.image.enabled = !a.no_image_noise;
-  Progress progress;
-  const synthetic::GenerateSummary s = synthetic::generate_dataset(
-      o, [&](std::string_view run, int done, int total) { progress(run, done, total); });
+  ProgressBar bar("gen");
+  const synthetic::GenerateSummary s =
+      synthetic::generate_dataset(o, [&bar](std::string_view run, int done, int total) {
+        bar.update(static_cast<std::size_t>(done), static_cast<std::size_t>(total), "frames",
+                   run.empty() ? std::string() : std::string(run) + " run");
+      });
   fmt::print("wrote {}: {}, {} rig {}x{} (baseline {} m), seed {}\n", a.out, a.scenario,
              synthetic::to_string(s.rig.kind), s.rig.width, s.rig.height, s.rig.baseline_m, a.seed);
   for (const auto& run : s.runs) {

@@ -1,13 +1,12 @@
 // `edx trace`: runs the localization pipeline (the stereo frontend; backends as they land) over
 // a dataset and writes a trace database (docs/TRACE.md). Logic: workloads/frontend/trace_runner.
 #include <fmt/core.h>
-#include <unistd.h>
 
-#include <cstdio>
 #include <optional>
 #include <string>
 
 #include "cli/commands.hpp"
+#include "cli/progress.hpp"
 #include "workloads/datasets/dataset.hpp"
 #include "workloads/frontend/trace_runner.hpp"
 
@@ -28,24 +27,6 @@ struct TraceArguments {
   bool parallel = false;
 };
 
-/// A one-line progress bar on stderr, redrawn in place; only drawn on a terminal.
-class ProgressBar {
- public:
-  ProgressBar() : enabled_(::isatty(STDERR_FILENO) == 1) {}
-  void update(std::size_t done, std::size_t total) {
-    if (!enabled_ || total == 0) return;
-    constexpr std::size_t kWidth = 30;
-    const std::size_t filled = kWidth * done / total;
-    fmt::print(stderr, "\redx trace: [{}{}] {}/{} frames", std::string(filled, '#'),
-               std::string(kWidth - filled, ' '), done, total);
-    if (done == total) fmt::print(stderr, "\n");
-    std::fflush(stderr);
-  }
-
- private:
-  bool enabled_;
-};
-
 void run(const TraceArguments& args) {
   frontend::TraceRunOptions options;
   options.dataset_path = args.dataset;
@@ -60,9 +41,9 @@ void run(const TraceArguments& args) {
   options.frontend.features_per_image = args.features;
   options.frontend.parallel_images = args.parallel;
 
-  ProgressBar bar;
+  ProgressBar bar("trace");
   const frontend::TraceRunSummary summary = frontend::run_trace(
-      options, [&bar](std::size_t done, std::size_t total) { bar.update(done, total); });
+      options, [&bar](std::size_t done, std::size_t total) { bar.update(done, total, "frames"); });
   if (args.json) {
     fmt::print("{}\n", frontend::to_json(summary).dump(2));
   } else {
