@@ -1,5 +1,5 @@
-// `edx trace`: runs the localization pipeline (the stereo frontend; backends as they land) over
-// a dataset and writes a trace database (docs/TRACE.md). Logic: workloads/frontend/trace_runner.
+// `edx trace`: runs the localization pipeline (the stereo frontend and a backend) over a dataset
+// and writes a trace database (docs/TRACE.md). Logic: workloads/modes/trace_runner.
 #include <fmt/core.h>
 
 #include <optional>
@@ -8,7 +8,8 @@
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "workloads/datasets/dataset.hpp"
-#include "workloads/frontend/trace_runner.hpp"
+#include "workloads/modes/backend_registry.hpp"
+#include "workloads/modes/trace_runner.hpp"
 
 namespace edx::cli {
 namespace {
@@ -21,6 +22,7 @@ struct TraceArguments {
   std::string kitti_sequence;
   std::string scenario;
   std::string out;
+  std::string backend = "none";
   int features = frontend::FrontendOptions{}.features_per_image;
   bool force = false;
   bool json = false;
@@ -28,7 +30,7 @@ struct TraceArguments {
 };
 
 void run(const TraceArguments& args) {
-  frontend::TraceRunOptions options;
+  modes::TraceRunOptions options;
   options.dataset_path = args.dataset;
   options.format = datasets::parse_dataset_format(args.format);
   if (!args.resolution.empty())
@@ -40,14 +42,15 @@ void run(const TraceArguments& args) {
   options.overwrite = args.force;
   options.frontend.features_per_image = args.features;
   options.frontend.parallel_images = args.parallel;
+  options.make_backend = modes::backend_factory(args.backend);
 
   ProgressBar bar("trace");
-  const frontend::TraceRunSummary summary = frontend::run_trace(
+  const modes::TraceRunSummary summary = modes::run_trace(
       options, [&bar](std::size_t done, std::size_t total) { bar.update(done, total, "frames"); });
   if (args.json) {
-    fmt::print("{}\n", frontend::to_json(summary).dump(2));
+    fmt::print("{}\n", modes::to_json(summary).dump(2));
   } else {
-    fmt::print("{}", frontend::format_summary(summary));
+    fmt::print("{}", modes::format_summary(summary));
   }
 }
 
@@ -88,6 +91,9 @@ void add_trace_command(CLI::App& app) {
                   "data with GPS, else indoor_unknown)")
       ->check(
           CLI::IsMember({"indoor_unknown", "indoor_known", "outdoor_unknown", "outdoor_known"}));
+  cmd->add_option("--backend", args->backend, "Backend run on every frame (none: frontend only)")
+      ->check(CLI::IsMember(modes::backend_names()))
+      ->capture_default_str();
   cmd->add_option("--features", args->features, "Keypoint budget per image")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--parallel", args->parallel,

@@ -12,7 +12,6 @@
 #include "workloads/datasets/dataset.hpp"
 #include "workloads/frontend/frontend_options.hpp"
 #include "workloads/frontend/sample_stats.hpp"
-#include "workloads/frontend/trace_runner.hpp"
 
 namespace edx::frontend {
 

@@ -4,6 +4,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "workloads/trace/records.hpp"
+
 namespace edx::frontend {
 
 struct SampleStats {
@@ -18,5 +20,12 @@ struct SampleStats {
 
 /// Statistics of `values` (all zero for an empty sample).
 SampleStats summarize(const std::vector<double>& values);
+
+/// Host-time statistics of one task row kind over the frames, in milliseconds.
+struct TaskTimeSummary {
+  trace::Task task = trace::Task::FD;
+  trace::Image image = trace::Image::Left;
+  SampleStats ms;
+};
 
 }  // namespace edx::frontend

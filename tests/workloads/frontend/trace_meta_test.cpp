@@ -6,7 +6,7 @@
 
 #include <fstream>
 
-#include "tests/workloads/frontend/temp_dir.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "workloads/frontend/sample_stats.hpp"
 
 namespace edx::frontend {

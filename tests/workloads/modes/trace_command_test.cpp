@@ -8,10 +8,10 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/support/run_command.hpp"
-#include "tests/workloads/frontend/temp_dir.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "workloads/trace/reader.hpp"
 
-namespace edx::frontend {
+namespace edx::modes {
 namespace {
 
 namespace fs = std::filesystem;
@@ -105,4 +105,4 @@ TEST(TraceCommand, HelpListsTheOptions) {
 }
 
 }  // namespace
-}  // namespace edx::frontend
+}  // namespace edx::modes

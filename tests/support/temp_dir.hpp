@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace edx::frontend::testing {
+namespace edx::testing {
 
 class TempDir {
  public:
@@ -48,4 +48,4 @@ inline std::vector<std::string> entries(const std::filesystem::path& dir) {
   return names;
 }
 
-}  // namespace edx::frontend::testing
+}  // namespace edx::testing

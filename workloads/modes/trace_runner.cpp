@@ -1,20 +1,27 @@
-#include "workloads/frontend/trace_runner.hpp"
+#include "workloads/modes/trace_runner.hpp"
 
 #include <fmt/core.h>
 
 #include <Eigen/Geometry>
 #include <chrono>
 #include <cstdlib>
+#include <limits>
 #include <map>
+#include <span>
 #include <stdexcept>
 
+#include "workloads/eval/trajectory.hpp"
 #include "workloads/frontend/stereo_frontend.hpp"
 #include "workloads/frontend/task_timer.hpp"
 #include "workloads/frontend/trace_meta.hpp"
 #include "workloads/trace/writer.hpp"
 
-namespace edx::frontend {
+namespace edx::modes {
 namespace {
+
+using frontend::FrontendFrame;
+using frontend::StereoFrontend;
+using frontend::summarize;
 
 namespace fs = std::filesystem;
 
@@ -36,6 +43,24 @@ bool gps_near(const std::vector<datasets::GpsFix>& gps, std::int64_t t_ns) {
       std::lower_bound(gps.begin(), gps.end(), t_ns - kGpsWindowNs,
                        [](const datasets::GpsFix& fix, std::int64_t t) { return fix.t_ns < t; });
   return it != gps.end() && std::llabs(it->t_ns - t_ns) <= kGpsWindowNs;
+}
+
+/// Elements of a time-sorted stream with t_begin < t <= t_end.
+template <class Sample>
+std::span<const Sample> between(const std::vector<Sample>& samples, std::int64_t t_begin,
+                                std::int64_t t_end) {
+  const auto after = [](std::int64_t t, const Sample& s) { return t < s.t_ns; };
+  const auto first = std::upper_bound(samples.begin(), samples.end(), t_begin, after);
+  const auto last = std::upper_bound(first, samples.end(), t_end, after);
+  return {first, last};
+}
+
+eval::StampedPose stamped(std::int64_t t_ns, std::int64_t index, const Eigen::Isometry3d& pose) {
+  eval::StampedPose p;
+  p.time_s = static_cast<double>(t_ns) * 1e-9;
+  p.frame_index = index;
+  p.pose = eval::Pose(pose.matrix());
+  return p;
 }
 
 std::string task_key(trace::Task task, trace::Image image) {
@@ -93,15 +118,20 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
   summary.resolution = fmt::format("{}x{}", k.width, k.height);
   summary.scenario = trace::to_string(scenario);
 
-  trace::TraceMeta meta = host_and_build_meta();
+  trace::TraceMeta meta = frontend::host_and_build_meta();
   meta["dataset"] = summary.dataset;
   meta["sequence"] = summary.sequence;
   meta["resolution"] = summary.resolution;
   meta["camera_model"] =
       fmt::format("pinhole-rectified fx={:.4f} fy={:.4f} cx={:.4f} cy={:.4f} b={:.6f}m", k.fx, k.fy,
                   k.cx, k.cy, calibration.baseline_m);
-  meta["pipeline_params"] =
-      nlohmann::json{{"frontend", to_json(options.frontend)}, {"backend_mode", "none"}}.dump();
+  std::unique_ptr<backend::Backend> backend;
+  if (options.make_backend) backend = options.make_backend(*dataset);
+  summary.backend_mode = trace::to_string(backend ? backend->mode() : trace::BackendMode::None);
+  meta["pipeline_params"] = nlohmann::json{
+      {"frontend", frontend::to_json(options.frontend)},
+      {"backend_mode",
+       summary.backend_mode}}.dump();
   meta["frames"] = std::to_string(frames);
   meta["opencv_version"] = CV_VERSION;
 
@@ -112,7 +142,13 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
 
   std::vector<std::vector<double>> task_ms;
   std::vector<std::pair<trace::Task, trace::Image>> task_kinds;
-  std::vector<double> frontend_ms, left, right, tracked, added, stereo;
+  std::vector<double> frontend_ms, left, right, tracked, added, stereo, backend_ms;
+  std::map<std::string, std::vector<double>> kernel_ms;  // name -> ms per frame (0 when absent)
+  eval::Trajectory truth_poses, estimated_poses;
+  truth_poses.source = dataset->name() + " ground truth";
+  estimated_poses.source = "the estimate of " + dataset->name();
+  truth_poses.stamp_kind = estimated_poses.stamp_kind = eval::StampKind::kSeconds;
+  std::int64_t previous_t_ns = std::numeric_limits<std::int64_t>::min();
   for (std::size_t i = 0; i < frames; ++i) {
     const datasets::StereoFrame images = dataset->load_frame(i);
     FrontendFrame result;
@@ -127,17 +163,43 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
     record.frame.timestamp_ns = images.t_ns;
     record.frame.sequence = summary.sequence;
     record.frame.scenario = scenario;
-    record.frame.mode = trace::BackendMode::None;
+    record.frame.mode = backend ? backend->mode() : trace::BackendMode::None;
     record.frame.gps_available = gps_near(dataset->gps(), images.t_ns);
     record.frame.map_available = false;
     if (const auto truth = datasets::interpolate_ground_truth(dataset->ground_truth(), images.t_ns,
                                                               kMaxGroundTruthGapNs)) {
       record.frame.ground_truth_pose = to_pose_array(truth->T_world_body);
+      truth_poses.poses.push_back(
+          stamped(images.t_ns, static_cast<std::int64_t>(i), truth->T_world_body));
       ++summary.ground_truth_frames;
     }
     record.frame.frontend_host_ns = result.host_ns;
-    record.frame.backend_host_ns = 0;
     record.tasks = result.tasks;
+    if (backend) {
+      backend::BackendInput input;
+      input.t_ns = images.t_ns;
+      input.frontend = &result;
+      input.imu = between(dataset->imu(), previous_t_ns, images.t_ns);
+      input.gps = between(dataset->gps(), previous_t_ns, images.t_ns);
+      const std::int64_t start_ns = frontend::steady_now_ns();
+      backend::BackendOutput output = backend->process(input);
+      record.frame.backend_host_ns = frontend::steady_now_ns() - start_ns;
+      record.frame.backend_status = output.status;
+      if (output.T_world_body) {
+        record.frame.estimated_pose = to_pose_array(*output.T_world_body);
+        estimated_poses.poses.push_back(
+            stamped(images.t_ns, static_cast<std::int64_t>(i), *output.T_world_body));
+      }
+      for (auto& [name, series] : kernel_ms) series.push_back(0.0);
+      for (const trace::KernelRecord& kernel : output.kernels) {
+        auto& series = kernel_ms[kernel.kernel];
+        series.resize(backend_ms.size() + 1, 0.0);
+        series.back() += static_cast<double>(kernel.host_ns) * 1e-6;
+      }
+      backend_ms.push_back(static_cast<double>(record.frame.backend_host_ns) * 1e-6);
+      record.kernels = std::move(output.kernels);
+    }
+    previous_t_ns = images.t_ns;
     writer.append(record);
 
     if (task_ms.empty()) {
@@ -167,9 +229,43 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
   summary.tracked = summarize(tracked);
   summary.new_features = summarize(added);
   summary.stereo_matches = summarize(stereo);
+  summary.backend_ms = summarize(backend_ms);
+  summary.estimated_frames = estimated_poses.poses.size();
+  for (const auto& [name, series] : kernel_ms)
+    summary.kernel_ms.emplace_back(name, summarize(series));
+  if (backend) {
+    eval::EvalOptions eval_options;
+    eval_options.alignment = options.alignment.value_or(
+        dataset->imu().empty() ? eval::AlignmentMethod::kSe3 : eval::AlignmentMethod::kPosYaw);
+    eval_options.t_max_diff_s = 1e-3;  // both sides are stamped with the frame times
+    if (estimated_poses.poses.size() >= eval::min_pairs_for(eval_options.alignment) &&
+        !truth_poses.poses.empty()) {
+      summary.accuracy = eval::evaluate(truth_poses, estimated_poses, eval_options);
+    }
+  }
   summary.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
   return summary;
+}
+
+nlohmann::json backend_json(const TraceRunSummary& s) {
+  nlohmann::json j = {{"mode", s.backend_mode}};
+  if (s.backend_mode == "none") return j;
+  j["backend_ms"] = stats_json(s.backend_ms);
+  j["estimated_frames"] = s.estimated_frames;
+  nlohmann::json kernels = nlohmann::json::object();
+  for (const auto& [name, ms] : s.kernel_ms) kernels[name] = stats_json(ms);
+  j["kernel_ms"] = kernels;
+  if (s.accuracy) {
+    const eval::EvalResult& a = *s.accuracy;
+    j["accuracy"] = {{"alignment", eval::alignment_method_name(a.alignment)},
+                     {"pairs", a.pairs},
+                     {"ate_rmse_m", a.ate_m.rmse},
+                     {"rpe_trans_mean_m", a.rpe_trans_m.mean},
+                     {"rpe_rot_mean_deg", a.rpe_rot_deg.mean},
+                     {"gt_length_m", a.gt_length_m}};
+  }
+  return j;
 }
 
 nlohmann::json to_json(const TraceRunSummary& s) {
@@ -192,6 +288,7 @@ nlohmann::json to_json(const TraceRunSummary& s) {
         {"new_features", stats_json(s.new_features)},
         {"stereo_matches", stats_json(s.stereo_matches)}}},
       {"wall_seconds", s.wall_seconds},
+      {"backend", backend_json(s)},
   };
 }
 
@@ -215,7 +312,24 @@ std::string format_summary(const TraceRunSummary& s) {
   }
   text += fmt::format("{:<8} {:>9.3f} {:>9.3f} {:>9.3f} {:>9.3f}\n", "frontend", s.frontend_ms.mean,
                       s.frontend_ms.sd, s.frontend_ms.p99, s.frontend_ms.max);
+  if (s.backend_mode == "none") return text;
+  for (const auto& [name, ms] : s.kernel_ms) {
+    text += fmt::format("{:<8} {:>9.3f} {:>9.3f} {:>9.3f} {:>9.3f}\n", name, ms.mean, ms.sd, ms.p99,
+                        ms.max);
+  }
+  text += fmt::format("{:<8} {:>9.3f} {:>9.3f} {:>9.3f} {:>9.3f}\n", "backend", s.backend_ms.mean,
+                      s.backend_ms.sd, s.backend_ms.p99, s.backend_ms.max);
+  text += fmt::format("\nbackend    {}: pose on {} of {} frames\n", s.backend_mode,
+                      s.estimated_frames, s.frames);
+  if (s.accuracy) {
+    const eval::EvalResult& a = *s.accuracy;
+    text += fmt::format(
+        "accuracy   ATE RMSE {:.3f} m over {} frames ({} alignment, {:.1f} m travelled); "
+        "RPE {:.4f} m, {:.3f} deg per frame\n",
+        a.ate_m.rmse, a.pairs, eval::alignment_method_name(a.alignment), a.gt_length_m,
+        a.rpe_trans_m.mean, a.rpe_rot_deg.mean);
+  }
   return text;
 }
 
-}  // namespace edx::frontend
+}  // namespace edx::modes

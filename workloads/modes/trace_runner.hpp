@@ -1,8 +1,11 @@
 #pragma once
 // The pipeline runner behind `edx trace`: opens a dataset, runs the stereo frontend on every
-// frame, and writes the trace (docs/TRACE.md) with one frames row and ten tasks rows per frame.
-// Backends are not run yet: frames carry backend_mode none and no estimated pose. The trace is
-// written to a temporary file and renamed at the end (TraceWriter): a failed run leaves nothing.
+// frame and, when one is given, a backend on its features with the IMU samples and GPS fixes
+// since the previous frame; writes the trace (docs/TRACE.md): one frames row (with the estimated
+// pose), ten tasks rows and the backend's kernels and ops per frame; and measures the estimate
+// against the ground truth. Without a backend, frames carry backend_mode none and no estimated
+// pose. The trace is written to a temporary file and renamed at the end (TraceWriter): a failed
+// run leaves nothing.
 #include <cstddef>
 #include <filesystem>
 #include <functional>
@@ -11,12 +14,22 @@
 #include <string>
 #include <vector>
 
+#include "workloads/backend/backend.hpp"
 #include "workloads/datasets/dataset.hpp"
+#include "workloads/eval/evaluate.hpp"
 #include "workloads/frontend/frontend_options.hpp"
 #include "workloads/frontend/sample_stats.hpp"
 #include "workloads/trace/records.hpp"
 
-namespace edx::frontend {
+namespace edx::modes {
+
+using frontend::FrontendOptions;
+using frontend::SampleStats;
+using frontend::TaskTimeSummary;
+
+/// Builds the backend for a dataset (calibration, IMU noise); see make_backend_factory.
+using BackendFactory =
+    std::function<std::unique_ptr<backend::Backend>(const datasets::Dataset& dataset)>;
 
 struct TraceRunOptions {
   std::filesystem::path dataset_path;
@@ -36,13 +49,11 @@ struct TraceRunOptions {
     o.parallel_images = false;
     return o;
   }();
-};
-
-/// Host-time statistics of one task row kind over the frames, in milliseconds.
-struct TaskTimeSummary {
-  trace::Task task = trace::Task::FD;
-  trace::Image image = trace::Image::Left;
-  SampleStats ms;
+  /// The backend run on every frame; empty: frontend only.
+  BackendFactory make_backend;
+  /// Alignment of the estimate to the ground truth for the accuracy figures; default: position
+  /// and yaw when the dataset has an IMU (gravity is observable), SE(3) otherwise.
+  std::optional<eval::AlignmentMethod> alignment;
 };
 
 struct TraceRunSummary {
@@ -57,6 +68,14 @@ struct TraceRunSummary {
   SampleStats frontend_ms;              ///< wall time of the whole frontend per frame
   SampleStats left_keypoints, right_keypoints, tracked, new_features, stereo_matches;
   double wall_seconds = 0;  ///< whole run, including reading images and writing
+  std::string backend_mode = "none";
+  SampleStats backend_ms;            ///< backend wall time per frame (frames it ran on)
+  std::size_t estimated_frames = 0;  ///< frames with an estimated pose
+  /// Accuracy of the estimate against the ground truth, when both exist for enough frames.
+  std::optional<eval::EvalResult> accuracy;
+  /// Backend kernel host times per frame (ms), by kernel name, summed over its invocations in
+  /// the frame; frames where a kernel did not run count as 0.
+  std::vector<std::pair<std::string, SampleStats>> kernel_ms;
 };
 
 /// Progress: frames done, frames total.
@@ -77,4 +96,4 @@ nlohmann::json to_json(const TraceRunSummary& summary);
 /// Human-readable summary: a few header lines and a table of task times.
 std::string format_summary(const TraceRunSummary& summary);
 
-}  // namespace edx::frontend
+}  // namespace edx::modes

@@ -1,6 +1,6 @@
 // The trace runner end to end on the real excerpts (EuRoC V1_01 micro, KITTI 01) and on a small
 // synthetic sequence: what the trace says reads back, and bad input leaves nothing behind.
-#include "workloads/frontend/trace_runner.hpp"
+#include "workloads/modes/trace_runner.hpp"
 
 #include <SQLiteCpp/Database.h>
 #include <gmock/gmock.h>
@@ -11,12 +11,13 @@
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
-#include "tests/workloads/frontend/temp_dir.hpp"
+#include "tests/support/temp_dir.hpp"
+#include "workloads/backend/kernel_recorder.hpp"
 #include "workloads/datasets/synthetic/generator.hpp"
 #include "workloads/trace/reader.hpp"
 #include "workloads/trace/schema.hpp"
 
-namespace edx::frontend {
+namespace edx::modes {
 namespace {
 
 namespace fs = std::filesystem;
@@ -296,4 +297,95 @@ TEST(TraceRunner, SummaryAsTextAndJson) {
 }
 
 }  // namespace
-}  // namespace edx::frontend
+}  // namespace edx::modes
+
+namespace edx::modes {
+namespace {
+
+/// A backend that reports the ground-truth pose shifted by a known offset, counts the IMU
+/// samples it is handed, and records one kernel with one op per frame.
+class ProbeBackend : public backend::Backend {
+ public:
+  ProbeBackend(const datasets::Dataset& dataset, std::size_t* imu_seen)
+      : dataset_(dataset), imu_seen_(imu_seen) {}
+  trace::BackendMode mode() const override { return trace::BackendMode::Vio; }
+  backend::BackendOutput process(const backend::BackendInput& input) override {
+    backend::BackendOutput out;
+    for (const datasets::ImuSample& s : input.imu) {
+      EXPECT_GT(s.t_ns, last_t_ns_);
+      EXPECT_LE(s.t_ns, input.t_ns);
+    }
+    last_t_ns_ = input.t_ns;
+    *imu_seen_ += input.imu.size();
+    {
+      auto kernel = recorder_.kernel("kalman_gain", true);
+      kernel.record().m = static_cast<std::int64_t>(input.frontend->features.size());
+      recorder_.op(trace::Op::Potrf, 6, 6, 0, trace::op_flags::kSymmetric, [] { return 0; });
+    }
+    out.kernels = recorder_.take();
+    const auto truth = datasets::interpolate_ground_truth(dataset_.ground_truth(), input.t_ns);
+    if (!truth) {
+      out.status = "no_truth";
+      return out;
+    }
+    Eigen::Isometry3d pose = truth->T_world_body;
+    pose.translation().x() += 0.5;  // ATE under position+yaw alignment: 0
+    out.T_world_body = pose;
+    return out;
+  }
+
+ private:
+  const datasets::Dataset& dataset_;
+  std::size_t* imu_seen_;
+  std::int64_t last_t_ns_ = std::numeric_limits<std::int64_t>::min();
+  backend::KernelRecorder recorder_;
+};
+
+TEST(TraceRunner, RunsTheBackendOnEveryFrameAndMeasuresItsEstimate) {
+  testing::TempDir dir;
+  TraceRunOptions options = euroc_options(dir.path() / "probe.db", 12);
+  std::size_t imu_seen = 0;
+  options.make_backend = [&imu_seen](const datasets::Dataset& dataset) {
+    return std::make_unique<ProbeBackend>(dataset, &imu_seen);
+  };
+  const TraceRunSummary summary = run_trace(options);
+  EXPECT_EQ(summary.backend_mode, "vio");
+
+  // Every IMU sample up to the last frame is handed over exactly once.
+  const auto dataset = datasets::open_dataset(kEuroc, datasets::DatasetFormat::kEuroc);
+  const std::int64_t last_t = dataset->frame_time(11);
+  const auto expected =
+      std::count_if(dataset->imu().begin(), dataset->imu().end(),
+                    [&](const datasets::ImuSample& s) { return s.t_ns <= last_t; });
+  EXPECT_EQ(imu_seen, static_cast<std::size_t>(expected));
+  EXPECT_GT(imu_seen, 12u * 5);  // EuRoC: 200 Hz IMU, 20 Hz camera
+
+  ASSERT_TRUE(summary.accuracy.has_value());
+  EXPECT_EQ(summary.accuracy->alignment, eval::AlignmentMethod::kPosYaw);
+  EXPECT_EQ(summary.accuracy->pairs, summary.estimated_frames);
+  EXPECT_NEAR(summary.accuracy->ate_m.rmse, 0.0, 1e-6);
+  ASSERT_EQ(summary.kernel_ms.size(), 1u);
+  EXPECT_EQ(summary.kernel_ms[0].first, "kalman_gain");
+  EXPECT_EQ(summary.backend_ms.count, 12u);
+
+  const std::vector<trace::FrameTrace> frames = trace::TraceReader(options.out).read_all();
+  ASSERT_EQ(frames.size(), 12u);
+  for (const trace::FrameTrace& f : frames) {
+    EXPECT_EQ(f.frame.mode, trace::BackendMode::Vio);
+    ASSERT_EQ(f.kernels.size(), 1u);
+    EXPECT_EQ(f.kernels[0].kernel, "kalman_gain");
+    EXPECT_EQ(f.kernels[0].m, f.tasks[6].descriptors);  // every left feature
+    ASSERT_EQ(f.kernels[0].ops.size(), 1u);
+    EXPECT_EQ(f.kernels[0].ops[0].op, trace::Op::Potrf);
+    EXPECT_GE(f.frame.backend_host_ns, f.kernels[0].host_ns);
+    EXPECT_EQ(f.frame.estimated_pose.has_value(), f.frame.backend_status == "ok");
+    if (f.frame.estimated_pose && f.frame.ground_truth_pose) {
+      EXPECT_NEAR((*f.frame.estimated_pose)[0] - (*f.frame.ground_truth_pose)[0], 0.5, 1e-9);
+    }
+  }
+  EXPECT_NE(trace::TraceReader(options.out).meta().at("pipeline_params").find("\"vio\""),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace edx::modes
