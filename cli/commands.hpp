@@ -11,5 +11,7 @@ void add_eval_command(CLI::App& app);
 void add_gen_command(CLI::App& app);
 /// `edx trace`: runs the pipeline over a dataset and writes a trace database.
 void add_trace_command(CLI::App& app);
+/// `edx simulate`: a trace through a platform model.
+void add_simulate_command(CLI::App& app);
 
 }  // namespace edx::cli

@@ -1,0 +1,94 @@
+#include "arch/common/yaml_fields.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace edx::arch {
+namespace {
+
+std::string line_of(const YAML::Node& node) {
+  const YAML::Mark mark = node.Mark();
+  return mark.is_null() ? std::string() : fmt::format(":{}", mark.line + 1);
+}
+
+}  // namespace
+
+YamlFields::YamlFields(const YAML::Node& node, std::string where, std::string prefix)
+    : node_(node), where_(std::move(where)), prefix_(std::move(prefix)) {
+  if (node_ && !node_.IsNull() && !node_.IsMap()) {
+    throw std::runtime_error(
+        fmt::format("{}{}: {}: expected a map of keys", where_, line_of(node_), prefix_));
+  }
+}
+
+void YamlFields::fail(const std::string& key, const std::string& message) const {
+  const YAML::Node value = (node_ && node_.IsMap()) ? node_[key] : YAML::Node();
+  const std::string line = value ? line_of(value) : line_of(node_);
+  throw std::runtime_error(fmt::format("{}{}: {}.{}: {}", where_, line, prefix_, key, message));
+}
+
+void YamlFields::read(const std::string& key, double& value, double min_exclusive) {
+  read_.insert(key);
+  if (!node_ || !node_.IsMap() || !node_[key]) return;
+  const YAML::Node v = node_[key];
+  double parsed = 0;
+  if (!v.IsScalar() || !YAML::convert<double>::decode(v, parsed) || !std::isfinite(parsed) ||
+      parsed <= min_exclusive) {
+    fail(key,
+         fmt::format("expected a number > {}, got '{}'", min_exclusive,
+                     v.IsScalar() ? v.Scalar() : "a " + std::string(v.IsMap() ? "map" : "list")));
+  }
+  value = parsed;
+}
+
+void YamlFields::read(const std::string& key, int& value, int min_inclusive) {
+  read_.insert(key);
+  if (!node_ || !node_.IsMap() || !node_[key]) return;
+  const YAML::Node v = node_[key];
+  int parsed = 0;
+  if (!v.IsScalar() || !YAML::convert<int>::decode(v, parsed) || parsed < min_inclusive) {
+    fail(key,
+         fmt::format("expected an integer >= {}, got '{}'", min_inclusive,
+                     v.IsScalar() ? v.Scalar() : "a " + std::string(v.IsMap() ? "map" : "list")));
+  }
+  value = parsed;
+}
+
+void YamlFields::read(const std::string& key, bool& value) {
+  read_.insert(key);
+  if (!node_ || !node_.IsMap() || !node_[key]) return;
+  const YAML::Node v = node_[key];
+  bool parsed = false;
+  if (!v.IsScalar() || !YAML::convert<bool>::decode(v, parsed)) {
+    fail(key, fmt::format("expected true or false, got '{}'", v.IsScalar() ? v.Scalar() : "?"));
+  }
+  value = parsed;
+}
+
+void YamlFields::read(const std::string& key, std::string& value) {
+  read_.insert(key);
+  if (!node_ || !node_.IsMap() || !node_[key]) return;
+  const YAML::Node v = node_[key];
+  if (!v.IsScalar()) fail(key, "expected a text value");
+  value = v.Scalar();
+}
+
+void YamlFields::finish_except(std::initializer_list<const char*> sections) {
+  for (const char* section : sections) read_.insert(section);
+  finish();
+}
+
+void YamlFields::finish() const {
+  if (!node_ || !node_.IsMap()) return;
+  for (const auto& item : node_) {
+    const std::string key = item.first.as<std::string>();
+    if (!read_.contains(key)) {
+      throw std::runtime_error(
+          fmt::format("{}{}: {}.{}: unknown key", where_, line_of(item.first), prefix_, key));
+    }
+  }
+}
+
+}  // namespace edx::arch

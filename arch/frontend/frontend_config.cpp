@@ -1,0 +1,85 @@
+#include "arch/frontend/frontend_config.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+#include "arch/common/yaml_fields.hpp"
+
+namespace edx::arch {
+namespace {
+
+void require(bool ok, const char* field, const std::string& expected) {
+  if (!ok) throw std::runtime_error(fmt::format("frontend.{}: expected {}", field, expected));
+}
+
+}  // namespace
+
+void FrontendConfig::validate() const {
+  require(clock_mhz > 0 && clock_mhz <= 1000, "clock_mhz", "a frequency in (0, 1000] MHz");
+  require(fe_pixels_per_cycle > 0, "fe_pixels_per_cycle", "a rate > 0");
+  require(fd_stencil >= 3 && fd_stencil % 2 == 1, "fd_stencil", "an odd size >= 3");
+  require(if_stencil >= 1 && if_stencil % 2 == 1, "if_stencil", "an odd size >= 1");
+  require(fc_patch >= 3 && fc_patch % 2 == 1, "fc_patch", "an odd size >= 3");
+  require(fc_patch_rows_per_cycle >= 1, "fc_patch_rows_per_cycle", "an integer >= 1");
+  require(fc_tests_per_cycle >= 1, "fc_tests_per_cycle", "an integer >= 1");
+  require(mo_comparators >= 1, "mo_comparators", "an integer >= 1");
+  require(dr_pixels_per_cycle > 0, "dr_pixels_per_cycle", "a rate > 0");
+  require(dr_sad_units >= 1, "dr_sad_units", "an integer >= 1");
+  require(dc_pixels_per_cycle > 0, "dc_pixels_per_cycle", "a rate > 0");
+  require(dc_stencil >= 1 && dc_stencil % 2 == 1, "dc_stencil", "an odd size >= 1");
+  require(lss_macs_per_cycle >= 1, "lss_macs_per_cycle", "an integer >= 1");
+  require(frame_interval_ms >= 0, "frame_interval_ms", "0 (back to back) or a period > 0");
+  require(bytes_per_pixel >= 1 && bytes_per_pixel <= 4, "bytes_per_pixel", "1 to 4");
+}
+
+nlohmann::json FrontendConfig::to_json() const {
+  return {{"clock_mhz", clock_mhz},
+          {"fe_pixels_per_cycle", fe_pixels_per_cycle},
+          {"fd_stencil", fd_stencil},
+          {"if_stencil", if_stencil},
+          {"fc_patch", fc_patch},
+          {"fc_patch_rows_per_cycle", fc_patch_rows_per_cycle},
+          {"fc_tests_per_cycle", fc_tests_per_cycle},
+          {"mo_comparators", mo_comparators},
+          {"dr_pixels_per_cycle", dr_pixels_per_cycle},
+          {"dr_sad_units", dr_sad_units},
+          {"dc_pixels_per_cycle", dc_pixels_per_cycle},
+          {"dc_stencil", dc_stencil},
+          {"lss_macs_per_cycle", lss_macs_per_cycle},
+          {"pipeline_fe_sm", pipeline_fe_sm},
+          {"frame_interval_ms", frame_interval_ms},
+          {"bytes_per_pixel", bytes_per_pixel}};
+}
+
+FrontendConfig FrontendConfig::from_yaml(const YAML::Node& node, const std::string& where) {
+  FrontendConfig c;
+  YamlFields f(node, where, "frontend");
+  f.read("clock_mhz", c.clock_mhz, 0.0);
+  f.read("fe_pixels_per_cycle", c.fe_pixels_per_cycle, 0.0);
+  f.read("fd_stencil", c.fd_stencil, 3);
+  f.read("if_stencil", c.if_stencil, 1);
+  f.read("fc_patch", c.fc_patch, 3);
+  f.read("fc_patch_rows_per_cycle", c.fc_patch_rows_per_cycle, 1);
+  f.read("fc_tests_per_cycle", c.fc_tests_per_cycle, 1);
+  f.read("mo_comparators", c.mo_comparators, 1);
+  f.read("dr_pixels_per_cycle", c.dr_pixels_per_cycle, 0.0);
+  f.read("dr_sad_units", c.dr_sad_units, 1);
+  f.read("dc_pixels_per_cycle", c.dc_pixels_per_cycle, 0.0);
+  f.read("dc_stencil", c.dc_stencil, 1);
+  f.read("lss_macs_per_cycle", c.lss_macs_per_cycle, 1);
+  f.read("pipeline_fe_sm", c.pipeline_fe_sm);
+  f.read("frame_interval_ms", c.frame_interval_ms, -1e-12);
+  f.read("bytes_per_pixel", c.bytes_per_pixel, 1);
+  f.finish();
+  try {
+    c.validate();
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    const std::string key = message.substr(9, message.find(':') - 9);  // after "frontend."
+    f.fail(key, message.substr(message.find(':') + 2));
+  }
+  return c;
+}
+
+}  // namespace edx::arch

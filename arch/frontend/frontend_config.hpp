@@ -1,0 +1,46 @@
+#pragma once
+// The configured datapath of the frontend accelerator (paper Sec. V, Fig. 11): one clock, the
+// stream rates and parallel units of each task, the stencil sizes its stencil buffers serve, and
+// how frames are fed. Parsed from the `frontend:` section of a platform YAML (docs/MODEL.md
+// lists every field with its source); every field has a default, unknown keys are errors.
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace YAML {
+class Node;
+}
+
+namespace edx::arch {
+
+struct FrontendConfig {
+  double clock_mhz = 150.0;  ///< frontend clock
+  // Feature extraction engine, time-shared between the left and right images.
+  double fe_pixels_per_cycle = 2.0;  ///< FD and IF each consume this many pyramid pixels a cycle
+  int fd_stencil = 7;                ///< FAST: Bresenham circle of radius 3 in a 7x7 window
+  int if_stencil = 7;                ///< Gaussian kernel side (the trace's IF window_size wins)
+  int fc_patch = 31;                 ///< rBRIEF patch side (the trace's FC window_size wins)
+  int fc_patch_rows_per_cycle = 1;   ///< orientation: one patch row of moments a cycle
+  int fc_tests_per_cycle = 32;       ///< rBRIEF intensity tests a cycle (256 per descriptor)
+  // Stereo matching.
+  int mo_comparators = 4;            ///< 256-bit Hamming-distance units
+  double dr_pixels_per_cycle = 0.5;  ///< each image's level 0 streamed through DR's buffers
+  int dr_sad_units = 11;             ///< window SADs computed in parallel (one per offset)
+  // Temporal matching.
+  double dc_pixels_per_cycle = 2.0;  ///< derivative (Scharr) stencil over the LK pyramid
+  int dc_stencil = 3;                ///< Scharr kernel side
+  int lss_macs_per_cycle = 64;       ///< multiply-accumulates a cycle of the LK solver
+  // Frames.
+  bool pipeline_fe_sm = true;      ///< FE of frame t+1 overlaps SM of frame t (double buffers)
+  double frame_interval_ms = 0.0;  ///< camera period; 0: frames back to back
+  int bytes_per_pixel = 1;         ///< 8-bit grayscale
+
+  /// Throws std::runtime_error naming the field and the accepted range.
+  void validate() const;
+  nlohmann::json to_json() const;
+  /// Reads the fields present in `node` (a map) over the defaults; `where` (file name) prefixes
+  /// errors, which name the key and line: "car.yaml:12: frontend.clock_mhz: expected a number > 0".
+  static FrontendConfig from_yaml(const YAML::Node& node, const std::string& where);
+};
+
+}  // namespace edx::arch

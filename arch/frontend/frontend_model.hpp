@@ -1,0 +1,68 @@
+#pragma once
+// The frontend accelerator as a discrete-event model on sim_core (paper Sec. V-B), replaying the
+// frontend tasks of a trace: their work counts, not their host times.
+//
+// Units: FD, IF, FC (the feature-extraction engine, time-shared between the left and right
+// images: one unit of each), MO, DR (stereo matching), DC, LSS (temporal matching), each a
+// sim::Resource of capacity 1 on the frontend clock. Per frame, the task graph:
+//   FD(L) ∥ IF(L); FC(L) after FD(L); FD(R) ∥ IF(R) queue behind the left image on their units;
+//   FC(R) after FD(R); MO after FC(L) and FC(R); DR after MO; DC after IF(L); LSS after DC.
+// A frame enters the accelerator when it has arrived (camera period, or back to back) and a
+// frame buffer is free: one buffer without FE/SM pipelining (frame t+1 starts when frame t has
+// finished), two with it (FE of frame t+1 overlaps SM of frame t). A frame has finished when DR
+// and LSS have.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "arch/frontend/frontend_config.hpp"
+#include "sim_core/time.hpp"
+#include "workloads/trace/records.hpp"
+
+namespace edx::arch {
+
+/// When each task of one frame ran on the accelerator (ps from the start of the simulation).
+struct TaskSpan {
+  trace::Task task = trace::Task::FD;
+  trace::Image image = trace::Image::Left;
+  std::int64_t cycles = 0;
+  sim::Time start = 0, end = 0;
+};
+
+struct FrontendFrameTiming {
+  std::int64_t frame_id = 0;
+  sim::Time arrival = 0;  ///< the frame is available (camera) or, back to back, 0
+  sim::Time start = 0;    ///< its first task started (it held a frame buffer)
+  sim::Time end = 0;      ///< DR and LSS finished
+  std::vector<TaskSpan> tasks;
+  /// Latency figures in ms: end - start (the accelerator's own), FE (first FD to the last FC),
+  /// SM (MO start to DR end), TM (DC start to LSS end).
+  double latency_ms = 0, fe_ms = 0, sm_ms = 0, tm_ms = 0;
+  /// end - arrival: includes waiting for a frame buffer (camera rate faster than the frontend).
+  double response_ms = 0;
+};
+
+struct FrontendSimResult {
+  std::vector<FrontendFrameTiming> frames;
+  double makespan_ms = 0;     ///< first start to last end
+  double throughput_fps = 0;  ///< (frames - 1) / (last end - first end); frames / makespan if 1
+  /// Busy fraction of each unit over the makespan, by unit name (FD, IF, FC, MO, DR, DC, LSS).
+  std::vector<std::pair<std::string, double>> utilization;
+};
+
+struct FrontendSimOptions {
+  /// Frames [first, last) of the timeline written; empty: no timeline.
+  std::optional<std::filesystem::path> timeline;
+  std::size_t timeline_first = 0, timeline_count = 10;
+};
+
+/// Runs the frames of a trace through the model. Frames without task rows are an error
+/// (std::runtime_error naming the frame): a frontend model needs the frontend's work.
+/// `level0_pixels`: the image size W*H (from the trace's resolution).
+FrontendSimResult simulate_frontend(const std::vector<trace::FrameTrace>& frames,
+                                    std::int64_t level0_pixels, const FrontendConfig& config,
+                                    const FrontendSimOptions& options = {});
+
+}  // namespace edx::arch

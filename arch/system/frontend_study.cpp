@@ -1,0 +1,131 @@
+#include "arch/system/frontend_study.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+#include "sim_core/stats.hpp"
+
+namespace edx::arch {
+namespace {
+
+std::pair<int, int> parse_wxh(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' || w <= 0 ||
+      h <= 0) {
+    throw std::runtime_error(
+        fmt::format("trace meta.resolution: expected WxH (e.g. 1280x720), got '{}'", text));
+  }
+  return {w, h};
+}
+
+}  // namespace
+
+Distribution Distribution::of(const std::vector<double>& values) {
+  sim::SampleSet set;
+  for (double v : values) set.add(v);
+  Distribution d;
+  d.count = set.count();
+  if (d.count == 0) return d;
+  d.mean = set.mean();
+  d.sd = set.sd();
+  d.rsd = d.mean > 0 ? d.sd / d.mean : 0.0;
+  d.p50 = set.percentile(50);
+  d.p90 = set.percentile(90);
+  d.p99 = set.percentile(99);
+  d.max = set.max();
+  return d;
+}
+
+nlohmann::json Distribution::to_json() const {
+  return {{"count", count}, {"mean", mean}, {"sd", sd},   {"rsd", rsd},
+          {"p50", p50},     {"p90", p90},   {"p99", p99}, {"max", max}};
+}
+
+nlohmann::json FrontendStudy::to_json() const {
+  nlohmann::json util = nlohmann::json::object();
+  for (const auto& [unit, u] : utilization) util[unit] = u;
+  return {{"platform", platform},
+          {"frames", frames},
+          {"resolution", fmt::format("{}x{}", width, height)},
+          {"cpu_ms", cpu_ms.to_json()},
+          {"accel_ms", accel_ms.to_json()},
+          {"fe_ms", fe_ms.to_json()},
+          {"sm_ms", sm_ms.to_json()},
+          {"tm_ms", tm_ms.to_json()},
+          {"speedup", speedup},
+          {"cpu_fps", cpu_fps},
+          {"fps_without_pipelining", fps_without_pipelining},
+          {"fps_with_pipelining", fps_with_pipelining},
+          {"utilization", util}};
+}
+
+FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
+                             const std::string& resolution, const FrontendSimOptions& timeline) {
+  if (frames.empty()) throw std::runtime_error("the trace has no frames");
+  FrontendStudy study;
+  study.platform = platform.name;
+  study.frames = frames.size();
+  std::tie(study.width, study.height) = parse_wxh(resolution);
+  const std::int64_t level0 = static_cast<std::int64_t>(study.width) * study.height;
+
+  std::vector<double> cpu;
+  for (const trace::FrameTrace& f : frames) {
+    cpu.push_back(static_cast<double>(f.frame.frontend_host_ns) * 1e-6 *
+                  platform.host.frontend_time_scale);
+  }
+  FrontendConfig sequential = platform.frontend;
+  sequential.pipeline_fe_sm = false;
+  sequential.frame_interval_ms = 0;
+  const FrontendSimResult one_at_a_time = simulate_frontend(frames, level0, sequential);
+  FrontendConfig pipelined = sequential;
+  pipelined.pipeline_fe_sm = true;
+  const FrontendSimResult overlapped = simulate_frontend(frames, level0, pipelined, timeline);
+
+  std::vector<double> accel, fe, sm, tm;
+  for (const FrontendFrameTiming& t : one_at_a_time.frames) {
+    accel.push_back(t.latency_ms);
+    fe.push_back(t.fe_ms);
+    sm.push_back(t.sm_ms);
+    tm.push_back(t.tm_ms);
+  }
+  study.cpu_ms = Distribution::of(cpu);
+  study.accel_ms = Distribution::of(accel);
+  study.fe_ms = Distribution::of(fe);
+  study.sm_ms = Distribution::of(sm);
+  study.tm_ms = Distribution::of(tm);
+  study.speedup = study.accel_ms.mean > 0 ? study.cpu_ms.mean / study.accel_ms.mean : 0.0;
+  study.cpu_fps = study.cpu_ms.mean > 0 ? 1e3 / study.cpu_ms.mean : 0.0;
+  study.fps_without_pipelining = one_at_a_time.throughput_fps;
+  study.fps_with_pipelining = overlapped.throughput_fps;
+  study.utilization = overlapped.utilization;
+  return study;
+}
+
+std::string format_frontend_study(const FrontendStudy& s) {
+  std::string text =
+      fmt::format("frontend   {} on {} frames at {}x{}\n", s.platform, s.frames, s.width, s.height);
+  text +=
+      fmt::format("{:<22} {:>9} {:>9} {:>9} {:>9}\n", "latency (ms)", "mean", "sd", "p99", "max");
+  const auto row = [&](const char* name, const Distribution& d) {
+    text += fmt::format("{:<22} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}\n", name, d.mean, d.sd, d.p99,
+                        d.max);
+  };
+  row("CPU baseline", s.cpu_ms);
+  row("accelerator", s.accel_ms);
+  row("  FE (FD..FC, L+R)", s.fe_ms);
+  row("  SM (MO..DR)", s.sm_ms);
+  row("  TM (DC..LSS)", s.tm_ms);
+  text += fmt::format("speedup    {:.2f}x\n", s.speedup);
+  text += fmt::format(
+      "throughput CPU {:.1f} FPS; accelerator {:.1f} FPS without FE/SM pipelining, "
+      "{:.1f} FPS with it\n",
+      s.cpu_fps, s.fps_without_pipelining, s.fps_with_pipelining);
+  text += "utilization";
+  for (const auto& [unit, u] : s.utilization) text += fmt::format(" {} {:.0f}%", unit, 100 * u);
+  text += "\n";
+  return text;
+}
+
+}  // namespace edx::arch

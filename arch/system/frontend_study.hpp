@@ -1,0 +1,48 @@
+#pragma once
+// The frontend comparison of the paper's Sec. VII-C for one platform and trace: the CPU
+// baseline (trace host times scaled to the target CPU) against the accelerator model, latency
+// and its FE/SM/TM breakdown, throughput without and with FE/SM pipelining, unit utilizations.
+#include <cstdint>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "arch/frontend/frontend_model.hpp"
+#include "arch/system/platform.hpp"
+#include "workloads/trace/records.hpp"
+
+namespace edx::arch {
+
+/// Mean, SD and percentiles of a per-frame figure (ms).
+struct Distribution {
+  std::size_t count = 0;
+  double mean = 0, sd = 0, rsd = 0, p50 = 0, p90 = 0, p99 = 0, max = 0;
+  static Distribution of(const std::vector<double>& values);
+  nlohmann::json to_json() const;
+};
+
+struct FrontendStudy {
+  std::string platform;
+  std::size_t frames = 0;
+  int width = 0, height = 0;
+  Distribution cpu_ms;    ///< frontend host time x host.frontend_time_scale
+  Distribution accel_ms;  ///< accelerator latency, frames one at a time (no FE/SM pipelining)
+  Distribution fe_ms, sm_ms, tm_ms;
+  double speedup = 0;                                          ///< cpu_ms.mean / accel_ms.mean
+  double cpu_fps = 0;                                          ///< 1000 / cpu_ms.mean
+  double fps_without_pipelining = 0, fps_with_pipelining = 0;  ///< frames back to back
+  std::vector<std::pair<std::string, double>> utilization;     ///< pipelined run
+  nlohmann::json to_json() const;
+};
+
+/// `resolution` is the trace's meta.resolution ("WxH"); a malformed one is an error naming it.
+/// `timeline`: the pipelined run's Perfetto timeline of frames [first, first + count).
+FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
+                             const std::string& resolution,
+                             const FrontendSimOptions& timeline = {});
+
+std::string format_frontend_study(const FrontendStudy& study);
+
+}  // namespace edx::arch
