@@ -31,6 +31,13 @@ void FrontendConfig::validate() const {
   require(lss_macs_per_cycle >= 1, "lss_macs_per_cycle", "an integer >= 1");
   require(frame_interval_ms >= 0, "frame_interval_ms", "0 (back to back) or a period > 0");
   require(bytes_per_pixel >= 1 && bytes_per_pixel <= 4, "bytes_per_pixel", "1 to 4");
+  require(dr_window >= 1 && dr_window % 2 == 1, "dr_window", "an odd size >= 1");
+  require(dr_search >= 1, "dr_search", "an integer >= 1");
+  require(pyramid_filter >= 1 && pyramid_filter % 2 == 1, "pyramid_filter", "an odd size >= 1");
+  require(keypoint_bytes >= 1, "keypoint_bytes", "an integer >= 1");
+  require(descriptor_bytes >= 1, "descriptor_bytes", "an integer >= 1");
+  require(match_bytes >= 1, "match_bytes", "an integer >= 1");
+  require(track_bytes >= 1, "track_bytes", "an integer >= 1");
 }
 
 nlohmann::json FrontendConfig::to_json() const {
@@ -49,7 +56,15 @@ nlohmann::json FrontendConfig::to_json() const {
           {"lss_macs_per_cycle", lss_macs_per_cycle},
           {"pipeline_fe_sm", pipeline_fe_sm},
           {"frame_interval_ms", frame_interval_ms},
-          {"bytes_per_pixel", bytes_per_pixel}};
+          {"bytes_per_pixel", bytes_per_pixel},
+          {"sb_optimization", sb_optimization},
+          {"dr_window", dr_window},
+          {"dr_search", dr_search},
+          {"pyramid_filter", pyramid_filter},
+          {"keypoint_bytes", keypoint_bytes},
+          {"descriptor_bytes", descriptor_bytes},
+          {"match_bytes", match_bytes},
+          {"track_bytes", track_bytes}};
 }
 
 FrontendConfig FrontendConfig::from_yaml(const YAML::Node& node, const std::string& where) {
@@ -71,6 +86,14 @@ FrontendConfig FrontendConfig::from_yaml(const YAML::Node& node, const std::stri
   f.read("pipeline_fe_sm", c.pipeline_fe_sm);
   f.read("frame_interval_ms", c.frame_interval_ms, -1e-12);
   f.read("bytes_per_pixel", c.bytes_per_pixel, 1);
+  f.read("sb_optimization", c.sb_optimization);
+  f.read("dr_window", c.dr_window, 1);
+  f.read("dr_search", c.dr_search, 1);
+  f.read("pyramid_filter", c.pyramid_filter, 1);
+  f.read("keypoint_bytes", c.keypoint_bytes, 1);
+  f.read("descriptor_bytes", c.descriptor_bytes, 1);
+  f.read("match_bytes", c.match_bytes, 1);
+  f.read("track_bytes", c.track_bytes, 1);
   f.finish();
   try {
     c.validate();

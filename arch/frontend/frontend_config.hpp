@@ -34,6 +34,15 @@ struct FrontendConfig {
   bool pipeline_fe_sm = true;      ///< FE of frame t+1 overlaps SM of frame t (double buffers)
   double frame_interval_ms = 0.0;  ///< camera period; 0: frames back to back
   int bytes_per_pixel = 1;         ///< 8-bit grayscale
+  // Memories.
+  bool sb_optimization = true;  ///< Sec. V-C: re-read DR's pixels from DRAM when that saves SB
+  int dr_window = 11;           ///< DR block-matching window side (the trace's DR row wins)
+  int dr_search = 11;           ///< DR candidate offsets along the row (the trace's row wins)
+  int pyramid_filter = 5;       ///< pyrDown's Gaussian side (DC builds the LK pyramid with it)
+  int keypoint_bytes = 8;       ///< x, y (Q12.4), score, level, angle in a FIFO/SPM entry
+  int descriptor_bytes = 32;    ///< 256-bit rBRIEF
+  int match_bytes = 8;          ///< MO -> DR: left index, right index, Hamming distance
+  int track_bytes = 12;         ///< LSS: id + previous and current position
 
   /// Throws std::runtime_error naming the field and the accepted range.
   void validate() const;

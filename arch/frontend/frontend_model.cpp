@@ -80,7 +80,7 @@ std::size_t find_span(const std::vector<TaskSpan>& spans, Task task, Image image
 
 /// One frame: arrives, takes a frame buffer, runs the task graph, frees the buffer.
 Process run_frame(Simulator& sim, const sim::ClockDomain& clock, Units& units, Resource& buffers,
-                  FrontendFrameTiming& timing) {
+                  DmaLink* link, FrontendFrameTiming& timing) {
   co_await sim.delay_until(timing.arrival);
   Lease buffer = co_await buffers.acquire();
   std::vector<TaskSpan>& s = timing.tasks;
@@ -106,6 +106,10 @@ Process run_frame(Simulator& sim, const sim::ClockDomain& clock, Units& units, R
   ProcessHandle lss_done = lss;
   co_await dr;
   co_await lss_done;
+  timing.transfer_start = sim.now();
+  if (link != nullptr && timing.transfer_bytes > 0) {
+    co_await link->transfer(timing.transfer_bytes, Direction::FpgaToHost);
+  }
   timing.end = sim.now();
 }
 
@@ -121,6 +125,8 @@ FrontendSimResult simulate_frontend(const std::vector<trace::FrameTrace>& frames
   const sim::ClockDomain clock("frontend", config.clock_mhz);
   Units units(sim);
   Resource buffers(sim, config.pipeline_fe_sm ? 2 : 1, "frame buffers");
+  std::optional<DmaLink> link;
+  if (options.link) link.emplace(sim, *options.link);
 
   FrontendSimResult result;
   result.frames.resize(frames.size());
@@ -129,6 +135,7 @@ FrontendSimResult simulate_frontend(const std::vector<trace::FrameTrace>& frames
     FrontendFrameTiming& timing = result.frames[f];
     timing.frame_id = frames[f].frame.frame_id;
     timing.arrival = period * f;
+    timing.transfer_bytes = frame_transfers(frames[f], options.transfers).frontend_to_host();
     for (const trace::TaskRecord& task : frames[f].tasks) {
       timing.tasks.push_back(
           {task.task, task.image, task_cycles(task, level0_pixels, config), 0, 0});
@@ -154,7 +161,7 @@ FrontendSimResult simulate_frontend(const std::vector<trace::FrameTrace>& frames
     }
   }
   for (FrontendFrameTiming& timing : result.frames) {
-    sim.spawn(run_frame(sim, clock, units, buffers, timing),
+    sim.spawn(run_frame(sim, clock, units, buffers, link ? &*link : nullptr, timing),
               fmt::format("frame {}", timing.frame_id));
   }
   sim.run();

@@ -10,7 +10,8 @@
 // A frame enters the accelerator when it has arrived (camera period, or back to back) and a
 // frame buffer is free: one buffer without FE/SM pipelining (frame t+1 starts when frame t has
 // finished), two with it (FE of frame t+1 overlaps SM of frame t). A frame has finished when DR
-// and LSS have.
+// and LSS have and, when a link is configured, its results (transfer 1 of Sec. VII-A: features
+// and the frame's IMU/GPS samples, arch/link/frame_transfers.hpp) have reached the host.
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -18,6 +19,8 @@
 #include <vector>
 
 #include "arch/frontend/frontend_config.hpp"
+#include "arch/link/frame_transfers.hpp"
+#include "arch/link/link.hpp"
 #include "sim_core/time.hpp"
 #include "workloads/trace/records.hpp"
 
@@ -33,9 +36,11 @@ struct TaskSpan {
 
 struct FrontendFrameTiming {
   std::int64_t frame_id = 0;
-  sim::Time arrival = 0;  ///< the frame is available (camera) or, back to back, 0
-  sim::Time start = 0;    ///< its first task started (it held a frame buffer)
-  sim::Time end = 0;      ///< DR and LSS finished
+  sim::Time arrival = 0;            ///< the frame is available (camera) or, back to back, 0
+  sim::Time start = 0;              ///< its first task started (it held a frame buffer)
+  sim::Time end = 0;                ///< DR and LSS finished and the results reached the host
+  sim::Time transfer_start = 0;     ///< results transfer to the host (== end without a link)
+  std::int64_t transfer_bytes = 0;  ///< FrameTransfers::frontend_to_host()
   std::vector<TaskSpan> tasks;
   /// Latency figures in ms: end - start (the accelerator's own), FE (first FD to the last FC),
   /// SM (MO start to DR end), TM (DC start to LSS end).
@@ -53,6 +58,9 @@ struct FrontendSimResult {
 };
 
 struct FrontendSimOptions {
+  /// The host link the results cross; none: the frame ends when DR and LSS do.
+  std::optional<LinkSpec> link;
+  FrameTransferConfig transfers;
   /// Frames [first, last) of the timeline written; empty: no timeline.
   std::optional<std::filesystem::path> timeline;
   std::size_t timeline_first = 0, timeline_count = 10;

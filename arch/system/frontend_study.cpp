@@ -47,6 +47,7 @@ nlohmann::json FrontendStudy::to_json() const {
   nlohmann::json util = nlohmann::json::object();
   for (const auto& [unit, u] : utilization) util[unit] = u;
   return {{"platform", platform},
+          {"host", host.to_json()},
           {"frames", frames},
           {"resolution", fmt::format("{}x{}", width, height)},
           {"cpu_ms", cpu_ms.to_json()},
@@ -58,7 +59,8 @@ nlohmann::json FrontendStudy::to_json() const {
           {"cpu_fps", cpu_fps},
           {"fps_without_pipelining", fps_without_pipelining},
           {"fps_with_pipelining", fps_with_pipelining},
-          {"utilization", util}};
+          {"utilization", util},
+          {"memory", memory.to_json()}};
 }
 
 FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
@@ -66,6 +68,7 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   if (frames.empty()) throw std::runtime_error("the trace has no frames");
   FrontendStudy study;
   study.platform = platform.name;
+  study.host = platform.host;
   study.frames = frames.size();
   std::tie(study.width, study.height) = parse_wxh(resolution);
   const std::int64_t level0 = static_cast<std::int64_t>(study.width) * study.height;
@@ -78,10 +81,17 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   FrontendConfig sequential = platform.frontend;
   sequential.pipeline_fe_sm = false;
   sequential.frame_interval_ms = 0;
-  const FrontendSimResult one_at_a_time = simulate_frontend(frames, level0, sequential);
+  FrontendSimOptions sim_options;
+  sim_options.link = platform.link;
+  sim_options.transfers = platform.transfers;
+  const FrontendSimResult one_at_a_time =
+      simulate_frontend(frames, level0, sequential, sim_options);
   FrontendConfig pipelined = sequential;
   pipelined.pipeline_fe_sm = true;
-  const FrontendSimResult overlapped = simulate_frontend(frames, level0, pipelined, timeline);
+  FrontendSimOptions with_timeline = timeline;
+  with_timeline.link = platform.link;
+  with_timeline.transfers = platform.transfers;
+  const FrontendSimResult overlapped = simulate_frontend(frames, level0, pipelined, with_timeline);
 
   std::vector<double> accel, fe, sm, tm;
   for (const FrontendFrameTiming& t : one_at_a_time.frames) {
@@ -100,6 +110,8 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   study.fps_without_pipelining = one_at_a_time.throughput_fps;
   study.fps_with_pipelining = overlapped.throughput_fps;
   study.utilization = overlapped.utilization;
+  study.memory = plan_frontend_memory(frames, overlapped, study.width, study.height, pipelined,
+                                      Device::by_name(platform.device));
   return study;
 }
 
@@ -118,6 +130,8 @@ std::string format_frontend_study(const FrontendStudy& s) {
   row("  SM (MO..DR)", s.sm_ms);
   row("  TM (DC..LSS)", s.tm_ms);
   text += fmt::format("speedup    {:.2f}x\n", s.speedup);
+  text += fmt::format("CPU        {}: trace host time x {} ({})\n", s.host.name,
+                      s.host.frontend_time_scale, s.host.provenance);
   text += fmt::format(
       "throughput CPU {:.1f} FPS; accelerator {:.1f} FPS without FE/SM pipelining, "
       "{:.1f} FPS with it\n",
@@ -125,6 +139,20 @@ std::string format_frontend_study(const FrontendStudy& s) {
   text += "utilization";
   for (const auto& [unit, u] : s.utilization) text += fmt::format(" {} {:.0f}%", unit, 100 * u);
   text += "\n";
+  const FrontendMemoryPlan& m = s.memory;
+  text += fmt::format(
+      "memory     SB {:.3f} MiB ({} buffers), FIFO {:.3f} MiB, SPM {:.3f} MiB; BRAM {:.0f} of {} "
+      "blocks ({:.1f}%){}\n",
+      to_mib(static_cast<double>(m.sb_bytes)), m.stencil_buffers.size(),
+      to_mib(static_cast<double>(m.fifo_bytes)), to_mib(static_cast<double>(m.spm_bytes)),
+      m.bram.total_blocks, m.bram.device_blocks, 100 * m.bram.utilization,
+      m.bram.fits ? "" : " DOES NOT FIT");
+  text += fmt::format(
+      "SB opt.    DR re-reads its pixels from DRAM: {} ({:.2f} MiB more DRAM reads a frame); "
+      "sharing FD/IF's SB instead would add {:.2f} MiB of SB\n",
+      m.dr_left.replicate && m.dr_right.replicate && m.sb_optimization ? "yes" : "no",
+      to_mib(static_cast<double>(m.extra_dram_bytes_per_frame)),
+      to_mib(static_cast<double>(m.sb_bytes_without_optimization - m.sb_bytes)));
   return text;
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "arch/frontend/frontend_model.hpp"
+#include "arch/frontend/memory_plan.hpp"
 #include "arch/system/platform.hpp"
 #include "workloads/trace/records.hpp"
 
@@ -25,6 +26,7 @@ struct Distribution {
 
 struct FrontendStudy {
   std::string platform;
+  HostConfig host;  ///< the CPU baseline's scale and its provenance
   std::size_t frames = 0;
   int width = 0, height = 0;
   Distribution cpu_ms;    ///< frontend host time x host.frontend_time_scale
@@ -34,6 +36,7 @@ struct FrontendStudy {
   double cpu_fps = 0;                                          ///< 1000 / cpu_ms.mean
   double fps_without_pipelining = 0, fps_with_pipelining = 0;  ///< frames back to back
   std::vector<std::pair<std::string, double>> utilization;     ///< pipelined run
+  FrontendMemoryPlan memory;  ///< SBs, FIFOs, SPM for the pipelined run's timing
   nlohmann::json to_json() const;
 };
 

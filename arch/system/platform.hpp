@@ -4,13 +4,18 @@
 //
 //   name: edx_car
 //   description: ...
+//   device: xc7v690t
 //   host: {frontend_time_scale: 2.37, provenance: "..."}
 //   frontend: {clock_mhz: 150, ...}
+//   link: {preset: pcie3_x8, ...}
+//   transfers: {scalar_bytes: 8, ...}
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "arch/frontend/frontend_config.hpp"
+#include "arch/link/frame_transfers.hpp"
+#include "arch/link/link.hpp"
 
 namespace edx::arch {
 
@@ -29,8 +34,11 @@ struct HostConfig {
 struct Platform {
   std::string name;
   std::string description;
+  std::string device = "xc7v690t";  ///< the FPGA (arch/memory/bram.hpp Device::by_name)
   HostConfig host;
   FrontendConfig frontend;
+  LinkSpec link = LinkSpec::pcie3_x8();  ///< host <-> FPGA
+  FrameTransferConfig transfers;         ///< what crosses the link per frame
   nlohmann::json to_json() const;
 
   /// Reads a platform YAML file; errors name the file, line and key (unknown keys included).

@@ -1,0 +1,227 @@
+#include "arch/frontend/memory_plan.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "sim_core/clock.hpp"
+
+namespace edx::arch {
+namespace {
+
+using trace::Image;
+using trace::Task;
+
+/// Largest value of `field` over the rows of (task, image) in all frames.
+template <class Field>
+std::int64_t max_over(const std::vector<trace::FrameTrace>& frames, Task task, Image image,
+                      Field field) {
+  std::int64_t best = 0;
+  for (const trace::FrameTrace& f : frames) {
+    for (const trace::TaskRecord& t : f.tasks) {
+      if (t.task == task && t.image == image) best = std::max(best, field(t));
+    }
+  }
+  return best;
+}
+
+/// The per-level shapes of the first row of (task, image) that has them.
+std::vector<trace::LevelWork> levels_of(const std::vector<trace::FrameTrace>& frames, Task task,
+                                        Image image) {
+  for (const trace::FrameTrace& f : frames) {
+    for (const trace::TaskRecord& t : f.tasks) {
+      if (t.task == task && t.image == image && !t.per_level.empty()) return t.per_level;
+    }
+  }
+  return {};
+}
+
+/// A rate as an exact fraction pixels/cycles (1/1024 resolution is exact for the configured
+/// rates, which are multiples of 1/1024 or rounded to them).
+PixelStream stream(std::int64_t first_cycle, double pixels_per_cycle) {
+  constexpr std::int64_t kDenominator = 1024;
+  return {first_cycle, std::max<std::int64_t>(1, std::llround(pixels_per_cycle * kDenominator)),
+          kDenominator};
+}
+
+/// Cycles until a window of side k centred on a pixel has been streamed: ((k-1)/2 lines +
+/// (k-1)/2 pixels) at `rate` pixels a cycle.
+std::int64_t window_lag_cycles(int k, std::int64_t width, double rate) {
+  const std::int64_t half = (k - 1) / 2;
+  return static_cast<std::int64_t>(std::ceil(static_cast<double>(half * width + half) / rate));
+}
+
+const TaskSpan& span_of(const FrontendFrameTiming& t, Task task, Image image) {
+  for (const TaskSpan& s : t.tasks) {
+    if (s.task == task && s.image == image) return s;
+  }
+  throw std::runtime_error(fmt::format("frame {}: no {} {} timing", t.frame_id,
+                                       trace::to_string(task), trace::to_string(image)));
+}
+
+int window_of(const std::vector<trace::FrameTrace>& frames, Task task, Image image, int configured,
+              bool search) {
+  const std::int64_t v = max_over(frames, task, image, [&](const trace::TaskRecord& r) {
+    return search ? r.search_range : r.window_size;
+  });
+  return v > 0 ? static_cast<int>(v) : configured;
+}
+
+}  // namespace
+
+nlohmann::json FrontendMemoryPlan::to_json() const {
+  nlohmann::json sbs = nlohmann::json::array();
+  for (const StencilBuffer& sb : stencil_buffers) {
+    sbs.push_back({{"name", sb.spec.name},
+                   {"lines", sb.lines},
+                   {"line_pixels", sb.fifo_depth_pixels},
+                   {"fifo_bytes", sb.fifo_bytes},
+                   {"shift_register_bytes", sb.shift_register_bytes}});
+  }
+  nlohmann::json fifo_list = nlohmann::json::array();
+  for (const FifoSizing& f : fifos) fifo_list.push_back(f.to_json());
+  return {{"stencil_buffers", sbs},
+          {"fifos", fifo_list},
+          {"scratchpad", scratchpad.to_json()},
+          {"dr_left", dr_left.to_json()},
+          {"dr_right", dr_right.to_json()},
+          {"sb_optimization", sb_optimization},
+          {"sb_bytes", sb_bytes},
+          {"sb_bytes_without_optimization", sb_bytes_without_optimization},
+          {"fifo_bytes", fifo_bytes},
+          {"spm_bytes", spm_bytes},
+          {"extra_dram_bytes_per_frame", extra_dram_bytes_per_frame},
+          {"bram", bram.to_json()}};
+}
+
+FrontendMemoryPlan plan_frontend_memory(const std::vector<trace::FrameTrace>& frames,
+                                        const FrontendSimResult& timing, int width, int height,
+                                        const FrontendConfig& c, const Device& device) {
+  if (frames.empty() || timing.frames.size() != frames.size()) {
+    throw std::runtime_error("frontend memory plan: the timing must cover the trace's frames");
+  }
+  FrontendMemoryPlan plan;
+  plan.sb_optimization = c.sb_optimization;
+  const int b = c.bytes_per_pixel;
+
+  // Stencil buffers, one per pyramid level stream (levels are produced concurrently).
+  const int if_side = window_of(frames, Task::IF, Image::Left, c.if_stencil, false);
+  const int fc_side = window_of(frames, Task::FC, Image::Left, c.fc_patch, false);
+  for (const trace::LevelWork& level : levels_of(frames, Task::FD, Image::Left)) {
+    plan.stencil_buffers.push_back(
+        size_stencil_buffer({fmt::format("fe.L{}", level.level),
+                             level.width,
+                             b,
+                             {{"FD", c.fd_stencil, c.fd_stencil}, {"IF", if_side, if_side}}}));
+  }
+  for (const trace::LevelWork& level : levels_of(frames, Task::IF, Image::Left)) {
+    plan.stencil_buffers.push_back(size_stencil_buffer(
+        {fmt::format("fc.L{}", level.level), level.width, b, {{"FC", fc_side, fc_side}}}));
+  }
+  const std::vector<trace::LevelWork> lk_levels = levels_of(frames, Task::DC, Image::Left);
+  for (const trace::LevelWork& level : lk_levels) {
+    plan.stencil_buffers.push_back(size_stencil_buffer(
+        {fmt::format("dc.L{}", level.level),
+         level.width,
+         b,
+         {{"DC", c.dc_stencil, c.dc_stencil}, {"pyrDown", c.pyramid_filter, c.pyramid_filter}}}));
+  }
+  const int dr_window = window_of(frames, Task::DR, Image::Stereo, c.dr_window, false);
+  const int dr_search = window_of(frames, Task::DR, Image::Stereo, c.dr_search, true);
+  const StencilBuffer dr_left =
+      size_stencil_buffer({"dr.left", width, b, {{"DR", dr_window, dr_window}}});
+  const StencilBuffer dr_right =
+      size_stencil_buffer({"dr.right", width, b, {{"DR", dr_window, dr_window + dr_search - 1}}});
+
+  // The SB decision for DR's reads, from the DES stream timings: P1 = FD/IF's read of level 0,
+  // C1 = FD/IF's use (its window lag later), C2 = DR's use, P2 = DR's re-read (its lag earlier).
+  const sim::ClockDomain clock("frontend", c.clock_mhz);
+  const std::int64_t pixels = static_cast<std::int64_t>(width) * height;
+  const auto cycle = [&](sim::Time t) { return static_cast<std::int64_t>(clock.cycles_in(t)); };
+  const std::int64_t fe_lag =
+      window_lag_cycles(std::max(c.fd_stencil, if_side), width, c.fe_pixels_per_cycle);
+  const std::int64_t dr_lag = window_lag_cycles(dr_window, width, c.dr_pixels_per_cycle);
+  const auto decide = [&](const FrontendFrameTiming& t, Image image) {
+    const std::int64_t read = cycle(span_of(t, Task::FD, image).start);
+    const std::int64_t dr = cycle(span_of(t, Task::DR, Image::Stereo).start);
+    return decide_sb_sharing(
+        stream(read, c.fe_pixels_per_cycle), stream(read + fe_lag, c.fe_pixels_per_cycle),
+        stream(dr + dr_lag, c.dr_pixels_per_cycle), stream(dr, c.dr_pixels_per_cycle), pixels, b);
+  };
+  for (const FrontendFrameTiming& t : timing.frames) {
+    if (span_of(t, Task::DR, Image::Stereo).end == span_of(t, Task::DR, Image::Stereo).start) {
+      continue;  // DR did not run (no matches): nothing to keep
+    }
+    const SbSharingDecision left = decide(t, Image::Left);
+    const SbSharingDecision right = decide(t, Image::Right);
+    if (left.shared_pixels > plan.dr_left.shared_pixels) plan.dr_left = left;
+    if (right.shared_pixels > plan.dr_right.shared_pixels) plan.dr_right = right;
+  }
+
+  std::int64_t other_sb_bytes = 0;
+  for (const StencilBuffer& sb : plan.stencil_buffers) other_sb_bytes += sb.fifo_bytes;
+  // Shared: DR keeps its pixels in FD/IF's level-0 SB for their whole lifetime.
+  plan.sb_bytes_without_optimization =
+      other_sb_bytes + (plan.dr_left.shared_pixels + plan.dr_right.shared_pixels) * b;
+  const bool replicate = c.sb_optimization && plan.dr_left.replicate && plan.dr_right.replicate;
+  std::vector<MemoryStructure> structures;
+  if (replicate) {
+    plan.stencil_buffers.push_back(dr_left);
+    plan.stencil_buffers.push_back(dr_right);
+    plan.sb_bytes = other_sb_bytes + dr_left.fifo_bytes + dr_right.fifo_bytes;
+    plan.extra_dram_bytes_per_frame =
+        plan.dr_left.extra_dram_bytes_per_frame + plan.dr_right.extra_dram_bytes_per_frame;
+  } else {
+    plan.sb_bytes = plan.sb_bytes_without_optimization;
+    structures.push_back({"dr.shared_lifetime", 8 * std::int64_t{b},
+                          plan.dr_left.shared_pixels + plan.dr_right.shared_pixels, 1});
+  }
+  for (const StencilBuffer& sb : plan.stencil_buffers) {
+    for (const MemoryStructure& s : sb.bram_structures()) structures.push_back(s);
+  }
+
+  // FIFOs for the lists streamed from one task to the next.
+  const auto count = [&](Task task, Image image, auto field) {
+    return std::max<std::int64_t>(1, max_over(frames, task, image, field));
+  };
+  const auto descriptors = [](const trace::TaskRecord& r) { return r.descriptors; };
+  const auto keypoints = [](const trace::TaskRecord& r) { return r.keypoints; };
+  const auto points = [](const trace::TaskRecord& r) { return r.points; };
+  plan.fifos.push_back(size_fifo({"fd_to_fc",
+                                  std::max(count(Task::FC, Image::Left, descriptors),
+                                           count(Task::FC, Image::Right, descriptors)),
+                                  c.keypoint_bytes}));
+  plan.fifos.push_back(
+      size_fifo({"mo_to_dr", count(Task::DR, Image::Stereo, keypoints), c.match_bytes}));
+  plan.fifos.push_back(
+      size_fifo({"lss_tracks", count(Task::DC, Image::Left, points), c.track_bytes}));
+  for (const FifoSizing& f : plan.fifos) {
+    plan.fifo_bytes += f.bytes;
+    structures.push_back(f.structure);
+  }
+
+  // Scratchpad: what LSS and MO read at arbitrary positions.
+  std::int64_t lk_pyramid = 0;
+  for (const trace::LevelWork& level : lk_levels) lk_pyramid += level.pixels * b;
+  ScratchpadSpec spm;
+  spm.name = "frontend_spm";
+  spm.regions = {
+      {"lk_pyramid_previous", lk_pyramid},
+      {"lk_pyramid_current", lk_pyramid},
+      {"previous_features", count(Task::DC, Image::Left, points) * c.keypoint_bytes},
+      {"keypoints_left", count(Task::FC, Image::Left, descriptors) * c.keypoint_bytes},
+      {"keypoints_right", count(Task::FC, Image::Right, descriptors) * c.keypoint_bytes},
+      {"descriptors_left", count(Task::FC, Image::Left, descriptors) * c.descriptor_bytes},
+      {"descriptors_right", count(Task::FC, Image::Right, descriptors) * c.descriptor_bytes},
+  };
+  plan.scratchpad = size_scratchpad(spm);
+  plan.spm_bytes = plan.scratchpad.bytes;
+  structures.push_back(plan.scratchpad.structure);
+
+  plan.bram = check_bram("frontend", structures, device);
+  return plan;
+}
+
+}  // namespace edx::arch

@@ -1,0 +1,252 @@
+#include "arch/link/link.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "arch/common/yaml_fields.hpp"
+
+namespace edx::arch {
+namespace {
+
+void require(bool ok, const std::string& field, const std::string& expected) {
+  if (!ok) throw std::runtime_error(fmt::format("{}: expected {}", field, expected));
+}
+
+/// Nanoseconds (double) to the nearest picosecond.
+sim::Time ns_to_time(double value_ns) {
+  return static_cast<sim::Time>(std::llround(value_ns * 1e3));
+}
+
+/// Runs `validate` and rethrows its "<section>.<key>: message" error with file and line.
+template <class Validate>
+void validate_at(YamlFields& fields, const std::string& section, Validate validate) {
+  try {
+    validate();
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    const std::size_t colon = message.find(':');
+    std::string key = message.substr(0, colon);
+    if (key.rfind(section + ".", 0) == 0) key = key.substr(section.size() + 1);
+    fields.fail(key, message.substr(colon + 2));
+  }
+}
+
+}  // namespace
+
+const char* to_string(Direction direction) {
+  return direction == Direction::HostToFpga ? "host_to_fpga" : "fpga_to_host";
+}
+
+void LinkConfig::validate() const {
+  require(!name.empty(), "link.name", "a non-empty name");
+  require(std::isfinite(bandwidth_gb_per_s) && bandwidth_gb_per_s > 0, "link.bandwidth_gb_per_s",
+          "a bandwidth > 0 GB/s");
+  require(std::isfinite(latency_ns) && latency_ns >= 0 && latency_ns < 1e9, "link.latency_ns",
+          "a latency in [0, 1e9) ns");
+}
+
+nlohmann::json LinkConfig::to_json() const {
+  return {{"name", name},
+          {"bandwidth_gb_per_s", bandwidth_gb_per_s},
+          {"latency_ns", latency_ns},
+          {"full_duplex", full_duplex}};
+}
+
+void DmaConfig::validate() const {
+  require(std::isfinite(setup_ns) && setup_ns >= 0 && setup_ns < 1e9, "dma.setup_ns",
+          "a setup time in [0, 1e9) ns");
+  require(chunk_bytes >= 1, "dma.chunk_bytes", "an integer >= 1");
+  require(max_outstanding >= 1, "dma.max_outstanding", "an integer >= 1");
+}
+
+nlohmann::json DmaConfig::to_json() const {
+  return {
+      {"setup_ns", setup_ns}, {"chunk_bytes", chunk_bytes}, {"max_outstanding", max_outstanding}};
+}
+
+void LinkSpec::validate() const {
+  link.validate();
+  dma.validate();
+}
+
+nlohmann::json LinkSpec::to_json() const {
+  return {{"link", link.to_json()}, {"dma", dma.to_json()}};
+}
+
+LinkSpec LinkSpec::pcie3_x8() {
+  LinkSpec s;
+  s.link.name = "pcie3_x8";
+  s.link.bandwidth_gb_per_s = 7.9;  // paper Sec. VII-A (Edx-Car), max PCIe 3.0 bandwidth
+  s.link.latency_ns = 500.0;        // ASSUMPTION: one-way PCIe latency of order 0.5 us
+  s.link.full_duplex = true;        // PCIe lanes are dual simplex (PCIe base spec)
+  s.dma.setup_ns = 1000.0;          // ASSUMPTION: ~1 us per DMA descriptor/request
+  s.dma.chunk_bytes = 4096;         // ASSUMPTION: one 4 KiB page per descriptor
+  s.dma.max_outstanding = 8;        // ASSUMPTION: 8 requests in flight per channel
+  return s;
+}
+
+LinkSpec LinkSpec::axi4() {
+  LinkSpec s;
+  s.link.name = "axi4";
+  s.link.bandwidth_gb_per_s = 1.2;  // paper Sec. VII-A (Edx-Drone), max AXI4 bandwidth
+  s.link.latency_ns = 100.0;        // ASSUMPTION: PS DDR access latency of order 100 ns
+  s.link.full_duplex = true;        // AXI4 read and write channels are independent (AMBA AXI4)
+  s.dma.setup_ns = 200.0;           // ASSUMPTION: burst issue overhead
+  s.dma.chunk_bytes = 4096;         // AXI4 bursts may not cross 4 KB (AMBA AXI4 spec)
+  s.dma.max_outstanding = 8;        // ASSUMPTION: outstanding transactions of the HP port
+  return s;
+}
+
+LinkSpec LinkSpec::preset(const std::string& name) {
+  if (name == "pcie3_x8") return pcie3_x8();
+  if (name == "axi4") return axi4();
+  throw std::runtime_error(fmt::format("link.preset: expected pcie3_x8 or axi4, got '{}'", name));
+}
+
+LinkSpec LinkSpec::from_yaml(const YAML::Node& node, const std::string& where,
+                             const std::string& prefix) {
+  YamlFields fields(node, where, prefix);
+  std::string preset_name;
+  fields.read("preset", preset_name);
+  LinkSpec s;
+  if (!preset_name.empty()) {
+    try {
+      s = preset(preset_name);
+    } catch (const std::runtime_error&) {
+      fields.fail("preset", fmt::format("expected pcie3_x8 or axi4, got '{}'", preset_name));
+    }
+  }
+  fields.read("name", s.link.name);
+  fields.read("bandwidth_gb_per_s", s.link.bandwidth_gb_per_s, 0.0);
+  fields.read("latency_ns", s.link.latency_ns, -1e-12);
+  fields.read("full_duplex", s.link.full_duplex);
+  fields.finish_except({"dma"});
+  validate_at(fields, "link", [&] { s.link.validate(); });
+
+  const YAML::Node dma_node = (node && node.IsMap()) ? node["dma"] : YAML::Node();
+  YamlFields dma(dma_node, where, prefix + ".dma");
+  int chunk = static_cast<int>(std::min<std::int64_t>(s.dma.chunk_bytes, 1 << 30));
+  dma.read("setup_ns", s.dma.setup_ns, -1e-12);
+  dma.read("chunk_bytes", chunk, 1);
+  dma.read("max_outstanding", s.dma.max_outstanding, 1);
+  dma.finish();
+  s.dma.chunk_bytes = chunk;
+  validate_at(dma, "dma", [&] { s.dma.validate(); });
+  return s;
+}
+
+sim::Time wire_time(const LinkConfig& link, std::int64_t bytes) {
+  // bytes / (GBps * 1e9) s = bytes * 1000 / GBps ps
+  return static_cast<sim::Time>(
+      std::llround(static_cast<double>(bytes) * 1e3 / link.bandwidth_gb_per_s));
+}
+
+sim::Time chunk_wire_time(const LinkConfig& link, std::int64_t offset, std::int64_t bytes) {
+  return wire_time(link, offset + bytes) - wire_time(link, offset);
+}
+
+sim::Time transfer_time(const LinkSpec& spec, std::int64_t bytes) {
+  spec.validate();
+  if (bytes < 0) {
+    throw std::runtime_error(fmt::format("link transfer: expected bytes >= 0, got {}", bytes));
+  }
+  if (bytes == 0) return 0;
+  const std::int64_t chunk = spec.dma.chunk_bytes;
+  const std::int64_t n = (bytes + chunk - 1) / chunk;  // ceil(B / C)
+  const auto k = static_cast<std::size_t>(spec.dma.max_outstanding);
+  const sim::Time setup = ns_to_time(spec.dma.setup_ns);
+  const sim::Time latency = ns_to_time(spec.link.latency_ns);
+  // D_j of the last K chunks (chunk j reuses the slot of chunk j - K): a ring of K entries.
+  std::vector<sim::Time> done(std::min(k, static_cast<std::size_t>(n)), 0);
+  sim::Time wire_end = 0;  // E_{j-1}
+  sim::Time last = 0;
+  for (std::int64_t j = 0; j < n; ++j) {
+    const auto slot = static_cast<std::size_t>(j) % done.size();
+    const std::int64_t chunk_bytes = std::min(chunk, bytes - j * chunk);
+    const sim::Time start = static_cast<std::size_t>(j) < k ? 0 : done[slot];  // S_j = D_{j-K}
+    const sim::Time on_wire = std::max(start + setup, wire_end);  // W_j = max(R_j, E_{j-1})
+    wire_end = on_wire + chunk_wire_time(spec.link, j * chunk, chunk_bytes);  // E_j
+    last = done[slot] = wire_end + latency;                                   // D_j
+  }
+  return last;
+}
+
+DmaLink::Lane::Lane(sim::Simulator& sim, const std::string& name, int slot_count)
+    : slots(sim, static_cast<std::size_t>(slot_count), name + ".slots"),
+      own_wire(sim, 1, name + ".wire") {}
+
+DmaLink::DmaLink(sim::Simulator& sim, LinkSpec spec)
+    : sim_(&sim),
+      spec_((spec.validate(), std::move(spec))),
+      setup_(ns_to_time(spec_.dma.setup_ns)),
+      latency_(ns_to_time(spec_.link.latency_ns)),
+      h2c_(sim, spec_.link.name + "." + to_string(Direction::HostToFpga),
+           spec_.dma.max_outstanding),
+      c2h_(sim, spec_.link.name + "." + to_string(Direction::FpgaToHost),
+           spec_.dma.max_outstanding) {
+  h2c_.wire = &h2c_.own_wire;
+  c2h_.wire = spec_.link.full_duplex ? &c2h_.own_wire : &h2c_.own_wire;
+}
+
+sim::Process DmaLink::chunk(Lane& lane, std::int64_t offset, std::int64_t bytes, sim::Lease slot) {
+  if (setup_ > 0) co_await sim_->delay(setup_);  // request setup, overlapped across slots
+  {
+    sim::Lease wire = co_await lane.wire->acquire();  // serialized on the wire
+    co_await sim_->delay(chunk_wire_time(spec_.link, offset, bytes));
+  }
+  if (latency_ > 0) co_await sim_->delay(latency_);  // flight time; the wire is free again
+  lane.chunks.add();
+  slot.release();
+}
+
+sim::Task<void> DmaLink::transfer(std::int64_t bytes, Direction direction) {
+  if (bytes < 0) {
+    throw std::runtime_error(
+        fmt::format("link '{}' transfer: expected bytes >= 0, got {}", spec_.link.name, bytes));
+  }
+  Lane& l = lane(direction);
+  const sim::Time begin = sim_->now();
+  std::vector<sim::ProcessHandle> pending;
+  const std::int64_t chunk_size = spec_.dma.chunk_bytes;
+  for (std::int64_t offset = 0; offset < bytes; offset += chunk_size) {
+    sim::Lease slot = co_await l.slots.acquire();  // at most max_outstanding in flight
+    pending.push_back(
+        sim_->spawn(chunk(l, offset, std::min(chunk_size, bytes - offset), std::move(slot)),
+                    spec_.link.name + ".chunk"));
+  }
+  for (const sim::ProcessHandle& handle : pending) co_await handle;
+  l.bytes.add(static_cast<std::uint64_t>(bytes));
+  l.transfers.add();
+  l.latency_us.add(sim::to_us(sim_->now() - begin));
+  if (timeline_ != nullptr) {
+    timeline_->span(track_, fmt::format("{} {} B", to_string(direction), bytes), begin, sim_->now(),
+                    {{"bytes", bytes}});
+  }
+}
+
+void DmaLink::register_stats(sim::StatsRegistry& registry, const std::string& prefix) const {
+  for (const Direction d : {Direction::HostToFpga, Direction::FpgaToHost}) {
+    const Lane& l = lane(d);
+    const std::string base = prefix + "." + to_string(d);
+    registry.add(base + ".bytes", l.bytes);
+    registry.add(base + ".transfers", l.transfers);
+    registry.add(base + ".chunks", l.chunks);
+    registry.add(base + ".latency_us", l.latency_us);
+    registry.add(base + ".slots_busy", l.slots.busy());
+    if (spec_.link.full_duplex) registry.add(base + ".wire_busy", l.wire->busy());
+  }
+  if (!spec_.link.full_duplex) registry.add(prefix + ".wire_busy", h2c_.own_wire.busy());
+}
+
+void DmaLink::set_timeline(sim::Timeline& timeline, sim::Timeline::TrackId track) {
+  timeline_ = &timeline;
+  track_ = track;
+}
+
+}  // namespace edx::arch

@@ -1,0 +1,137 @@
+// The frontend memory plan on a small hand-computable frame: SB line FIFOs per pyramid level,
+// the DR sharing decision from the DES timing, FIFOs and the scratchpad regions.
+#include "arch/frontend/memory_plan.hpp"
+
+#include <gtest/gtest.h>
+
+#include "sim_core/clock.hpp"
+
+namespace edx::arch {
+namespace {
+
+using trace::Image;
+using trace::Task;
+
+constexpr int kWidth = 100, kHeight = 50;
+
+trace::FrameTrace small_frame(std::int64_t id) {
+  trace::FrameTrace f;
+  f.frame.frame_id = id;
+  const trace::LevelWork level0{0, kWidth, kHeight, kWidth * kHeight, 0, 0};
+  const auto row = [&](Task task, Image image) -> trace::TaskRecord& {
+    trace::TaskRecord t;
+    t.task = task;
+    t.image = image;
+    f.tasks.push_back(t);
+    return f.tasks.back();
+  };
+  for (Image image : {Image::Left, Image::Right}) {
+    auto& fd = row(Task::FD, image);
+    fd.pixels = kWidth * kHeight;
+    fd.per_level = {level0};
+    auto& filter = row(Task::IF, image);
+    filter.pixels = kWidth * kHeight;
+    filter.per_level = {level0};
+    filter.window_size = 7;
+  }
+  auto& dc = row(Task::DC, Image::Left);
+  dc.pixels = kWidth * kHeight;
+  dc.per_level = {level0};
+  dc.points = 40;
+  row(Task::LSS, Image::Left).window_size = 4;
+  for (Image image : {Image::Left, Image::Right}) {
+    auto& fc = row(Task::FC, image);
+    fc.descriptors = fc.keypoints = image == Image::Left ? 50 : 70;
+    fc.window_size = 31;
+  }
+  row(Task::MO, Image::Stereo).comparisons = 100;
+  auto& dr = row(Task::DR, Image::Stereo);
+  dr.keypoints = dr.windows = 30;
+  dr.window_size = 11;
+  dr.search_range = 11;
+  return f;
+}
+
+FrontendConfig config() {
+  FrontendConfig c;
+  c.clock_mhz = 100;
+  c.fe_pixels_per_cycle = 1;
+  c.dr_pixels_per_cycle = 1;
+  return c;
+}
+
+TEST(FrontendMemoryPlan, SizesEveryStructureFromTheTraceAndTheTiming) {
+  const std::vector<trace::FrameTrace> frames = {small_frame(0), small_frame(1)};
+  const FrontendConfig c = config();
+  const FrontendSimResult timing = simulate_frontend(frames, kWidth * kHeight, c);
+  const FrontendMemoryPlan plan =
+      plan_frontend_memory(frames, timing, kWidth, kHeight, c, Device::xc7v690t());
+
+  // Line FIFOs: fe.L0 7 lines, fc.L0 31, dc.L0 5 (pyrDown), dr.left 11, dr.right 11; 100 px each.
+  ASSERT_EQ(plan.stencil_buffers.size(), 5u);
+  EXPECT_EQ(plan.stencil_buffers[0].spec.name, "fe.L0");
+  EXPECT_EQ(plan.stencil_buffers[0].lines, 7);
+  EXPECT_EQ(plan.stencil_buffers[1].lines, 31);
+  EXPECT_EQ(plan.stencil_buffers[2].lines, 5);
+  EXPECT_EQ(plan.stencil_buffers[3].spec.name, "dr.left");
+  EXPECT_EQ(plan.stencil_buffers[4].shift_register_pixels[0], 11 * 21);  // window + search
+  EXPECT_EQ(plan.sb_bytes, (7 + 31 + 5 + 11 + 11) * kWidth);
+
+  // DR's pixels: read for FD/IF at FD's start, used by DR at its start + 5 lines + 5 pixels
+  // later; both streams at 1 pixel a cycle, so every pixel lives the same number of cycles.
+  const sim::ClockDomain clock("frontend", c.clock_mhz);
+  std::int64_t longest_left = 0;
+  for (const FrontendFrameTiming& t : timing.frames) {
+    std::int64_t fd = 0, dr = 0;
+    for (const TaskSpan& s : t.tasks) {
+      if (s.task == Task::FD && s.image == Image::Left) fd = clock.cycles_in(s.start);
+      if (s.task == Task::DR) dr = clock.cycles_in(s.start);
+    }
+    longest_left = std::max(longest_left, dr + 5 * kWidth + 5 - fd);
+  }
+  EXPECT_EQ(plan.dr_left.shared_pixels, longest_left);
+  EXPECT_TRUE(plan.dr_left.replicate);
+  EXPECT_TRUE(plan.dr_right.replicate);
+  EXPECT_EQ(plan.extra_dram_bytes_per_frame, 2 * kWidth * kHeight);
+  EXPECT_EQ(plan.sb_bytes_without_optimization,
+            (7 + 31 + 5) * kWidth + plan.dr_left.shared_pixels + plan.dr_right.shared_pixels);
+
+  // FIFOs: FD->FC the larger image's 70 keypoints x 8 B; MO->DR 30 x 8 B; tracks 40 x 12 B.
+  ASSERT_EQ(plan.fifos.size(), 3u);
+  EXPECT_EQ(plan.fifos[0].bytes, 70 * 8);
+  EXPECT_EQ(plan.fifos[1].bytes, 30 * 8);
+  EXPECT_EQ(plan.fifos[2].bytes, 40 * 12);
+  // SPM: two LK pyramids + previous features + keypoints and descriptors of both images.
+  EXPECT_EQ(plan.spm_bytes, 2 * kWidth * kHeight + 40 * 8 + (50 + 70) * 8 + (50 + 70) * 32);
+  EXPECT_TRUE(plan.bram.fits);
+  EXPECT_GT(plan.bram.total_blocks, 0.0);
+}
+
+TEST(FrontendMemoryPlan, WithoutTheOptimizationDrSharesTheFeatureExtractionBuffer) {
+  const std::vector<trace::FrameTrace> frames = {small_frame(0)};
+  FrontendConfig c = config();
+  c.sb_optimization = false;
+  const FrontendSimResult timing = simulate_frontend(frames, kWidth * kHeight, c);
+  const FrontendMemoryPlan plan =
+      plan_frontend_memory(frames, timing, kWidth, kHeight, c, Device::xc7v690t());
+  EXPECT_EQ(plan.stencil_buffers.size(), 3u);  // no DR buffers of its own
+  EXPECT_EQ(plan.sb_bytes, plan.sb_bytes_without_optimization);
+  EXPECT_EQ(plan.extra_dram_bytes_per_frame, 0);
+}
+
+TEST(FrontendMemoryPlan, AStructureTooBigForTheDeviceIsReported) {
+  // Two million descriptors a frame (64 MB of scratchpad) on the ZU9's 912 blocks.
+  std::vector<trace::FrameTrace> frames = {small_frame(0)};
+  for (auto& t : frames[0].tasks) {
+    if (t.task == Task::FC) t.descriptors = 2'000'000;
+  }
+  const FrontendConfig c = config();
+  const FrontendSimResult timing = simulate_frontend(frames, kWidth * kHeight, c);
+  const FrontendMemoryPlan plan =
+      plan_frontend_memory(frames, timing, kWidth, kHeight, c, Device::zu9eg());
+  EXPECT_FALSE(plan.bram.fits);
+  EXPECT_NE(plan.bram.message.find("ZU9EG has 912"), std::string::npos) << plan.bram.message;
+}
+
+}  // namespace
+}  // namespace edx::arch
