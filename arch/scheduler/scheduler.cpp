@@ -1,0 +1,131 @@
+#include "arch/scheduler/scheduler.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace edx::arch {
+
+OffloadPolicy parse_offload_policy(std::string_view text) {
+  if (text == "never") return OffloadPolicy::kNever;
+  if (text == "always") return OffloadPolicy::kAlways;
+  if (text == "regression") return OffloadPolicy::kRegression;
+  if (text == "oracle") return OffloadPolicy::kOracle;
+  throw std::runtime_error(fmt::format(
+      "unknown offload policy '{}' (expected never, always, regression or oracle)", text));
+}
+
+const char* to_string(OffloadPolicy policy) {
+  switch (policy) {
+    case OffloadPolicy::kNever:
+      return "never";
+    case OffloadPolicy::kAlways:
+      return "always";
+    case OffloadPolicy::kRegression:
+      return "regression";
+    case OffloadPolicy::kOracle:
+      return "oracle";
+  }
+  return "?";
+}
+
+int model_degree(const std::string& kernel) {
+  if (kernel == "projection") return 1;
+  if (kernel == "kalman_gain" || kernel == "marginalization") return 2;
+  throw std::runtime_error(fmt::format(
+      "no host-time model for kernel '{}' (expected projection, kalman_gain or marginalization)",
+      kernel));
+}
+
+OffloadScheduler::OffloadScheduler(OffloadPolicy policy, double training_fraction,
+                                   std::size_t frames)
+    : policy_(policy) {
+  if (!(training_fraction >= 0 && training_fraction < 1)) {
+    throw std::runtime_error(fmt::format(
+        "scheduler.training_fraction: expected a fraction in [0, 1), got {}", training_fraction));
+  }
+  training_frames_ =
+      static_cast<std::size_t>(std::ceil(training_fraction * static_cast<double>(frames)));
+}
+
+void OffloadScheduler::train(const std::vector<KernelInvocation>& invocations) {
+  models_.clear();
+  if (policy_ != OffloadPolicy::kRegression) return;
+  std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> samples;
+  for (const KernelInvocation& k : invocations) {
+    if (!in_training(k)) continue;
+    samples[k.kernel].first.push_back(k.size);
+    samples[k.kernel].second.push_back(k.host_s);
+  }
+  for (const auto& [kernel, xy] : samples) {
+    const int degree = model_degree(kernel);
+    if (xy.first.size() < static_cast<std::size_t>(degree) + 1) continue;
+    models_[kernel] = fit_polynomial(xy.first, xy.second, degree);
+  }
+}
+
+bool OffloadScheduler::offload(const KernelInvocation& k) const {
+  switch (policy_) {
+    case OffloadPolicy::kNever:
+      return false;
+    case OffloadPolicy::kAlways:
+      return true;
+    case OffloadPolicy::kOracle:
+      return k.accel_s < k.host_s;
+    case OffloadPolicy::kRegression: {
+      if (in_training(k)) return false;  // profiled on the host
+      const auto it = models_.find(k.kernel);
+      return it != models_.end() && it->second.predict(k.size) > k.accel_estimate_s;
+    }
+  }
+  return false;
+}
+
+nlohmann::json KernelScheduleSummary::to_json() const {
+  return {{"kernel", kernel},
+          {"invocations", invocations},
+          {"offloaded", offloaded},
+          {"host_only_s", host_only_s},
+          {"always_s", always_s},
+          {"policy_s", policy_s},
+          {"oracle_s", oracle_s},
+          {"r_squared_train", r_squared_train},
+          {"r_squared_eval", r_squared_eval},
+          {"gap_to_oracle", gap_to_oracle}};
+}
+
+std::vector<KernelScheduleSummary> evaluate_schedule(
+    OffloadScheduler& scheduler, const std::vector<KernelInvocation>& invocations) {
+  scheduler.train(invocations);
+  std::map<std::string, KernelScheduleSummary> by_kernel;
+  std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> eval_samples;
+  for (const KernelInvocation& k : invocations) {
+    if (scheduler.in_training(k)) continue;
+    KernelScheduleSummary& s = by_kernel[k.kernel];
+    s.kernel = k.kernel;
+    ++s.invocations;
+    const bool off = scheduler.offload(k);
+    if (off) ++s.offloaded;
+    s.host_only_s += k.host_s;
+    s.always_s += k.accel_s;
+    s.policy_s += off ? k.accel_s : k.host_s;
+    s.oracle_s += std::min(k.accel_s, k.host_s);
+    eval_samples[k.kernel].first.push_back(k.size);
+    eval_samples[k.kernel].second.push_back(k.host_s);
+  }
+  std::vector<KernelScheduleSummary> out;
+  for (auto& [kernel, s] : by_kernel) {
+    const auto model = scheduler.models().find(kernel);
+    if (model != scheduler.models().end()) {
+      s.r_squared_train = model->second.r_squared;
+      s.r_squared_eval =
+          r_squared(model->second, eval_samples[kernel].first, eval_samples[kernel].second);
+    }
+    s.gap_to_oracle = s.oracle_s > 0 ? s.policy_s / s.oracle_s - 1.0 : 0.0;
+    out.push_back(s);
+  }
+  return out;
+}
+
+}  // namespace edx::arch

@@ -1,0 +1,99 @@
+// Regression models and offload policies on hand-computed data.
+#include "arch/scheduler/scheduler.hpp"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+namespace edx::arch {
+namespace {
+
+TEST(Regression, LinearLeastSquaresByHand) {
+  // x 0..3, y 1 3 2 5: slope = 5.5 / 5 = 1.1, intercept = 2.75 - 1.1 * 1.5 = 1.1;
+  // residuals -0.1 0.8 -1.3 0.6: SS_res = 2.7, SS_tot = 8.75, R² = 1 - 2.7 / 8.75.
+  const PolynomialModel m = fit_polynomial({0, 1, 2, 3}, {1, 3, 2, 5}, 1);
+  ASSERT_EQ(m.coefficients.size(), 2u);
+  EXPECT_NEAR(m.coefficients[0], 1.1, 1e-12);
+  EXPECT_NEAR(m.coefficients[1], 1.1, 1e-12);
+  EXPECT_NEAR(m.r_squared, 1.0 - 2.7 / 8.75, 1e-12);
+  EXPECT_NEAR(m.predict(10), 12.1, 1e-10);
+}
+
+TEST(Regression, QuadraticIsRecoveredExactlyAtLargeSizes) {
+  std::vector<double> x, y;
+  for (int i = 0; i < 20; ++i) {
+    x.push_back(100.0 * i);
+    y.push_back(2e-3 + 3e-6 * x.back() + 4e-9 * x.back() * x.back());
+  }
+  const PolynomialModel m = fit_polynomial(x, y, 2);
+  EXPECT_NEAR(m.coefficients[0], 2e-3, 1e-12);
+  EXPECT_NEAR(m.coefficients[1], 3e-6, 1e-14);
+  EXPECT_NEAR(m.coefficients[2], 4e-9, 1e-16);
+  EXPECT_NEAR(m.r_squared, 1.0, 1e-12);
+  // Two samples at x = 50, one on the model and one 1 above: SS_res = 1, SS_tot = 2 * (1/2)² =
+  // 0.5, R² = 1 - 1 / 0.5 = -1.
+  EXPECT_NEAR(r_squared(m, {50, 50}, {m.predict(50), m.predict(50) + 1}), -1.0, 1e-9);
+}
+
+TEST(Regression, TooFewOrBadSamplesAreErrors) {
+  EXPECT_THROW(fit_polynomial({1, 2}, {1, 2}, 2), std::runtime_error);
+  EXPECT_THROW(fit_polynomial({1, 2, 3}, {1, 2}, 1), std::runtime_error);
+  EXPECT_THROW(fit_polynomial({1, 2, std::nan("")}, {1, 2, 3}, 1), std::runtime_error);
+}
+
+/// Marginalization invocations, one per frame, host time 1e-8·size², accelerator 1e-4 s: the
+/// oracle offloads sizes above 100.
+std::vector<KernelInvocation> invocations(std::size_t frames) {
+  std::vector<KernelInvocation> out;
+  for (std::size_t f = 0; f < frames; ++f) {
+    KernelInvocation k;
+    k.frame_index = f;
+    k.kernel = "marginalization";
+    k.size = static_cast<double>((f * 37) % 200);
+    k.host_s = 1e-8 * k.size * k.size;
+    k.accel_s = k.accel_estimate_s = 1e-4;
+    out.push_back(k);
+  }
+  return out;
+}
+
+TEST(OffloadScheduler, RegressionMatchesTheOracleWhenTheModelIsExact) {
+  const auto all = invocations(400);
+  OffloadScheduler regression(OffloadPolicy::kRegression, 0.25, 400);
+  const auto summary = evaluate_schedule(regression, all);
+  ASSERT_EQ(summary.size(), 1u);
+  const KernelScheduleSummary& s = summary[0];
+  EXPECT_EQ(regression.training_frames(), 100u);
+  EXPECT_EQ(s.invocations, 300u);
+  EXPECT_NEAR(s.r_squared_train, 1.0, 1e-9);
+  EXPECT_NEAR(s.gap_to_oracle, 0.0, 1e-9);
+  std::size_t expected_offloads = 0;
+  for (const auto& k : all) {
+    if (k.frame_index >= 100 && k.size > 100) ++expected_offloads;
+  }
+  EXPECT_EQ(s.offloaded, expected_offloads);
+  EXPECT_LT(s.policy_s, s.host_only_s);
+  EXPECT_LT(s.policy_s, s.always_s);  // small sizes are faster on the host
+}
+
+TEST(OffloadScheduler, FixedPoliciesAndTrainingFrames) {
+  const auto all = invocations(100);
+  OffloadScheduler never(OffloadPolicy::kNever, 0.25, 100);
+  const auto n = evaluate_schedule(never, all)[0];
+  EXPECT_EQ(n.offloaded, 0u);
+  EXPECT_DOUBLE_EQ(n.policy_s, n.host_only_s);
+  OffloadScheduler always(OffloadPolicy::kAlways, 0.25, 100);
+  const auto a = evaluate_schedule(always, all)[0];
+  EXPECT_EQ(a.offloaded, a.invocations);
+  EXPECT_DOUBLE_EQ(a.policy_s, a.always_s);
+  OffloadScheduler regression(OffloadPolicy::kRegression, 0.25, 100);
+  regression.train(all);
+  EXPECT_FALSE(regression.offload(all[3]));  // a training frame runs on the host
+  EXPECT_THROW(OffloadScheduler(OffloadPolicy::kOracle, 1.0, 10), std::runtime_error);
+  EXPECT_THROW(parse_offload_policy("sometimes"), std::runtime_error);
+  EXPECT_EQ(parse_offload_policy("oracle"), OffloadPolicy::kOracle);
+  EXPECT_THROW(model_degree("pnp"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace edx::arch
