@@ -1,0 +1,157 @@
+#include "vio_run.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "workloads/backend/vio/chi_square.hpp"
+#include "workloads/frontend/stereo_frontend.hpp"
+
+namespace edx::backend::vio::testing {
+namespace {
+
+std::span<const datasets::ImuSample> imu_between(const std::vector<datasets::ImuSample>& all,
+                                                 std::int64_t after, std::int64_t upto) {
+  const auto lo = std::upper_bound(all.begin(), all.end(), after,
+                                   [](std::int64_t t, const auto& s) { return t < s.t_ns; });
+  const auto hi = std::upper_bound(all.begin(), all.end(), upto,
+                                   [](std::int64_t t, const auto& s) { return t < s.t_ns; });
+  return {lo, hi};
+}
+
+std::span<const datasets::GpsFix> gps_between(const std::vector<datasets::GpsFix>& all,
+                                              std::int64_t after, std::int64_t upto) {
+  const auto lo = std::upper_bound(all.begin(), all.end(), after,
+                                   [](std::int64_t t, const auto& s) { return t < s.t_ns; });
+  const auto hi = std::upper_bound(all.begin(), all.end(), upto,
+                                   [](std::int64_t t, const auto& s) { return t < s.t_ns; });
+  return {lo, hi};
+}
+
+double yaw_of(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
+
+}  // namespace
+
+std::pair<double, double> mean_sd(const std::vector<double>& values) {
+  if (values.empty()) return {0, 0};
+  double mean = 0;
+  for (double v : values) mean += v;
+  mean /= static_cast<double>(values.size());
+  double var = 0;
+  for (double v : values) var += (v - mean) * (v - mean);
+  return {mean, values.size() > 1 ? std::sqrt(var / static_cast<double>(values.size() - 1)) : 0};
+}
+
+VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::size_t frames,
+               bool collect_kernels) {
+  const VioOptions& options = given;
+  const auto dataset = datasets::open_dataset(path, datasets::DatasetFormat::kEuroc);
+  auto backend_base = make_vio_backend(*dataset, options);
+  auto& backend = dynamic_cast<VioBackend&>(*backend_base);
+  const auto& calibration = dataset->calibration();
+  frontend::StereoFrontend frontend(frontend::FrontendOptions{},
+                                    {calibration.rectified.fx, calibration.baseline_m});
+  VioRun run;
+  run.frames = frames == 0 ? dataset->frame_count() : std::min(frames, dataset->frame_count());
+  eval::Trajectory gt, est;
+  gt.stamp_kind = est.stamp_kind = eval::StampKind::kSeconds;
+  gt.source = "ground truth";
+  est.source = "vio estimate";
+  std::int64_t previous = std::numeric_limits<std::int64_t>::min();
+  std::optional<Eigen::Isometry3d> T_filter_gt;  // 4-DoF gauge at initialization
+  std::optional<Eigen::Vector3d> last_gt_position;
+  double nees_sum = 0;
+  int nees_count = 0, nees_inside = 0;
+  const double nees_lo = chi2_quantile(0.025, 6), nees_hi = chi2_quantile(0.975, 6);
+  for (std::size_t i = 0; i < run.frames; ++i) {
+    const datasets::StereoFrame images = dataset->load_frame(i);
+    const frontend::FrontendFrame features = frontend.process(images.left, images.right);
+    BackendInput input;
+    input.t_ns = images.t_ns;
+    input.frontend = &features;
+    input.imu = imu_between(dataset->imu(), previous, images.t_ns);
+    if (options.use_gps) input.gps = gps_between(dataset->gps(), previous, images.t_ns);
+    previous = images.t_ns;
+    const auto start = std::chrono::steady_clock::now();
+    BackendOutput output = backend.process(input);
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (!output.T_world_body) continue;
+    run.backend_ms.push_back(ms);
+    for (const auto& k : output.kernels) run.kernel_ms_total[k.kernel] += k.host_ns * 1e-6;
+    if (collect_kernels) run.kernels.push_back(output.kernels);
+    if (backend.last_update().updated) ++run.visual_updates;
+    run.gps_fused += backend.last_gps().fused;
+    ++run.estimated;
+    const auto truth = datasets::interpolate_ground_truth(dataset->ground_truth(), images.t_ns);
+    if (!truth) continue;
+    const double t_s = static_cast<double>(images.t_ns) * 1e-9;
+    gt.poses.push_back(
+        {t_s, static_cast<std::int64_t>(i), eval::Pose(truth->T_world_body.matrix()), 0});
+    est.poses.push_back(
+        {t_s, static_cast<std::int64_t>(i), eval::Pose(output.T_world_body->matrix()), 0});
+    if (last_gt_position)
+      run.distance_m += (truth->T_world_body.translation() - *last_gt_position).norm();
+    last_gt_position = truth->T_world_body.translation();
+    // Filter-frame quantities (the filter frame is fixed at initialization).
+    const VioState& state = backend.state();
+    if (!T_filter_gt) {
+      // The yaw about world z that leaves no z component in the rotation error
+      // log(Rz(yaw) R_gt R_est^T) (yaw and position are the filter's gauge, fixed at start).
+      double yaw = yaw_of(state.R_WI) - yaw_of(truth->T_world_body.linear());
+      for (int it = 0; it < 5; ++it) {
+        const Eigen::Matrix3d Rz =
+            Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        yaw -= so3_log(Rz * truth->T_world_body.linear() * state.R_WI.transpose()).z();
+      }
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      T.translation() = state.p_WI - T.linear() * truth->T_world_body.translation();
+      T_filter_gt = T;
+    }
+    const Eigen::Isometry3d truth_out = *T_filter_gt * truth->T_world_body;  // in filter frame
+    Eigen::Matrix<double, 6, 1> e;
+    e.head<3>() = so3_log(truth_out.linear() * state.R_WI.transpose());
+    e.tail<3>() = truth_out.translation() - state.p_WI;
+    const double nees = e.dot(state.P.topLeftCorner<6, 6>().ldlt().solve(e));
+    nees_sum += nees;
+    run.nees.push_back(nees);
+    ++nees_count;
+    if (nees >= nees_lo && nees <= nees_hi) ++nees_inside;
+    run.final_drift_m = e.tail<3>().norm();
+    if (std::getenv("EDX_VIO_VERBOSE") && i % 20 == 0) {
+      const Eigen::VectorXd sd = state.P.diagonal().head(15).cwiseSqrt();
+      std::fprintf(stderr,
+                   "frame %zu err th %.4f %.4f %.4f p %.3f %.3f %.3f | sd th %.4f %.4f %.4f p %.3f "
+                   "%.3f %.3f v %.3f ba %.3f %.3f %.3f bg %.4f\n",
+                   i, e(0), e(1), e(2), e(3), e(4), e(5), sd(0), sd(1), sd(2), sd(3), sd(4), sd(5),
+                   sd(6), state.accel_bias.x(), state.accel_bias.y(), state.accel_bias.z(),
+                   state.gyro_bias.norm());
+      if (backend.gps_aligned()) {
+        const Eigen::Isometry3d T_gv = T_filter_gt->inverse();
+        std::fprintf(stderr,
+                     "  gps yaw %.4f (true %.4f, sd %.4f) t %.3f %.3f %.3f (true %.3f %.3f %.3f, "
+                     "sd z %.3f)\n",
+                     state.yaw_GV, yaw_of(T_gv.linear()), std::sqrt(state.P(kGpsYaw, kGpsYaw)),
+                     state.t_GV.x(), state.t_GV.y(), state.t_GV.z(), T_gv.translation().x(),
+                     T_gv.translation().y(), T_gv.translation().z(),
+                     std::sqrt(state.P(kGpsPos + 2, kGpsPos + 2)));
+      }
+    }
+  }
+  run.gps_aligned = backend.gps_aligned();
+  if (nees_count > 0) {
+    run.mean_nees = nees_sum / nees_count;
+    run.nees_in_bounds = static_cast<double>(nees_inside) / nees_count;
+  }
+  if (est.poses.size() >= 2) {
+    eval::EvalOptions eval_options;
+    eval_options.alignment = eval::AlignmentMethod::kPosYaw;
+    eval_options.t_max_diff_s = 1e-3;
+    run.accuracy = eval::evaluate(gt, est, eval_options);
+  }
+  return run;
+}
+
+}  // namespace edx::backend::vio::testing

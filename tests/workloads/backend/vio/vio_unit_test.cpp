@@ -1,0 +1,303 @@
+// Unit tests of the VIO backend's pieces against hand-computed or independently known values.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "workloads/backend/vio/chi_square.hpp"
+#include "workloads/backend/vio/ekf_update.hpp"
+#include "workloads/backend/vio/gps_fusion.hpp"
+#include "workloads/backend/vio/imu_propagator.hpp"
+#include "workloads/backend/vio/msckf_updater.hpp"
+#include "workloads/backend/vio/triangulation.hpp"
+#include "workloads/backend/vio/vio_options.hpp"
+#include "workloads/backend/vio/vio_state.hpp"
+
+namespace edx::backend::vio {
+namespace {
+
+// Quantiles from standard chi-square tables.
+TEST(ChiSquare, QuantilesMatchTables) {
+  EXPECT_NEAR(chi2_quantile(0.95, 1), 3.841459, 1e-5);
+  EXPECT_NEAR(chi2_quantile(0.95, 2), 5.991465, 1e-5);
+  EXPECT_NEAR(chi2_quantile(0.95, 3), 7.814728, 1e-5);
+  EXPECT_NEAR(chi2_quantile(0.95, 10), 18.307038, 1e-5);
+  EXPECT_NEAR(chi2_quantile(0.95, 100), 124.342113, 1e-4);
+  EXPECT_NEAR(chi2_quantile(0.025, 6), 1.237344, 1e-5);
+  EXPECT_NEAR(chi2_quantile(0.975, 6), 14.449375, 1e-5);
+  EXPECT_NEAR(chi2_survival(2.0, 2), std::exp(-1.0), 1e-12);  // Q = exp(-x/2) for k = 2
+}
+
+TEST(VioOptions, ValidateNamesTheField) {
+  VioOptions options;
+  EXPECT_NO_THROW(options.validate());
+  options.max_clones = 1;
+  try {
+    options.validate();
+    FAIL() << "expected a throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("max_clones"), std::string::npos);
+  }
+  EXPECT_EQ(VioOptions{}.to_json().at("max_clones"), 30);
+}
+
+TEST(VioState, CloningThenMarginalizingRestoresTheCovariance) {
+  VioState state;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd A(kCoreDim, kCoreDim);
+  for (int i = 0; i < A.size(); ++i) A.data()[i] = normal(rng);
+  state.P = A * A.transpose();
+  const Eigen::MatrixXd P0 = state.P;
+  state.augment_clone();
+  ASSERT_EQ(state.dim(), kCoreDim + kCloneDim);
+  // The clone is a copy of (theta, p): its block and cross terms equal those of the pose.
+  EXPECT_TRUE(state.P.block(kCoreDim, kCoreDim, 6, 6).isApprox(P0.topLeftCorner(6, 6)));
+  EXPECT_TRUE(state.P.block(kCoreDim, 0, 6, kCoreDim).isApprox(P0.topRows(6)));
+  state.augment_clone();
+  state.marginalize_clone(0);
+  state.marginalize_clone(0);
+  EXPECT_TRUE(state.P.isApprox(P0));
+  EXPECT_TRUE(state.clones.empty());
+}
+
+TEST(ImuPropagator, NoiseFreeMotionAndCovarianceGrowth) {
+  const double g = 9.81, sa = 2e-3, sg = 1.7e-4;
+  ImuPropagator propagator({sg, sa, 0.0, 0.0}, g);  // no bias walk: closed forms below
+  std::vector<datasets::ImuSample> samples;
+  // Free fall (zero specific force) while turning about z at 0.5 rad/s for 1 s, 200 Hz.
+  for (int k = 0; k <= 200; ++k) {
+    datasets::ImuSample s;
+    s.t_ns = k * 5'000'000;
+    s.gyro_rad_s = {0, 0, 0.5};
+    samples.push_back(s);
+  }
+  propagator.add(samples);
+  VioState state;
+  state.P = Eigen::MatrixXd::Zero(kCoreDim, kCoreDim);
+  state.v_WI = {1, 0, 0};
+  EXPECT_EQ(propagator.propagate(state, 1'000'000'000), 200);
+  EXPECT_NEAR(state.p_WI.x(), 1.0, 1e-9);
+  EXPECT_NEAR(state.p_WI.z(), -0.5 * g, 1e-9);  // p = v t + g t^2 / 2
+  EXPECT_NEAR(state.v_WI.z(), -g, 1e-9);
+  EXPECT_NEAR(std::atan2(state.R_WI(1, 0), state.R_WI(0, 0)), 0.5, 1e-9);
+  // With no specific force, attitude errors do not reach v and p: var(v) = sa^2 t,
+  // var(p) = sa^2 t^3 / 3 per axis, var(theta) = sg^2 t.
+  EXPECT_NEAR(state.P(kVel + 2, kVel + 2), sa * sa, 1e-12);
+  EXPECT_NEAR(state.P(kPos + 2, kPos + 2), sa * sa / 3.0, 1e-12);
+  EXPECT_NEAR(state.P(kTheta, kTheta), sg * sg, 1e-14);
+}
+
+TEST(EkfUpdate, GainMatchesTheClosedFormAndRecordsItsOps) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal;
+  const int n = 12, m = 5;
+  Eigen::MatrixXd A(n, n), H(m, n);
+  for (int i = 0; i < A.size(); ++i) A.data()[i] = normal(rng);
+  for (int i = 0; i < H.size(); ++i) H.data()[i] = normal(rng);
+  const Eigen::MatrixXd P = A * A.transpose() + Eigen::MatrixXd::Identity(n, n);
+  const Eigen::VectorXd noise = Eigen::VectorXd::Constant(m, 0.3);
+  KernelRecorder recorder;
+  KalmanGain gain;
+  {
+    auto kernel = recorder.kernel("kalman_gain", true);
+    gain = kalman_gain(P, H, noise, &recorder);
+  }
+  ASSERT_TRUE(gain.ok);
+  const Eigen::MatrixXd S = H * P * H.transpose() + Eigen::MatrixXd(noise.asDiagonal());
+  const Eigen::MatrixXd K = P * H.transpose() * S.inverse();
+  EXPECT_TRUE(gain.K.isApprox(K, 1e-10));
+  const auto kernels = recorder.take();
+  ASSERT_EQ(kernels.size(), 1u);
+  const auto& ops = kernels[0].ops;
+  ASSERT_EQ(ops.size(), 6u);
+  EXPECT_EQ(ops[0].op, trace::Op::Gemm);
+  EXPECT_EQ(ops[1].op, trace::Op::Gemm);
+  EXPECT_EQ(ops[1].m, m);
+  EXPECT_EQ(ops[1].n, m);
+  EXPECT_EQ(ops[1].k, n);
+  EXPECT_TRUE(ops[1].flags & trace::op_flags::kSymmetric);
+  EXPECT_EQ(ops[2].op, trace::Op::Potrf);
+  EXPECT_EQ(ops[2].m, m);
+  EXPECT_EQ(ops[3].op, trace::Op::Trsm);
+  EXPECT_EQ(ops[3].n, n);
+  EXPECT_EQ(ops[4].op, trace::Op::Trsm);
+  EXPECT_EQ(ops[5].op, trace::Op::Transpose);
+  // Covariance update P - K S K^T.
+  VioState state;
+  state.P = Eigen::MatrixXd::Zero(kCoreDim, kCoreDim);
+  state.P.topLeftCorner(n, n) = P;
+  const Eigen::MatrixXd H_full = [&] {
+    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(m, kCoreDim);
+    h.leftCols(n) = H;
+    return h;
+  }();
+  const KalmanGain full = kalman_gain(state.P, H_full, noise, nullptr);
+  ASSERT_TRUE(apply_update(state, full, Eigen::VectorXd::Zero(m)));
+  const Eigen::MatrixXd expected = P - K * S * K.transpose();
+  EXPECT_TRUE(state.P.topLeftCorner(n, n).isApprox(expected, 1e-9));
+  EXPECT_TRUE(state.P.isApprox(state.P.transpose()));
+}
+
+CameraPose camera_at(const Eigen::Vector3d& position, double yaw) {
+  CameraPose c;
+  c.R_WC = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  c.p_WC = position;
+  return c;
+}
+
+Observation observe(const CameraPose& c, const Eigen::Vector3d& p_W, double baseline, bool stereo) {
+  const Eigen::Vector3d p_C = c.R_WC.transpose() * (p_W - c.p_WC);
+  Observation o;
+  o.left = p_C.head<2>() / p_C.z();
+  o.stereo = stereo;
+  o.right_x = (p_C.x() - baseline) / p_C.z();
+  return o;
+}
+
+TEST(Triangulation, RecoversAKnownPointAndRejectsBadGeometry) {
+  const double b = 0.11;
+  const Eigen::Vector3d point(0.7, -0.4, 6.0);
+  std::vector<CameraPose> cameras;
+  std::vector<Observation> observations;
+  for (int i = 0; i < 4; ++i) {
+    cameras.push_back(camera_at({0.3 * i, 0.05 * i, 0.1 * i}, 0.03 * i));
+    observations.push_back(observe(cameras.back(), point, b, i % 2 == 0));
+  }
+  // Start away from the truth: corrupt the stereo disparity of the first view (the initial guess).
+  observations[0].right_x -= 0.002;
+  TriangulationOptions options;
+  options.baseline_m = b;
+  options.max_rms = 1e-2;
+  const auto result = triangulate(observations, cameras, options);
+  ASSERT_TRUE(result);
+  EXPECT_LT((result->p_W - point).norm(), 0.05);  // only the corrupted row disagrees
+  // Without the corrupted row the point is exact.
+  observations[0] = observe(cameras[0], point, b, true);
+  const auto exact = triangulate(observations, cameras, options);
+  ASSERT_TRUE(exact);
+  EXPECT_LT((exact->p_W - point).norm(), 1e-8);
+  EXPECT_LT(exact->rms, 1e-10);
+  // Depth limits: the point lies beyond max_depth.
+  options.max_depth_m = 5.0;
+  EXPECT_FALSE(triangulate(observations, cameras, options));
+}
+
+// Exact measurements of known points from true clones; the filter starts from perturbed clones
+// with a covariance that covers the perturbation; one update must pull the clones to the truth.
+TEST(MsckfUpdater, UpdateMovesPerturbedClonesTowardTheTruth) {
+  VioOptions options;
+  options.estimate_extrinsics = false;
+  const double b = 0.11, fx = 450.0;
+  VioState truth;
+  truth.R_IC << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // camera looks along body x
+  truth.p_IC = {0.05, -0.02, 0.01};
+  std::vector<Clone> clones;
+  for (int i = 0; i < 6; ++i) {
+    Clone c;
+    c.t_ns = i;
+    c.R_WI = so3_exp(Eigen::Vector3d(0.01 * i, -0.02 * i, 0.05 * i));
+    c.p_WI = {0.2 * i, 0.03 * i, -0.01 * i};
+    clones.push_back(c);
+  }
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  std::vector<FeatureTrack> tracks;
+  for (int f = 0; f < 60; ++f) {
+    const Eigen::Vector3d p_W(5 + 3 * uniform(rng), 2 * uniform(rng), 1.5 * uniform(rng));
+    FeatureTrack track;
+    track.id = f;
+    for (const Clone& c : clones) {
+      CameraPose cam{c.R_WI * truth.R_IC, c.p_WI + c.R_WI * truth.p_IC};
+      Observation o = observe(cam, p_W, b, true);
+      o.t_ns = c.t_ns;
+      track.observations.push_back(o);
+    }
+    tracks.push_back(track);
+  }
+  VioState state = truth;
+  state.P = Eigen::MatrixXd::Zero(kCoreDim, kCoreDim);
+  state.P.diagonal().setConstant(1e-12);
+  const double s_theta = 0.005, s_pos = 0.02;
+  for (std::size_t i = 0; i < clones.size(); ++i) {
+    state.augment_clone();
+    Clone& c = state.clones.back();
+    c = clones[i];
+    const int at = VioState::clone_index(i);
+    state.P.block(at, 0, 6, state.dim()).setZero();
+    state.P.block(0, at, state.dim(), 6).setZero();
+    // The first clone is exact and certain: it fixes the gauge (the features only constrain
+    // the clones relative to each other).
+    const double st = i == 0 ? 1e-8 : s_theta, sp = i == 0 ? 1e-8 : s_pos;
+    state.P.block<3, 3>(at, at) = st * st * Eigen::Matrix3d::Identity();
+    state.P.block<3, 3>(at + 3, at + 3) = sp * sp * Eigen::Matrix3d::Identity();
+    if (i == 0) continue;
+    c.R_WI = so3_exp(Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)) * s_theta) * c.R_WI;
+    c.p_WI += Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)) * s_pos;
+  }
+  const auto error = [&] {
+    double e = 0;
+    for (std::size_t i = 0; i < clones.size(); ++i)
+      e += (state.clones[i].p_WI - clones[i].p_WI).norm() +
+           so3_log(state.clones[i].R_WI * clones[i].R_WI.transpose()).norm();
+    return e;
+  };
+  const double before = error();
+  MsckfUpdater updater(options, b, fx);
+  std::vector<const FeatureTrack*> pointers;
+  for (const auto& t : tracks) pointers.push_back(&t);
+  KernelRecorder recorder;
+  const UpdateReport report = updater.update(state, pointers, recorder);
+  EXPECT_GE(report.triangulated, 40);  // the perturbed clones leave a few above the RMS limit
+  EXPECT_GT(report.accepted, 30);
+  EXPECT_TRUE(report.updated);
+  EXPECT_LT(error(), 0.2 * before);
+  // The kernels of one update, in order.
+  std::vector<std::string> names;
+  for (const auto& k : recorder.take()) names.push_back(k.kernel);
+  const std::vector<std::string> expected{"triangulation", "jacobians",   "nullspace_projection",
+                                          "compression",   "kalman_gain", "covariance_update"};
+  EXPECT_EQ(names, expected);
+}
+
+// GPS fusion: the first fixes align the frames, the later ones correct a position error.
+TEST(GpsFusion, AlignsThenCorrectsDrift) {
+  VioOptions options;
+  options.gps_align_min_extent_m = 10.0;
+  GpsFusion fusion(options);
+  VioState state;
+  state.P = Eigen::MatrixXd::Zero(kCoreDim, kCoreDim);
+  state.P.diagonal().head(kImuDim).setConstant(1e-4);
+  state.v_WI = {10, 0, 0};
+  // GPS frame: the filter frame turned by 30 degrees and shifted.
+  const Eigen::Matrix3d Rz = Eigen::AngleAxisd(0.5236, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d shift(100, -50, 3);
+  KernelRecorder recorder;
+  EXPECT_EQ(fusion.process(state, {}, recorder).fixes, 0);
+  EXPECT_TRUE(recorder.take().empty());  // no fixes, no kernel
+  for (int k = 0; k < 20; ++k) {
+    state.t_ns = k * 100'000'000;
+    state.p_WI = {1.0 * k, 0, 0};
+    datasets::GpsFix fix{state.t_ns, Rz * state.p_WI + shift, 0.1};
+    fusion.process(state, std::span(&fix, 1), recorder);
+  }
+  ASSERT_TRUE(fusion.aligned());
+  EXPECT_NEAR(state.yaw_GV, 0.5236, 1e-6);
+  EXPECT_LT((state.t_GV - shift).norm(), 1e-6);
+  // The filter now believes it is 0.5 m off to the side; the fixes pull it back.
+  state.P.block<3, 3>(kPos, kPos) = 0.25 * Eigen::Matrix3d::Identity();
+  state.t_ns = 2'000'000'000;
+  const Eigen::Vector3d true_position(20, 0, 0);
+  state.p_WI = true_position + Eigen::Vector3d(0, 0.5, 0);
+  for (int k = 0; k < 5; ++k) {
+    datasets::GpsFix fix{state.t_ns, Rz * true_position + shift, 0.1};
+    const GpsReport report = fusion.process(state, std::span(&fix, 1), recorder);
+    EXPECT_EQ(report.fused, 1);
+  }
+  EXPECT_LT((state.p_WI - true_position).norm(), 0.1);
+  const auto kernels = recorder.take();
+  ASSERT_FALSE(kernels.empty());
+  EXPECT_EQ(kernels.back().kernel, "gps_fusion");
+}
+
+}  // namespace
+}  // namespace edx::backend::vio

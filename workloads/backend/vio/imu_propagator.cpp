@@ -1,0 +1,118 @@
+#include "workloads/backend/vio/imu_propagator.hpp"
+
+#include <algorithm>
+
+namespace edx::backend::vio {
+namespace {
+
+/// The reading at time t, linearly interpolated between two samples.
+datasets::ImuSample interpolate(const datasets::ImuSample& a, const datasets::ImuSample& b,
+                                std::int64_t t) {
+  if (b.t_ns == a.t_ns) return b;
+  const double s = static_cast<double>(t - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns);
+  datasets::ImuSample out;
+  out.t_ns = t;
+  out.gyro_rad_s = a.gyro_rad_s + s * (b.gyro_rad_s - a.gyro_rad_s);
+  out.accel_m_s2 = a.accel_m_s2 + s * (b.accel_m_s2 - a.accel_m_s2);
+  return out;
+}
+
+}  // namespace
+
+ImuPropagator::ImuPropagator(const ImuNoiseDensities& noise, double gravity_m_s2)
+    : noise_(noise), gravity_(0, 0, -gravity_m_s2) {}
+
+void ImuPropagator::add(std::span<const datasets::ImuSample> samples) {
+  for (const auto& s : samples) {
+    if (buffer_.empty() || s.t_ns > buffer_.back().t_ns) buffer_.push_back(s);
+  }
+}
+
+int ImuPropagator::propagate(VioState& state, std::int64_t t_ns) {
+  if (buffer_.empty() || t_ns <= state.t_ns) {
+    state.t_ns = std::max(state.t_ns, t_ns);
+    return 0;
+  }
+  // Readings at the interval ends: interpolated at state.t_ns and t_ns (held constant beyond
+  // the buffer), and every sample strictly between.
+  std::vector<datasets::ImuSample> readings;
+  const auto at = [&](std::int64_t t) {
+    const auto it =
+        std::lower_bound(buffer_.begin(), buffer_.end(), t,
+                         [](const datasets::ImuSample& s, std::int64_t v) { return s.t_ns < v; });
+    datasets::ImuSample out;
+    if (it == buffer_.begin())
+      out = buffer_.front();
+    else if (it == buffer_.end())
+      out = buffer_.back();
+    else
+      out = interpolate(*(it - 1), *it, t);
+    out.t_ns = t;
+    return out;
+  };
+  readings.push_back(at(state.t_ns));
+  for (const auto& s : buffer_)
+    if (s.t_ns > state.t_ns && s.t_ns < t_ns) readings.push_back(s);
+  readings.push_back(at(t_ns));
+
+  using Mat15 = Eigen::Matrix<double, kImuDim, kImuDim>;
+  Mat15 Phi_total = Mat15::Identity();
+  Mat15 Q_total = Mat15::Zero();
+  const Eigen::Matrix3d I3 = Eigen::Matrix3d::Identity();
+  int steps = 0;
+  for (std::size_t k = 0; k + 1 < readings.size(); ++k) {
+    const double dt = static_cast<double>(readings[k + 1].t_ns - readings[k].t_ns) * 1e-9;
+    if (dt <= 0) continue;
+    const Eigen::Vector3d w =
+        0.5 * (readings[k].gyro_rad_s + readings[k + 1].gyro_rad_s) - state.gyro_bias;
+    const Eigen::Vector3d a =
+        0.5 * (readings[k].accel_m_s2 + readings[k + 1].accel_m_s2) - state.accel_bias;
+    const Eigen::Matrix3d R = state.R_WI;
+    const Eigen::Matrix3d R_next = R * so3_exp(w * dt);
+    const Eigen::Vector3d a_world = 0.5 * (R + R_next) * a + gravity_;
+    state.p_WI += state.v_WI * dt + 0.5 * a_world * dt * dt;
+    state.v_WI += a_world * dt;
+    state.R_WI = R_next;
+
+    const Eigen::Matrix3d A = skew(R * a);
+    Mat15 Phi = Mat15::Identity();
+    Phi.block<3, 3>(kTheta, kGyroBias) = -R * dt;
+    Phi.block<3, 3>(kPos, kVel) = I3 * dt;
+    Phi.block<3, 3>(kPos, kTheta) = -0.5 * A * dt * dt;
+    Phi.block<3, 3>(kPos, kAccelBias) = -0.5 * R * dt * dt;
+    Phi.block<3, 3>(kVel, kTheta) = -A * dt;
+    Phi.block<3, 3>(kVel, kAccelBias) = -R * dt;
+    Mat15 Q = Mat15::Zero();
+    const double sg2 = noise_.gyro * noise_.gyro, sa2 = noise_.accel * noise_.accel;
+    Q.block<3, 3>(kTheta, kTheta) = sg2 * dt * I3;
+    Q.block<3, 3>(kVel, kVel) = sa2 * dt * I3;
+    Q.block<3, 3>(kPos, kPos) = sa2 * dt * dt * dt / 3.0 * I3;
+    Q.block<3, 3>(kPos, kVel) = sa2 * dt * dt / 2.0 * I3;
+    Q.block<3, 3>(kVel, kPos) = sa2 * dt * dt / 2.0 * I3;
+    Q.block<3, 3>(kGyroBias, kGyroBias) = noise_.gyro_walk * noise_.gyro_walk * dt * I3;
+    Q.block<3, 3>(kAccelBias, kAccelBias) = noise_.accel_walk * noise_.accel_walk * dt * I3;
+    Phi_total = (Phi * Phi_total).eval();
+    Q_total = (Phi * Q_total * Phi.transpose() + Q).eval();
+    ++steps;
+  }
+  state.t_ns = t_ns;
+  // Samples before the new time are no longer needed (keep the last one before it).
+  const auto keep =
+      std::lower_bound(buffer_.begin(), buffer_.end(), t_ns,
+                       [](const datasets::ImuSample& s, std::int64_t v) { return s.t_ns < v; });
+  if (keep != buffer_.begin()) buffer_.erase(buffer_.begin(), keep - 1);
+
+  const int n = state.dim();
+  const int rest = n - kImuDim;
+  Eigen::MatrixXd& P = state.P;
+  P.topLeftCorner<kImuDim, kImuDim>() =
+      Phi_total * P.topLeftCorner<kImuDim, kImuDim>() * Phi_total.transpose() + Q_total;
+  if (rest > 0) {
+    P.topRightCorner(kImuDim, rest) = (Phi_total * P.topRightCorner(kImuDim, rest)).eval();
+    P.bottomLeftCorner(rest, kImuDim) = P.topRightCorner(kImuDim, rest).transpose();
+  }
+  state.symmetrize();
+  return steps;
+}
+
+}  // namespace edx::backend::vio

@@ -1,0 +1,55 @@
+#pragma once
+// The MSCKF measurement update from feature tracks (Mourikis & Roumeliotis 2007, msckf_vio):
+// per track, triangulation of the point from the clone cameras, the stereo measurement Jacobians
+// with respect to the clones (and extrinsics) and the point, projection onto the left null space
+// of the point's Jacobian (which removes the point from the problem), a chi-square gate; then the
+// stacked rows, compressed by QR when they outnumber the state, go through the EKF update.
+//
+// Per observation in clone j (p_C = R_IC^T (R_WIj^T (p_W - p_WIj) - p_IC), d = p_W - p_WIj,
+// q = p_I - p_IC, J = dz/dp_C of feature_track.hpp):
+//   dz/dtheta_WIj = J R_IC^T R_WIj^T [d]x      dz/dp_WIj = -J R_IC^T R_WIj^T
+//   dz/dtheta_IC  = J R_IC^T [q]x              dz/dp_IC  = -J R_IC^T
+//   dz/dp_W       =  J R_IC^T R_WIj^T
+// Null space: H_f = Q [R1; 0] (Householder QR), rows 3.. of Q^T [H_x | r] no longer depend on
+// the point. Compression, when the rows outnumber the c state columns H touches: on those
+// columns H = Q1 T (thin QR), H <- T (c rows), r <- Q1^T r (the noise stays sigma^2 I).
+#include <Eigen/Core>
+#include <vector>
+
+#include "workloads/backend/kernel_recorder.hpp"
+#include "workloads/backend/vio/feature_track.hpp"
+#include "workloads/backend/vio/vio_options.hpp"
+#include "workloads/backend/vio/vio_state.hpp"
+
+namespace edx::backend::vio {
+
+struct UpdateReport {
+  int tracks = 0;        ///< tracks handed in
+  int triangulated = 0;  ///< of them triangulated
+  int accepted = 0;      ///< of them passing the chi-square gate
+  int rows = 0;          ///< rows of H before compression
+  int rows_used = 0;     ///< rows of H in the EKF update
+  bool updated = false;
+};
+
+class MsckfUpdater {
+ public:
+  /// baseline_m: stereo baseline; focal_px: to turn the pixel sigma into normalized units.
+  MsckfUpdater(const VioOptions& options, double baseline_m, double focal_px);
+
+  /// Updates `state` with the tracks (observations of clones not in the window are ignored).
+  UpdateReport update(VioState& state, const std::vector<const FeatureTrack*>& tracks,
+                      KernelRecorder& recorder);
+
+  double sigma_normalized() const { return sigma_; }
+
+ private:
+  double chi2_threshold(int dof);
+
+  VioOptions options_;
+  double baseline_m_;
+  double sigma_;  ///< measurement sigma, normalized units
+  std::vector<double> chi2_table_;
+};
+
+}  // namespace edx::backend::vio

@@ -1,0 +1,192 @@
+#include "workloads/backend/vio/vio_backend.hpp"
+
+#include <fmt/format.h>
+
+#include <set>
+#include <stdexcept>
+
+namespace edx::backend::vio {
+namespace {
+
+ImuNoiseDensities densities(const datasets::ImuNoise& noise, double scale) {
+  return {noise.gyro_noise_density * scale, noise.accel_noise_density * scale,
+          noise.gyro_random_walk * scale, noise.accel_random_walk * scale};
+}
+
+const BackendCamera& checked(const BackendCamera& camera) {
+  if (!(camera.fx > 0 && camera.fy > 0 && camera.baseline_m > 0)) {
+    throw std::runtime_error(fmt::format(
+        "vio backend: camera needs fx, fy and baseline > 0 (got fx={}, fy={}, baseline={})",
+        camera.fx, camera.fy, camera.baseline_m));
+  }
+  return camera;
+}
+
+const VioOptions& validated(const VioOptions& options) {
+  options.validate();
+  return options;
+}
+
+}  // namespace
+
+VioBackend::VioBackend(const BackendCamera& camera, const datasets::ImuNoise& imu_noise,
+                       const VioOptions& options)
+    : camera_(checked(camera)),
+      options_(validated(options)),
+      propagator_(densities(imu_noise, options.imu_noise_scale), options.gravity_m_s2),
+      initializer_(options, camera.T_body_left, camera.fx),
+      updater_(options, camera.baseline_m, camera.fx),
+      gps_(options) {
+  if (!(imu_noise.gyro_noise_density > 0 && imu_noise.accel_noise_density > 0 &&
+        imu_noise.gyro_random_walk > 0 && imu_noise.accel_random_walk > 0)) {
+    throw std::runtime_error("vio backend: IMU noise densities and random walks must be > 0");
+  }
+}
+
+std::vector<FrameFeature> VioBackend::to_frame_features(
+    const frontend::FrontendFrame& frame) const {
+  std::vector<FrameFeature> out;
+  out.reserve(frame.features.size());
+  for (const frontend::Feature& f : frame.features) {
+    FrameFeature ff;
+    ff.id = f.id;
+    ff.observation.left = {(f.left.x - camera_.cx) / camera_.fx,
+                           (f.left.y - camera_.cy) / camera_.fy};
+    if (f.stereo && f.disparity > 0) {
+      ff.observation.stereo = true;
+      ff.observation.right_x = (f.right.x - camera_.cx) / camera_.fx;
+      ff.depth_m = f.depth_m;
+    }
+    out.push_back(ff);
+  }
+  return out;
+}
+
+void VioBackend::start(const InitialState& initial) {
+  state_ = VioState{};
+  state_.t_ns = initial.t_ns;
+  state_.R_WI = initial.R_WI;
+  state_.p_WI = initial.p_WI;
+  state_.v_WI = initial.v_WI;
+  state_.gyro_bias = initial.gyro_bias;
+  state_.R_IC = camera_.T_body_left.linear();
+  state_.p_IC = camera_.T_body_left.translation();
+  // Prior: roll and pitch uncertain, yaw and position define the frame (zero), velocity and
+  // biases from the options, extrinsics from their calibration sigmas.
+  Eigen::VectorXd sd = Eigen::VectorXd::Zero(kCoreDim);
+  const double tilt = options_.init_tilt_sigma_rad;
+  sd.segment<3>(kTheta) << tilt, tilt, 1e-6;
+  sd.segment<3>(kPos).setConstant(1e-6);
+  sd.segment<3>(kVel).setConstant(initial.static_start ? 0.01 : options_.init_velocity_sigma_m_s);
+  sd.segment<3>(kGyroBias).setConstant(options_.init_gyro_bias_sigma);
+  sd.segment<3>(kAccelBias).setConstant(options_.init_accel_bias_sigma);
+  sd.segment<3>(kExtTheta).setConstant(
+      options_.estimate_extrinsics ? options_.extrinsic_rotation_sigma_rad : 0.0);
+  sd.segment<3>(kExtPos).setConstant(
+      options_.estimate_extrinsics ? options_.extrinsic_translation_sigma_m : 0.0);
+  state_.P = sd.cwiseAbs2().asDiagonal();
+  // Roll/pitch are about world x and y in the left-perturbation error; the prior above is in
+  // that frame already.
+  tracks_.clear();
+  initialized_ = true;
+}
+
+BackendOutput VioBackend::process(const BackendInput& input) {
+  if (input.frontend == nullptr) throw std::runtime_error("vio backend: frontend frame missing");
+  BackendOutput out;
+  propagator_.add(input.imu);
+  std::vector<FrameFeature> features = to_frame_features(*input.frontend);
+  last_update_ = {};
+  last_gps_ = {};
+
+  if (!initialized_) {
+    std::optional<InitialState> initial;
+    {
+      auto kernel = recorder_.kernel("initialization");
+      kernel.record().m = static_cast<std::int64_t>(features.size());
+      initial = initializer_.add_frame(input.t_ns, input.imu, features);
+    }
+    if (!initial) {
+      out.status = "initializing: " + initializer_.last_reason();
+      out.kernels = recorder_.take();
+      return out;
+    }
+    start(*initial);
+    auto kernel = recorder_.kernel("cloning");
+    state_.augment_clone();
+    kernel.record().n = state_.dim();
+  } else {
+    {
+      auto kernel = recorder_.kernel("imu_propagation");
+      kernel.record().m = propagator_.propagate(state_, input.t_ns);
+      kernel.record().n = state_.dim();
+    }
+    auto kernel = recorder_.kernel("cloning");
+    state_.augment_clone();
+    kernel.record().n = state_.dim();
+  }
+
+  // New observations; tracks absent from this frame have ended.
+  std::set<std::int64_t> seen;
+  for (const FrameFeature& f : features) {
+    seen.insert(f.id);
+    FeatureTrack& track = tracks_[f.id];
+    track.id = f.id;
+    Observation obs = f.observation;
+    obs.t_ns = input.t_ns;
+    track.observations.push_back(obs);
+  }
+  std::vector<const FeatureTrack*> used;
+  std::vector<std::int64_t> used_ids;
+  for (const auto& [id, track] : tracks_) {
+    if (!seen.contains(id)) {
+      used.push_back(&track);
+      used_ids.push_back(id);
+    }
+  }
+  const bool window_full = static_cast<int>(state_.clones.size()) > options_.max_clones;
+  const std::int64_t oldest = state_.clones.front().t_ns;
+  for (const auto& [id, track] : tracks_) {
+    if (!seen.contains(id)) continue;
+    const int length = static_cast<int>(track.observations.size());
+    const bool spans_window = window_full && track.observations.front().t_ns == oldest;
+    if (length >= options_.update_track_length ||
+        (spans_window && length >= options_.min_track_length)) {
+      used.push_back(&track);
+      used_ids.push_back(id);
+    }
+  }
+  last_update_ = updater_.update(state_, used, recorder_);
+  for (std::int64_t id : used_ids) tracks_.erase(id);
+
+  if (window_full) {
+    auto kernel = recorder_.kernel("clone_marginalization");
+    state_.marginalize_clone(0);
+    for (auto& [id, track] : tracks_) {
+      std::erase_if(track.observations, [&](const Observation& o) { return o.t_ns == oldest; });
+    }
+    std::erase_if(tracks_, [](const auto& entry) { return entry.second.observations.empty(); });
+    kernel.record().m = kCloneDim;
+    kernel.record().n = state_.dim();
+  }
+
+  last_gps_ = gps_.process(state_, input.gps, recorder_);
+
+  out.T_world_body = state_.T_world_body();
+  out.status = last_update_.updated || last_update_.tracks == 0 ? "ok" : "ok (no visual update)";
+  out.kernels = recorder_.take();
+  return out;
+}
+
+std::unique_ptr<Backend> make_vio_backend(const datasets::Dataset& dataset,
+                                          const VioOptions& options) {
+  if (dataset.imu().empty()) {
+    throw std::runtime_error(
+        fmt::format("{}: the vio backend needs IMU samples (imu0), found none", dataset.name()));
+  }
+  datasets::ImuNoise noise =
+      dataset.imu_noise().value_or(datasets::ImuNoise{1.6968e-4, 1.9393e-5, 2.0e-3, 3.0e-3, 200.0});
+  return std::make_unique<VioBackend>(BackendCamera::from(dataset.calibration()), noise, options);
+}
+
+}  // namespace edx::backend::vio

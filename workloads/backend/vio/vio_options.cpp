@@ -1,0 +1,77 @@
+#include "workloads/backend/vio/vio_options.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace edx::backend::vio {
+namespace {
+
+void require(bool ok, const char* field, const char* expected) {
+  if (!ok) throw std::runtime_error(fmt::format("vio option {}: expected {}", field, expected));
+}
+
+}  // namespace
+
+void VioOptions::validate() const {
+  require(max_clones >= 3 && max_clones <= 200, "max_clones", "an integer in [3, 200]");
+  require(min_track_length >= 2 && min_track_length <= max_clones, "min_track_length",
+          "an integer in [2, max_clones]");
+  require(update_track_length >= min_track_length, "update_track_length", ">= min_track_length");
+  require(pixel_sigma > 0, "pixel_sigma", "> 0");
+  require(min_depth_m > 0 && max_depth_m > min_depth_m, "min_depth_m/max_depth_m", "0 < min < max");
+  require(max_triangulation_rms_px > 0, "max_triangulation_rms_px", "> 0");
+  require(triangulation_iterations >= 1, "triangulation_iterations", ">= 1");
+  require(chi2_confidence > 0 && chi2_confidence < 1, "chi2_confidence", "a value in (0, 1)");
+  require(max_features_per_update >= 1, "max_features_per_update", ">= 1");
+  require(extrinsic_rotation_sigma_rad > 0, "extrinsic_rotation_sigma_rad", "> 0");
+  require(extrinsic_translation_sigma_m > 0, "extrinsic_translation_sigma_m", "> 0");
+  require(gravity_m_s2 > 0, "gravity_m_s2", "> 0");
+  require(imu_noise_scale > 0, "imu_noise_scale", "> 0");
+  require(init_frames >= 2, "init_frames", ">= 2");
+  require(static_max_accel_sd > 0, "static_max_accel_sd", "> 0");
+  require(static_max_pixel_motion > 0, "static_max_pixel_motion", "> 0");
+  require(init_tilt_sigma_rad > 0, "init_tilt_sigma_rad", "> 0");
+  require(init_velocity_sigma_m_s > 0, "init_velocity_sigma_m_s", "> 0");
+  require(init_gyro_bias_sigma > 0, "init_gyro_bias_sigma", "> 0");
+  require(init_accel_bias_sigma > 0, "init_accel_bias_sigma", "> 0");
+  require(gps_lever_arm_m.allFinite(), "gps_lever_arm_m", "finite values");
+  require(gps_sigma_floor_m > 0, "gps_sigma_floor_m", "> 0");
+  require(gps_align_min_extent_m > 0, "gps_align_min_extent_m", "> 0");
+  require(gps_align_min_fixes >= 2, "gps_align_min_fixes", ">= 2");
+  require(gps_chi2_confidence > 0 && gps_chi2_confidence < 1, "gps_chi2_confidence",
+          "a value in (0, 1)");
+}
+
+nlohmann::json VioOptions::to_json() const {
+  return {{"max_clones", max_clones},
+          {"min_track_length", min_track_length},
+          {"update_track_length", update_track_length},
+          {"pixel_sigma", pixel_sigma},
+          {"min_depth_m", min_depth_m},
+          {"max_depth_m", max_depth_m},
+          {"max_triangulation_rms_px", max_triangulation_rms_px},
+          {"triangulation_iterations", triangulation_iterations},
+          {"chi2_confidence", chi2_confidence},
+          {"max_features_per_update", max_features_per_update},
+          {"estimate_extrinsics", estimate_extrinsics},
+          {"extrinsic_rotation_sigma_rad", extrinsic_rotation_sigma_rad},
+          {"extrinsic_translation_sigma_m", extrinsic_translation_sigma_m},
+          {"gravity_m_s2", gravity_m_s2},
+          {"imu_noise_scale", imu_noise_scale},
+          {"init_frames", init_frames},
+          {"static_max_accel_sd", static_max_accel_sd},
+          {"static_max_pixel_motion", static_max_pixel_motion},
+          {"init_tilt_sigma_rad", init_tilt_sigma_rad},
+          {"init_velocity_sigma_m_s", init_velocity_sigma_m_s},
+          {"init_gyro_bias_sigma", init_gyro_bias_sigma},
+          {"init_accel_bias_sigma", init_accel_bias_sigma},
+          {"use_gps", use_gps},
+          {"gps_lever_arm_m", {gps_lever_arm_m.x(), gps_lever_arm_m.y(), gps_lever_arm_m.z()}},
+          {"gps_sigma_floor_m", gps_sigma_floor_m},
+          {"gps_align_min_extent_m", gps_align_min_extent_m},
+          {"gps_align_min_fixes", gps_align_min_fixes},
+          {"gps_chi2_confidence", gps_chi2_confidence}};
+}
+
+}  // namespace edx::backend::vio

@@ -1,0 +1,51 @@
+#pragma once
+// Options of the VIO backend (paper Sec. IV-A "Filtering" and "Fusion"): a Multi-State
+// Constraint Kalman Filter (msckf_vio / OpenVINS style) with loosely coupled GPS fusion.
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+namespace edx::backend::vio {
+
+struct VioOptions {
+  // Sliding window of stochastic clones.
+  int max_clones = 30;  ///< clones kept; the oldest is marginalized beyond this
+  // Features.
+  int min_track_length = 3;  ///< observations (frames) a track needs to be used
+  /// Tracks still alive are used once they reach this many observations (then restarted), so
+  /// that long tracks (slow or far scenes) inform the filter before the window is full.
+  int update_track_length = 10;
+  double pixel_sigma = 1.0;               ///< measurement noise of a feature coordinate, px
+  double min_depth_m = 0.2;               ///< triangulated points nearer than this are rejected
+  double max_depth_m = 150.0;             ///< ... and farther than this
+  double max_triangulation_rms_px = 2.0;  ///< RMS reprojection error after Gauss-Newton
+  int triangulation_iterations = 10;
+  double chi2_confidence = 0.95;      ///< chi-square gate of each feature's residual
+  int max_features_per_update = 150;  ///< most features stacked into one update
+  bool estimate_extrinsics = true;    ///< camera-IMU extrinsics in the state
+  double extrinsic_rotation_sigma_rad = 0.002;
+  double extrinsic_translation_sigma_m = 0.002;
+  // IMU.
+  double gravity_m_s2 = 9.81;    ///< world gravity is (0, 0, -g)
+  double imu_noise_scale = 1.0;  ///< multiplies the dataset's noise densities and random walks
+  // Initialization.
+  int init_frames = 20;                  ///< frames gathered before initializing
+  double static_max_accel_sd = 0.05;     ///< m/s^2: accelerometer SD below which the IMU is still
+  double static_max_pixel_motion = 0.5;  ///< px: mean track motion below which the view is still
+  double init_tilt_sigma_rad = 0.02;
+  double init_velocity_sigma_m_s = 0.1;
+  double init_gyro_bias_sigma = 0.005;  ///< rad/s
+  double init_accel_bias_sigma = 0.05;  ///< m/s^2
+  // GPS fusion (loosely coupled).
+  bool use_gps = true;
+  Eigen::Vector3d gps_lever_arm_m = Eigen::Vector3d::Zero();  ///< antenna in the body frame
+  double gps_sigma_floor_m = 0.1;        ///< lower bound on the fixes' stated sigma
+  double gps_align_min_extent_m = 15.0;  ///< horizontal spread of fixes before aligning frames
+  int gps_align_min_fixes = 10;
+  double gps_chi2_confidence = 0.999;
+
+  /// Throws std::runtime_error naming the first bad field and the range it must lie in.
+  void validate() const;
+  nlohmann::json to_json() const;
+};
+
+}  // namespace edx::backend::vio
