@@ -1,0 +1,257 @@
+#include "workloads/backend/slam/marginalizer.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <stdexcept>
+
+#include "workloads/backend/slam/factors.hpp"
+
+namespace edx::backend::slam {
+
+using trace::Op;
+namespace flags = trace::op_flags;
+
+Eigen::MatrixXd structured_inverse(const Eigen::VectorXd& a, const Eigen::MatrixXd& B,
+                                   const Eigen::MatrixXd& D) {
+  const Eigen::Index m = a.size(), d = D.rows();
+  const Eigen::VectorXd a_inv = a.cwiseInverse();        // A^-1: reciprocals
+  const Eigen::MatrixXd AinvB = a_inv.asDiagonal() * B;  // A^-1 B (m x d)
+  Eigen::MatrixXd S = D - B.transpose() * AinvB;         // S = D - C A^-1 B
+  S = 0.5 * (S + S.transpose());
+  // S^-1 through its eigen-decomposition, clamping tiny eigenvalues (unobservable directions).
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S);
+  const double floor = std::max(1e-12, 1e-12 * eig.eigenvalues().cwiseAbs().maxCoeff());
+  const Eigen::VectorXd inv_values =
+      eig.eigenvalues().unaryExpr([floor](double x) { return x > floor ? 1.0 / x : 0.0; });
+  const Eigen::MatrixXd S_inv =
+      eig.eigenvectors() * inv_values.asDiagonal() * eig.eigenvectors().transpose();
+  Eigen::MatrixXd inv(m + d, m + d);
+  const Eigen::MatrixXd AinvB_Sinv = AinvB * S_inv;  // A^-1 B S^-1
+  inv.topLeftCorner(m, m) = AinvB_Sinv * AinvB.transpose();
+  inv.topLeftCorner(m, m).diagonal() += a_inv;
+  inv.topRightCorner(m, d) = -AinvB_Sinv;
+  inv.bottomLeftCorner(d, m) = -AinvB_Sinv.transpose();
+  inv.bottomRightCorner(d, d) = S_inv;
+  return inv;
+}
+
+MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& options,
+                                         KernelRecorder& recorder) {
+  if (window.keyframes.size() < 2) throw std::logic_error("marginalize_oldest: < 2 keyframes");
+  auto kernel = recorder.kernel("marginalization", /*accelerable=*/true);
+  const int d = window.state_dim;
+  const KeyframeState& oldest = window.keyframes.front();
+  MarginalizationReport report;
+
+  // Landmarks anchored in the oldest keyframe, and the kept keyframes linked to the removed
+  // variables (in window order).
+  std::vector<Landmark*> removed;
+  std::vector<bool> linked(window.keyframes.size(), false);
+  for (auto& [id, l] : window.landmarks) {
+    if (l.anchor_id != oldest.id) continue;
+    removed.push_back(&l);
+    for (const Observation& o : l.observations) {
+      if (o.inlier) linked[static_cast<std::size_t>(window.slot(o.keyframe_id))] = true;
+    }
+  }
+  if (d == 15 && window.keyframes[1].imu_from_previous) linked[1] = true;
+  for (std::int64_t id : window.prior.keyframe_ids)
+    linked[static_cast<std::size_t>(window.slot(id))] = true;
+  linked[0] = false;
+  std::vector<int> kept_slots;  // window slot of each kept block
+  std::vector<int> block_of(window.keyframes.size(), -1);
+  for (std::size_t s = 1; s < linked.size(); ++s) {
+    if (!linked[s]) continue;
+    block_of[s] = static_cast<int>(kept_slots.size());
+    kept_slots.push_back(static_cast<int>(s));
+  }
+
+  // Dense system over [rho_removed (m) | oldest (d) | kept (r)].
+  const int m = static_cast<int>(removed.size());
+  const int r = static_cast<int>(kept_slots.size()) * d;
+  const int N = m + d + r;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(N, N);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(N);
+  auto pose_offset = [&](int slot) {
+    return slot == 0 ? m : m + d + block_of[static_cast<std::size_t>(slot)] * d;
+  };
+
+  ReprojectionTerm t;
+  for (int li = 0; li < m; ++li) {
+    const Landmark& l = *removed[static_cast<std::size_t>(li)];
+    if (!(l.inverse_depth > 0)) continue;
+    for (const Observation& o : l.observations) {
+      if (!o.inlier || !linearize_reprojection(window, l, o, options.pixel_sigma, t)) continue;
+      // Rows past t.dim are zero in the residual and every Jacobian.
+      const double w = huber(t.r.norm(), options.huber_threshold).weight;
+      // Jacobian row block over [rho_li | oldest pose (6) | target pose (6)].
+      Eigen::Matrix<double, 4, 13> J = Eigen::Matrix<double, 4, 13>::Zero();
+      J.col(0) = t.J_rho;
+      if (!t.same_frame) {
+        J.block<4, 6>(0, 1) = t.J_anchor;
+        J.block<4, 6>(0, 7) = t.J_target;
+      }
+      const Eigen::Matrix<double, 13, 13> JtJ = w * J.transpose() * J;
+      const Eigen::Matrix<double, 13, 1> Jtr = w * J.transpose() * t.r;
+      const int target = t.same_frame ? -1 : pose_offset(window.slot(o.keyframe_id));
+      const int idx[3] = {li, m, target};
+      const int len[3] = {1, 6, 6};
+      const int col[3] = {0, 1, 7};
+      for (int p = 0; p < 3; ++p) {
+        if (idx[p] < 0 || (t.same_frame && p > 0)) continue;
+        b.segment(idx[p], len[p]) -= Jtr.segment(col[p], len[p]);
+        for (int q = 0; q < 3; ++q) {
+          if (idx[q] < 0 || (t.same_frame && q > 0)) continue;
+          H.block(idx[p], idx[q], len[p], len[q]) += JtJ.block(col[p], col[q], len[p], len[q]);
+        }
+      }
+    }
+  }
+  if (d == 15 && window.keyframes[1].imu_from_previous) {
+    const Preintegration& pre = *window.keyframes[1].imu_from_previous;
+    Eigen::Matrix<double, 15, 1> res;
+    Eigen::Matrix<double, 15, 30> J;
+    linearize_imu(pre, window.keyframes[0], window.keyframes[1], window.gravity, res, J);
+    const Eigen::Matrix<double, 15, 15> info = imu_information(pre);
+    const Eigen::Matrix<double, 30, 30> JtWJ = J.transpose() * info * J;
+    const Eigen::Matrix<double, 30, 1> JtWr = J.transpose() * info * res;
+    const int o[2] = {m, pose_offset(1)};
+    for (int p = 0; p < 2; ++p) {
+      b.segment<15>(o[p]) -= JtWr.segment<15>(15 * p);
+      for (int q = 0; q < 2; ++q) H.block<15, 15>(o[p], o[q]) += JtWJ.block<15, 15>(15 * p, 15 * q);
+    }
+  }
+  if (!window.prior.empty()) {
+    const Prior& prior = window.prior;
+    const int n = static_cast<int>(prior.keyframe_ids.size()) * d;
+    Eigen::VectorXd dx(n);
+    std::vector<int> offsets;
+    for (std::size_t k = 0; k < prior.keyframe_ids.size(); ++k) {
+      const int slot = window.slot(prior.keyframe_ids[k]);
+      offsets.push_back(pose_offset(slot));
+      dx.segment(static_cast<int>(k) * d, d) =
+          window.keyframes[static_cast<std::size_t>(slot)].difference(prior.linearization_points[k],
+                                                                      d);
+    }
+    const Eigen::VectorXd res = prior.r0 + prior.J * dx;
+    const Eigen::MatrixXd JtJ = prior.J.transpose() * prior.J;
+    const Eigen::VectorXd Jtr = prior.J.transpose() * res;
+    for (std::size_t p = 0; p < offsets.size(); ++p) {
+      b.segment(offsets[p], d) -= Jtr.segment(static_cast<int>(p) * d, d);
+      for (std::size_t q = 0; q < offsets.size(); ++q) {
+        H.block(offsets[p], offsets[q], d, d) +=
+            JtJ.block(static_cast<int>(p) * d, static_cast<int>(q) * d, d, d);
+      }
+    }
+  }
+
+  // With an IMU, the removed keyframe's velocity and biases (9) go first: they couple only to
+  // its pose and the kept states, never to landmarks, so eliminating them leaves A diagonal and
+  // D the 6x6 pose block of Sec. VI (Schur complements compose, the prior is the same).
+  //   H' = H_RR - H_RS H_SS^-1 H_SR,  b' = b_R - H_RS H_SS^-1 b_S
+  if (d == 15) {
+    const int n_rest = N - 9;
+    std::vector<int> rest;
+    for (int i = 0; i < N; ++i) {
+      if (i < m + 6 || i >= m + 15) rest.push_back(i);
+    }
+    Eigen::MatrixXd H_RR(n_rest, n_rest), H_RS(n_rest, 9);
+    Eigen::VectorXd b_R(n_rest);
+    for (int i = 0; i < n_rest; ++i) {
+      b_R(i) = b(rest[static_cast<std::size_t>(i)]);
+      H_RS.row(i) = H.block(rest[static_cast<std::size_t>(i)], m + 6, 1, 9);
+      for (int j = 0; j < n_rest; ++j) {
+        H_RR(i, j) = H(rest[static_cast<std::size_t>(i)], rest[static_cast<std::size_t>(j)]);
+      }
+    }
+    Eigen::Matrix<double, 9, 9> H_SS = H.block<9, 9>(m + 6, m + 6);
+    H_SS.diagonal().array() += 1e-9;
+    const Eigen::Matrix<double, 9, 1> b_S = b.segment<9>(m + 6);
+    const auto ldlt = recorder.op(Op::Ldlt, 9, 9, 0, flags::kSymmetric,
+                                  [&] { return Eigen::LDLT<Eigen::Matrix<double, 9, 9>>(H_SS); });
+    const Eigen::MatrixXd X = recorder.op(Op::Trsm, 9, n_rest, 0, flags::kSymmetric, [&] {
+      return Eigen::MatrixXd(ldlt.solve(H_RS.transpose()));  // H_SS^-1 H_SR
+    });
+    const Eigen::VectorXd y = recorder.op(Op::Trsv, 9, 1, 0, flags::kSymmetric, [&] {
+      return Eigen::VectorXd(ldlt.solve(b_S));  // H_SS^-1 b_S
+    });
+    H = recorder.op(Op::Gemm, n_rest, n_rest, 9, flags::kSymmetric,
+                    [&] { return Eigen::MatrixXd(H_RR - H_RS * X); });
+    b = recorder.op(Op::Gemm, n_rest, 1, 9, 0, [&] { return Eigen::VectorXd(b_R - H_RS * y); });
+  }
+  const int dm = 6;  // the removed keyframe's block left: its pose
+  const int N_reduced = static_cast<int>(H.rows());
+  const int r_reduced = N_reduced - m - dm;
+  if (r_reduced != r) throw std::logic_error("marginalize_oldest: kept size mismatch");
+
+  // Landmarks whose row is empty (no usable observation) carry no information: a tiny diagonal
+  // keeps A invertible without changing the result.
+  Eigen::VectorXd a = H.diagonal().head(m);
+  for (Eigen::Index i = 0; i < m; ++i) a(i) = std::max(a(i), 1e-9);
+  const Eigen::MatrixXd B = H.block(0, m, m, dm);
+  const Eigen::MatrixXd D = H.block(m, m, dm, dm);
+  const int mm = m + dm;
+  const std::uint32_t inverse_flags = flags::kDiagonalBlock | flags::kSymmetric | flags::kBlock6x6;
+  const Eigen::MatrixXd A_mm_inv = recorder.op(Op::Inverse, mm, mm, 0, inverse_flags,
+                                               [&] { return structured_inverse(a, B, D); });
+  Prior prior;
+  if (r > 0) {  // else nothing kept is linked: the removed variables leave no information
+    const Eigen::MatrixXd A_mr = H.block(0, mm, mm, r);
+    const Eigen::MatrixXd A_rm =
+        recorder.op(Op::Transpose, mm, r, 0, 0, [&] { return Eigen::MatrixXd(A_mr.transpose()); });
+    const Eigen::MatrixXd T = recorder.op(Op::Gemm, r, mm, mm, flags::kSymmetric,
+                                          [&] { return Eigen::MatrixXd(A_rm * A_mm_inv); });
+    Eigen::MatrixXd H_star = recorder.op(Op::Gemm, r, r, mm, flags::kSymmetric, [&] {
+      return Eigen::MatrixXd(H.block(mm, mm, r, r) - T * A_mr);
+    });
+    H_star = 0.5 * (H_star + H_star.transpose());
+    const Eigen::VectorXd b_star = recorder.op(
+        Op::Gemm, r, 1, mm, 0, [&] { return Eigen::VectorXd(b.segment(mm, r) - T * b.head(mm)); });
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt = recorder.op(
+        Op::Ldlt, r, r, 0, flags::kSymmetric, [&] { return Eigen::LDLT<Eigen::MatrixXd>(H_star); });
+    const Eigen::VectorXd D_diag = ldlt.vectorD().cwiseMax(0.0);
+    const Eigen::VectorXd sqrt_D = D_diag.cwiseSqrt();
+    const Eigen::VectorXd inv_sqrt_D =
+        sqrt_D.unaryExpr([](double x) { return x > 1e-10 ? 1.0 / x : 0.0; });
+    const Eigen::MatrixXd L = ldlt.matrixL();
+    const Eigen::VectorXd Pb = ldlt.transpositionsP() * b_star;
+    const Eigen::VectorXd Linv_Pb = recorder.op(Op::Trsv, r, 1, 0, flags::kLower, [&] {
+      return Eigen::VectorXd(ldlt.matrixL().solve(Pb));
+    });
+    Eigen::MatrixXd J_prior = recorder.op(Op::Transpose, r, r, 0, flags::kLower, [&] {
+      const Eigen::MatrixXd P = ldlt.transpositionsP() * Eigen::MatrixXd::Identity(r, r);
+      return Eigen::MatrixXd(sqrt_D.asDiagonal() * L.transpose() * P);  // D^1/2 L^T P
+    });
+    const Eigen::VectorXd r0 = -(inv_sqrt_D.asDiagonal() * Linv_Pb);
+    prior.J = std::move(J_prior);
+    prior.r0 = r0;
+  }
+
+  // Archive what leaves the window, then remove it and install the new prior.
+  report.landmarks = m;
+  report.kept_dim = r;
+  report.removed = oldest;
+  for (Landmark* l : removed) {
+    report.removed_landmarks.push_back(*l);
+    report.removed_positions.push_back(window.landmark_world(*l));
+  }
+  kernel.record().m = m;
+  kernel.record().n = r;
+  kernel.record().k = d;  // the removed keyframe's state size (6, or 15 with an IMU)
+  for (int slot : kept_slots) {
+    prior.keyframe_ids.push_back(window.keyframes[static_cast<std::size_t>(slot)].id);
+    prior.linearization_points.push_back(
+        window.keyframes[static_cast<std::size_t>(slot)].navigation_state());
+  }
+  if (r == 0) prior.keyframe_ids.clear(), prior.linearization_points.clear();
+  window.prior = std::move(prior);
+  for (const Landmark& l : report.removed_landmarks) window.landmarks.erase(l.track_id);
+  // Observations of other landmarks by the removed keyframe cannot exist (landmarks are only
+  // observed from their anchor on), so the removed keyframe leaves no dangling reference.
+  window.keyframes.pop_front();
+  window.keyframes.front().imu_from_previous.reset();
+  return report;
+}
+
+}  // namespace edx::backend::slam

@@ -1,0 +1,169 @@
+#include "workloads/backend/slam/tracker.hpp"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+
+#include "workloads/backend/slam/factors.hpp"
+#include "workloads/backend/so3.hpp"
+
+namespace edx::backend::slam {
+namespace {
+
+struct Match {
+  std::int64_t track_id = 0;
+  Eigen::Vector3d X;
+  Eigen::Vector2d left;
+  std::optional<Eigen::Vector2d> right;
+  bool inlier = true;
+};
+
+/// One image's residual (px) and its 2x6 Jacobian for camera point P_c (offset by -b e_x for the
+/// right image).
+void image_term(const BackendCamera& cam, const Eigen::Vector3d& P_c, const Eigen::Vector2d& z,
+                const Eigen::Matrix<double, 3, 6>& dPc_dx, Eigen::Vector2d& r,
+                Eigen::Matrix<double, 2, 6>& J) {
+  const double iz = 1.0 / P_c.z();
+  Eigen::Matrix<double, 2, 3> dpi;
+  dpi << cam.fx * iz, 0, -cam.fx * P_c.x() * iz * iz, 0, cam.fy * iz, -cam.fy * P_c.y() * iz * iz;
+  r = Eigen::Vector2d(cam.fx * P_c.x() * iz + cam.cx, cam.fy * P_c.y() * iz + cam.cy) - z;
+  J = dpi * dPc_dx;
+}
+
+}  // namespace
+
+TrackingResult track_frame(const Window& window, const std::vector<frontend::Feature>& features,
+                           const Eigen::Isometry3d& initial_T_world_body,
+                           const SlamOptions& options) {
+  const BackendCamera& cam = window.camera;
+  std::vector<Match> matches;
+  for (const frontend::Feature& f : features) {
+    const auto it = window.landmarks.find(f.id);
+    if (it == window.landmarks.end() || !(it->second.inverse_depth > 0)) continue;
+    Match m;
+    m.track_id = f.id;
+    m.X = window.landmark_world(it->second);
+    m.left = {f.left.x, f.left.y};
+    const double depth = 1.0 / it->second.inverse_depth;
+    if (f.stereo && (options.stereo_max_depth_baselines <= 0 ||
+                     depth < options.stereo_max_depth_baselines * cam.baseline_m)) {
+      m.right = Eigen::Vector2d(f.right.x, f.right.y);
+    }
+    matches.push_back(m);
+  }
+  TrackingResult result;
+  result.matches = static_cast<int>(matches.size());
+  result.T_world_body = initial_T_world_body;
+  if (result.matches < options.tracking_min_matches) return result;
+
+  const Eigen::Matrix3d R_bc = cam.T_body_left.linear();
+  const Eigen::Vector3d t_bc = cam.T_body_left.translation();
+  Eigen::Matrix3d R = initial_T_world_body.linear();
+  Eigen::Vector3d p = initial_T_world_body.translation();
+  const double k = options.huber_threshold * options.pixel_sigma;
+  auto refine = [&](int iterations) {
+    for (int it = 0; it < iterations; ++it) {
+      Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+      Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+      for (const Match& m : matches) {
+        if (!m.inlier) continue;
+        const Eigen::Vector3d P_b = R.transpose() * (m.X - p);
+        const Eigen::Vector3d P_c = R_bc.transpose() * (P_b - t_bc);
+        if (P_c.z() < 1e-3) continue;
+        Eigen::Matrix<double, 3, 6> dPc_dx;
+        dPc_dx.leftCols<3>() = -R_bc.transpose() * R.transpose();
+        dPc_dx.rightCols<3>() = R_bc.transpose() * skew(P_b);
+        Eigen::Vector2d r;
+        Eigen::Matrix<double, 2, 6> J;
+        image_term(cam, P_c, m.left, dPc_dx, r, J);
+        double w = huber(r.norm(), k).weight;
+        H += w * J.transpose() * J;
+        b -= w * J.transpose() * r;
+        if (m.right) {
+          const Eigen::Vector3d P_r = P_c - Eigen::Vector3d(cam.baseline_m, 0, 0);
+          image_term(cam, P_r, *m.right, dPc_dx, r, J);
+          w = huber(r.norm(), k).weight;
+          H += w * J.transpose() * J;
+          b -= w * J.transpose() * r;
+        }
+      }
+      H.diagonal().array() += 1e-6;
+      const Eigen::Matrix<double, 6, 1> dx = H.ldlt().solve(b);
+      if (!dx.allFinite()) return;
+      p += dx.head<3>();
+      R = R * so3_exp(dx.tail<3>());
+      if (dx.norm() < 1e-8) return;
+    }
+  };
+  auto classify = [&]() {
+    int inliers = 0;
+    double sum_sq = 0;
+    for (Match& m : matches) {
+      const Eigen::Vector3d P_c = R_bc.transpose() * (R.transpose() * (m.X - p) - t_bc);
+      if (P_c.z() < 1e-3) {
+        m.inlier = false;
+        continue;
+      }
+      const Eigen::Vector2d uv(cam.fx * P_c.x() / P_c.z() + cam.cx,
+                               cam.fy * P_c.y() / P_c.z() + cam.cy);
+      const double e = (uv - m.left).norm();
+      m.inlier = e <= options.outlier_px;
+      if (m.inlier) {
+        ++inliers;
+        sum_sq += e * e;
+      }
+    }
+    result.inliers = inliers;
+    result.rms_px = inliers > 0 ? std::sqrt(sum_sq / inliers) : 0;
+  };
+  // Starting pose: the prediction, or RANSAC PnP when that explains more matches.
+  classify();
+  const int predicted_inliers = result.inliers;
+  {
+    std::vector<cv::Point3d> object;
+    std::vector<cv::Point2d> image;
+    for (const Match& m : matches) {
+      object.emplace_back(m.X.x(), m.X.y(), m.X.z());
+      image.emplace_back(m.left.x(), m.left.y());
+    }
+    const cv::Matx33d K(cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
+    cv::Mat rvec, tvec;
+    std::vector<int> inliers;
+    const bool solved = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, 100,
+                                           static_cast<float>(options.outlier_px), 0.99, inliers,
+                                           cv::SOLVEPNP_EPNP);
+    if (solved && static_cast<int>(inliers.size()) > predicted_inliers) {
+      cv::Matx33d R_cw;
+      cv::Rodrigues(rvec, R_cw);
+      Eigen::Matrix3d R_cam_world;
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) R_cam_world(r, c) = R_cw(r, c);
+      }
+      const Eigen::Vector3d t_cam_world(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+      // T_world_body = T_world_cam T_cam_body = (T_cam_world)^-1 T_body_left^-1.
+      Eigen::Isometry3d T_cam_world = Eigen::Isometry3d::Identity();
+      T_cam_world.linear() = R_cam_world;
+      T_cam_world.translation() = t_cam_world;
+      const Eigen::Isometry3d T_world_body = T_cam_world.inverse() * cam.T_body_left.inverse();
+      R = T_world_body.linear();
+      p = T_world_body.translation();
+      result.used_ransac = true;
+      classify();
+    }
+  }
+  refine(options.tracking_iterations);
+  classify();
+  refine(options.tracking_iterations / 2 + 1);
+  classify();
+  result.ok = result.inliers >= options.tracking_min_matches;
+  for (const Match& m : matches) {
+    if (m.inlier) result.inlier_tracks.push_back(m.track_id);
+  }
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(R).normalized().toRotationMatrix();
+  T.translation() = p;
+  if (result.ok) result.T_world_body = T;
+  return result;
+}
+
+}  // namespace edx::backend::slam
