@@ -13,5 +13,7 @@ void add_gen_command(CLI::App& app);
 void add_trace_command(CLI::App& app);
 /// `edx simulate`: a trace through a platform model.
 void add_simulate_command(CLI::App& app);
+/// `edx vocab`: bag-of-words vocabulary training.
+void add_vocab_command(CLI::App& app);
 
 }  // namespace edx::cli

@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   edx::cli::add_gen_command(app);
   edx::cli::add_trace_command(app);
   edx::cli::add_simulate_command(app);
+  edx::cli::add_vocab_command(app);
 
   try {
     app.parse(argc, argv);
