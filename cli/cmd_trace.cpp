@@ -23,6 +23,7 @@ struct TraceArguments {
   std::string scenario;
   std::string out;
   std::string backend = "none";
+  std::string save_map;
   int features = frontend::FrontendOptions{}.features_per_image;
   bool force = false;
   bool json = false;
@@ -43,6 +44,7 @@ void run(const TraceArguments& args) {
   options.frontend.features_per_image = args.features;
   options.frontend.parallel_images = args.parallel;
   options.make_backend = modes::backend_factory(args.backend);
+  if (!args.save_map.empty()) options.map_out = args.save_map;
 
   ProgressBar bar("trace");
   const modes::TraceRunSummary summary = modes::run_trace(
@@ -94,6 +96,8 @@ void add_trace_command(CLI::App& app) {
   cmd->add_option("--backend", args->backend, "Backend run on every frame (none: frontend only)")
       ->check(CLI::IsMember(modes::backend_names()))
       ->capture_default_str();
+  cmd->add_option("--save-map", args->save_map,
+                  "Save the map the backend built (slam only) to this file (JSON, docs/SLAM.md)");
   cmd->add_option("--features", args->features, "Keypoint budget per image")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--parallel", args->parallel,

@@ -6,6 +6,9 @@
 #include <stdexcept>
 #include <utility>
 
+#include "workloads/backend/slam/slam_backend.hpp"
+#include "workloads/backend/vio/vio_backend.hpp"
+
 namespace edx::modes {
 namespace {
 
@@ -17,6 +20,12 @@ struct Entry {
 std::vector<Entry> entries() {
   std::vector<Entry> list;
   list.push_back({"none", BackendFactory{}});
+  list.push_back({"vio", [](const datasets::Dataset& d) {
+                    return backend::vio::make_vio_backend(d, backend::vio::VioOptions{});
+                  }});
+  list.push_back({"slam", [](const datasets::Dataset& d) {
+                    return backend::slam::make_slam_backend(d, backend::slam::SlamOptions{});
+                  }});
   return list;
 }
 

@@ -10,6 +10,7 @@
 #include <span>
 #include <stdexcept>
 
+#include "workloads/backend/slam/slam_backend.hpp"
 #include "workloads/eval/trajectory.hpp"
 #include "workloads/frontend/stereo_frontend.hpp"
 #include "workloads/frontend/task_timer.hpp"
@@ -128,6 +129,11 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
   std::unique_ptr<backend::Backend> backend;
   if (options.make_backend) backend = options.make_backend(*dataset);
   summary.backend_mode = trace::to_string(backend ? backend->mode() : trace::BackendMode::None);
+  const auto* map_builder = dynamic_cast<const backend::slam::SlamBackend*>(backend.get());
+  if (options.map_out && !map_builder) {
+    throw std::runtime_error(fmt::format("{}: saving a map needs the slam backend (got {})",
+                                         options.map_out->string(), summary.backend_mode));
+  }
   meta["pipeline_params"] = nlohmann::json{
       {"frontend", frontend::to_json(options.frontend)},
       {"backend_mode",
@@ -218,6 +224,13 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
     if (progress) progress(i + 1, frames);
   }
   writer.finish();
+  if (options.map_out) {
+    const backend::slam::Map map = map_builder->map();
+    backend::slam::save_map(map, *options.map_out);
+    summary.map_out = options.map_out;
+    summary.map_keyframes = map.keyframes.size();
+    summary.map_landmarks = map.landmarks.size();
+  }
 
   summary.frames = frames;
   for (std::size_t t = 0; t < task_ms.size(); ++t) {
@@ -265,6 +278,11 @@ nlohmann::json backend_json(const TraceRunSummary& s) {
                      {"rpe_rot_mean_deg", a.rpe_rot_deg.mean},
                      {"gt_length_m", a.gt_length_m}};
   }
+  if (s.map_out) {
+    j["map"] = {{"file", s.map_out->string()},
+                {"keyframes", s.map_keyframes},
+                {"landmarks", s.map_landmarks}};
+  }
   return j;
 }
 
@@ -304,20 +322,20 @@ std::string format_summary(const TraceRunSummary& s) {
       "stereo matches {:.0f} (means)\n",
       s.left_keypoints.mean, s.right_keypoints.mean, s.tracked.mean, s.new_features.mean,
       s.stereo_matches.mean);
-  text += fmt::format("\n{:<8} {:>9} {:>9} {:>9} {:>9}\n", "task", "mean ms", "sd ms", "p99 ms",
+  text += fmt::format("\n{:<22} {:>9} {:>9} {:>9} {:>9}\n", "task", "mean ms", "sd ms", "p99 ms",
                       "max ms");
   for (const TaskTimeSummary& t : s.tasks) {
-    text += fmt::format("{:<8} {:>9.3f} {:>9.3f} {:>9.3f} {:>9.3f}\n", task_key(t.task, t.image),
+    text += fmt::format("{:<22} {:>9.3f} {:>9.3f} {:>9.3f} {:>9.3f}\n", task_key(t.task, t.image),
                         t.ms.mean, t.ms.sd, t.ms.p99, t.ms.max);
   }
-  text += fmt::format("{:<8} {:>9.3f} {:>9.3f} {:>9.3f} {:>9.3f}\n", "frontend", s.frontend_ms.mean,
-                      s.frontend_ms.sd, s.frontend_ms.p99, s.frontend_ms.max);
+  text += fmt::format("{:<22} {:>9.3f} {:>9.3f} {:>9.3f} {:>9.3f}\n", "frontend",
+                      s.frontend_ms.mean, s.frontend_ms.sd, s.frontend_ms.p99, s.frontend_ms.max);
   if (s.backend_mode == "none") return text;
   for (const auto& [name, ms] : s.kernel_ms) {
-    text += fmt::format("{:<8} {:>9.3f} {:>9.3f} {:>9.3f} {:>9.3f}\n", name, ms.mean, ms.sd, ms.p99,
-                        ms.max);
+    text += fmt::format("{:<22} {:>9.3f} {:>9.3f} {:>9.3f} {:>9.3f}\n", name, ms.mean, ms.sd,
+                        ms.p99, ms.max);
   }
-  text += fmt::format("{:<8} {:>9.3f} {:>9.3f} {:>9.3f} {:>9.3f}\n", "backend", s.backend_ms.mean,
+  text += fmt::format("{:<22} {:>9.3f} {:>9.3f} {:>9.3f} {:>9.3f}\n", "backend", s.backend_ms.mean,
                       s.backend_ms.sd, s.backend_ms.p99, s.backend_ms.max);
   text += fmt::format("\nbackend    {}: pose on {} of {} frames\n", s.backend_mode,
                       s.estimated_frames, s.frames);
@@ -328,6 +346,10 @@ std::string format_summary(const TraceRunSummary& s) {
         "RPE {:.4f} m, {:.3f} deg per frame\n",
         a.ate_m.rmse, a.pairs, eval::alignment_method_name(a.alignment), a.gt_length_m,
         a.rpe_trans_m.mean, a.rpe_rot_deg.mean);
+  }
+  if (s.map_out) {
+    text += fmt::format("map        {}: {} keyframes, {} landmarks\n", s.map_out->string(),
+                        s.map_keyframes, s.map_landmarks);
   }
   return text;
 }

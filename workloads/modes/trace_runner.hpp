@@ -51,6 +51,8 @@ struct TraceRunOptions {
   }();
   /// The backend run on every frame; empty: frontend only.
   BackendFactory make_backend;
+  /// Where to save the map the backend built (--save-map); only the SLAM backend builds one.
+  std::optional<std::filesystem::path> map_out;
   /// Alignment of the estimate to the ground truth for the accuracy figures; default: position
   /// and yaw when the dataset has an IMU (gravity is observable), SE(3) otherwise.
   std::optional<eval::AlignmentMethod> alignment;
@@ -76,6 +78,9 @@ struct TraceRunSummary {
   /// Backend kernel host times per frame (ms), by kernel name, summed over its invocations in
   /// the frame; frames where a kernel did not run count as 0.
   std::vector<std::pair<std::string, SampleStats>> kernel_ms;
+  /// The saved map (map_out): its file, keyframes and landmarks.
+  std::optional<std::filesystem::path> map_out;
+  std::size_t map_keyframes = 0, map_landmarks = 0;
 };
 
 /// Progress: frames done, frames total.
