@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "arch/frontend/task_timing.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace edx::arch {
 namespace {
@@ -126,7 +127,8 @@ TEST(FrontendModel, CameraRateLeavesTheAcceleratorIdleBetweenFrames) {
 TEST(FrontendModel, WritesATimelineOfTheChosenFrames) {
   std::vector<trace::FrameTrace> frames;
   for (int i = 0; i < 4; ++i) frames.push_back(frame(i, 100, 50, 10, 5, 20, 30));
-  const auto path = std::filesystem::temp_directory_path() / "edx_frontend_timeline_test.json";
+  const edx::testing::TempDir dir;
+  const auto path = dir.path() / "timeline.json";
   FrontendSimOptions options;
   options.timeline = path;
   options.timeline_first = 1;
