@@ -1,0 +1,63 @@
+#pragma once
+// The configured datapath of the backend accelerator (paper Sec. VI-A, Fig. 14): one clock, the
+// five building blocks of Table II (matrix multiplication, decomposition, inverse, transpose,
+// forward/back substitution) with their sizes, the scratchpad holding the operands, and the two
+// structure optimizations (symmetric S; diagonal + 6x6 inverse). Parsed from the `backend:`
+// section of a platform YAML; every field has a default, unknown keys are errors. The unit sizes
+// are public so that the cost model (arch/cost) can read them.
+//
+// Defaults are assumptions (the paper gives no unit sizes): Edx-Car "uses a larger matrix
+// multiplication/decomposition unit" than Edx-Drone (Sec. VII-A, VII-E), which the platform
+// files express through gemm_block and decomp_block; nothing here is calibrated.
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace YAML {
+class Node;
+}
+
+namespace edx::arch {
+
+struct BackendConfig {
+  double clock_mhz = 150.0;  ///< assumed: the frontend's HLS clock on Virtex-7
+  // Matrix multiplication unit: a b x b output-stationary systolic array (b^2 MACs a cycle).
+  int gemm_block = 16;  ///< b (assumed)
+  // Decomposition unit (blocked Cholesky / LDL^T): b_d x b_d multiply-accumulate lanes.
+  int decomp_block = 8;  ///< b_d (assumed)
+  // Inverse unit: reciprocal and multiply-accumulate lanes; specialized for [A B; B^T D] with A
+  // diagonal and D 6x6 (structured_inverse), general Gauss-Jordan otherwise.
+  int inverse_lanes = 8;  ///< (assumed)
+  // Transpose unit: words moved a cycle (one SPM read and write port pair per word).
+  int transpose_words_per_cycle = 4;  ///< (assumed)
+  // Forward/back substitution unit: multiply-accumulate lanes.
+  int trsv_lanes = 8;  ///< (assumed)
+  // Latencies of the pipelined double-precision divider and square root (a reciprocal or a root
+  // is on the critical path of every pivot / column).
+  int divide_latency_cycles = 30;  ///< (assumed; order of a pipelined double divider)
+  int sqrt_latency_cycles = 30;    ///< (assumed)
+  int scalar_bytes = 8;            ///< IEEE 754 double
+  /// One scratchpad shared by the units, holding the operands of the running op ("the SPMs need
+  /// to accommodate the size of the entire input matrices", Sec. VI-A). Assumed 1.25 MiB: within
+  /// the BRAM Edx-Car leaves to the backend (26.5 % of 5.0 MB, Sec. VII-B).
+  std::int64_t spm_bytes = 1310720;
+  /// S = H P H^T is symmetric: compute only the blocks on and above the diagonal of symmetric
+  /// results, store symmetric matrices as triangles (Sec. VI-A, "Optimization").
+  bool symmetric_optimization = true;
+  /// A_mm = [A B; B^T D], A diagonal, D 6x6: reciprocals + a 6x6 inverse (Sec. VI-A).
+  bool structured_inverse = true;
+  // Sizes used only to derive the ops of a marginalization kernel the trace recorded without
+  // ops (kernel_ops()): A_mm is (m * landmark_dim + pose_dim) square.
+  int pose_dim = 6;      ///< pose degrees of freedom of the marginalized keyframe
+  int landmark_dim = 1;  ///< parameters per landmark (inverse depth in the SLAM backend)
+
+  /// Throws std::runtime_error naming the field and the accepted range ("backend.gemm_block: ...").
+  void validate() const;
+  nlohmann::json to_json() const;
+  /// Reads the fields present in `node` (a map) over the defaults; errors name file, line and
+  /// key: "car.yaml:12: backend.gemm_block: expected an integer >= 1, got 0".
+  static BackendConfig from_yaml(const YAML::Node& node, const std::string& where,
+                                 const std::string& prefix = "backend");
+};
+
+}  // namespace edx::arch

@@ -1,0 +1,63 @@
+#pragma once
+// One accelerable backend kernel replayed on the backend accelerator, analytically (no DES): its
+// ops (kernel_ops(): recorded, or derived from the kernel's sizes) run on their units in trace
+// order, each after the previous one (each consumes the previous one's result), so the kernel
+// takes Σ op_cycles on an idle accelerator. The scratchpad must hold the operands of the running
+// op (Sec. VI-A); the kernel needs the largest of those, which is checked against spm_bytes.
+#include <array>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "arch/backend/backend_config.hpp"
+#include "arch/backend/op_timing.hpp"
+#include "arch/link/frame_transfers.hpp"
+#include "arch/link/link.hpp"
+#include "arch/memory/scratchpad.hpp"
+#include "workloads/trace/records.hpp"
+
+namespace edx::arch {
+
+/// One op of a replayed kernel.
+struct OpTiming {
+  trace::OpRecord op;
+  BackendUnit unit = BackendUnit::kMultiply;
+  std::int64_t start_cycle = 0;  ///< from the kernel's start
+  std::int64_t cycles = 0;       ///< op_cycles()
+  std::int64_t spm_bytes = 0;    ///< op_spm_bytes()
+};
+
+struct KernelAccelResult {
+  std::string kernel;
+  bool derived_ops = false;  ///< the trace had no ops: kernel_ops() derived them from the sizes
+  std::int64_t cycles = 0;   ///< Σ op cycles
+  double seconds = 0;        ///< cycles / clock
+  /// Busy cycles per unit, indexed by BackendUnit.
+  std::array<std::int64_t, kBackendUnitCount> unit_busy_cycles{};
+  std::int64_t spm_bytes_needed = 0;    ///< max over ops of op_spm_bytes()
+  std::int64_t spm_bytes_capacity = 0;  ///< config.spm_bytes
+  bool fits_spm = true;                 ///< needed <= capacity
+  std::string message;                  ///< why it does not fit ("" when it fits)
+  /// The SPM sized for this kernel's largest op (one region), mapped to BRAM.
+  ScratchpadSizing spm;
+  std::vector<OpTiming> ops;
+
+  std::int64_t busy_cycles(BackendUnit unit) const {
+    return unit_busy_cycles[static_cast<std::size_t>(unit)];
+  }
+  nlohmann::json to_json() const;
+};
+
+/// Replays `kernel` (validated config; kernel_ops() throws for a kernel without ops it cannot
+/// derive). A kernel that does not fit is returned with fits_spm = false and a message naming
+/// the kernel, its op, the bytes needed and the capacity.
+KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel, const BackendConfig& config);
+
+/// What the offload scheduler (Sec. VI-B) estimates for one kernel: the accelerator time from
+/// the units' latency profiles (kernel_seconds) plus its inputs and results on an idle link
+/// (kernel_transfer_time of kernel_transfer(), arch/link). Seconds.
+double estimate_offload_seconds(const trace::KernelRecord& kernel, const BackendConfig& config,
+                                const LinkSpec& link, const FrameTransferConfig& transfers);
+
+}  // namespace edx::arch

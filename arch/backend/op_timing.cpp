@@ -1,0 +1,249 @@
+#include "arch/backend/op_timing.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace edx::arch {
+namespace {
+
+namespace flags = trace::op_flags;
+using trace::Op;
+using trace::OpRecord;
+
+/// Scalars of an n x n symmetric matrix as stored: n(n+1)/2 with the optimization, else n^2.
+std::int64_t symmetric_scalars(std::int64_t n, const BackendConfig& config) {
+  return config.symmetric_optimization ? n * (n + 1) / 2 : n * n;
+}
+
+bool has(const OpRecord& op, std::uint32_t flag) { return (op.flags & flag) != 0; }
+
+/// A gemm whose (square) result is symmetric (see op_timing.hpp).
+bool symmetric_gemm_result(const OpRecord& op) {
+  return op.op == Op::Gemm && has(op, flags::kSymmetric) && op.m == op.n;
+}
+
+void check_dimensions(const OpRecord& op) {
+  if (op.m < 0 || op.n < 0 || op.k < 0) {
+    throw std::runtime_error(fmt::format("{} op: negative dimension (m {}, n {}, k {})",
+                                         trace::to_string(op.op), op.m, op.n, op.k));
+  }
+}
+
+}  // namespace
+
+const char* to_string(BackendUnit unit) {
+  switch (unit) {
+    case BackendUnit::kMultiply:
+      return "multiply";
+    case BackendUnit::kDecompose:
+      return "decompose";
+    case BackendUnit::kInverse:
+      return "inverse";
+    case BackendUnit::kTranspose:
+      return "transpose";
+    case BackendUnit::kSubstitute:
+      return "substitute";
+  }
+  return "?";
+}
+
+BackendUnit unit_of(Op op) {
+  switch (op) {
+    case Op::Gemm:
+    case Op::Syrk:
+      return BackendUnit::kMultiply;
+    case Op::Potrf:
+    case Op::Ldlt:
+      return BackendUnit::kDecompose;
+    case Op::Inverse:
+      return BackendUnit::kInverse;
+    case Op::Transpose:
+      return BackendUnit::kTranspose;
+    case Op::Trsm:
+    case Op::Trsv:
+      return BackendUnit::kSubstitute;
+  }
+  return BackendUnit::kMultiply;
+}
+
+std::int64_t ceil_div(std::int64_t a, std::int64_t b) { return (a + b - 1) / b; }
+
+std::int64_t gemm_tiles(std::int64_t m, std::int64_t n, int block, bool symmetric_result) {
+  const std::int64_t rows = ceil_div(m, block);
+  if (symmetric_result) return rows * (rows + 1) / 2;  // tiles on and above the diagonal
+  return rows * ceil_div(n, block);
+}
+
+std::int64_t factorization_macs(std::int64_t n) { return (n * n * n - n) / 6 + n * (n - 1) / 2; }
+
+std::int64_t general_inverse_cycles(std::int64_t n, const BackendConfig& config) {
+  return n * config.divide_latency_cycles + ceil_div(n * n * n, config.inverse_lanes);
+}
+
+std::int64_t structured_inverse_cycles(std::int64_t m, const BackendConfig& config) {
+  const std::int64_t d = m - kPoseBlock;  // diagonal (landmark) part
+  const std::int64_t lanes = config.inverse_lanes;
+  const std::int64_t reciprocals = config.divide_latency_cycles + ceil_div(d, lanes);
+  const std::int64_t pose_inverse = general_inverse_cycles(kPoseBlock, config);
+  // A^-1 B (6d) + B^T A^-1 B (36d) + A^-1 B S^-1 (36d) + the top-left block (6 per entry).
+  const std::int64_t products = 78 * d + kPoseBlock * symmetric_scalars(d, config);
+  return reciprocals + pose_inverse + ceil_div(products, lanes);
+}
+
+bool uses_structured_inverse(const OpRecord& op, const BackendConfig& config) {
+  return config.structured_inverse && op.op == Op::Inverse && has(op, flags::kDiagonalBlock) &&
+         has(op, flags::kBlock6x6) && op.m > kPoseBlock;
+}
+
+std::int64_t op_cycles(const OpRecord& op, const BackendConfig& config) {
+  check_dimensions(op);
+  const std::int64_t m = op.m, n = op.n, k = op.k;
+  const std::int64_t t_div = config.divide_latency_cycles;
+  switch (op.op) {
+    case Op::Gemm: {
+      if (m == 0 || n == 0 || k == 0) return 0;
+      const bool symmetric = config.symmetric_optimization && symmetric_gemm_result(op);
+      return gemm_tiles(m, n, config.gemm_block, symmetric) * (k + 2 * config.gemm_block);
+    }
+    case Op::Syrk:
+      if (m == 0 || k == 0) return 0;
+      return gemm_tiles(m, m, config.gemm_block, config.symmetric_optimization) *
+             (k + 2 * config.gemm_block);
+    case Op::Potrf:
+    case Op::Ldlt: {
+      if (m == 0) return 0;
+      const std::int64_t lanes = std::int64_t{config.decomp_block} * config.decomp_block;
+      const std::int64_t per_column =
+          op.op == Op::Potrf ? config.sqrt_latency_cycles + t_div : t_div;
+      return ceil_div(factorization_macs(m), lanes) + m * per_column;
+    }
+    case Op::Trsm:
+    case Op::Trsv: {
+      const std::int64_t rhs = op.op == Op::Trsv ? 1 : n;
+      if (m == 0 || rhs == 0) return 0;
+      return t_div + (m - 1) + m + ceil_div(rhs * m * (m + 1) / 2, config.trsv_lanes);
+    }
+    case Op::Transpose:
+      return ceil_div(m * n, config.transpose_words_per_cycle);
+    case Op::Inverse:
+      if (m == 0) return 0;
+      return uses_structured_inverse(op, config) ? structured_inverse_cycles(m, config)
+                                                 : general_inverse_cycles(m, config);
+  }
+  return 0;
+}
+
+std::int64_t op_spm_bytes(const OpRecord& op, const BackendConfig& config) {
+  check_dimensions(op);
+  const std::int64_t m = op.m, n = op.n, k = op.k;
+  const auto sym = [&](std::int64_t s) { return symmetric_scalars(s, config); };
+  std::int64_t scalars = 0;
+  switch (op.op) {
+    case Op::Gemm: {
+      std::int64_t a = m * k, b = k * n, c = m * n;
+      if (has(op, flags::kSymmetric)) {
+        if (m == n) {
+          c = sym(m);
+        } else if (m == k) {
+          a = sym(m);
+        } else if (k == n) {
+          b = sym(k);
+        }
+      }
+      scalars = a + b + c;
+      break;
+    }
+    case Op::Syrk:
+      scalars = m * k + sym(m);
+      break;
+    case Op::Potrf:
+    case Op::Ldlt:
+      scalars = sym(m);
+      break;
+    case Op::Trsm:
+    case Op::Trsv:
+      scalars = sym(m) + m * (op.op == Op::Trsv ? 1 : n);
+      break;
+    case Op::Transpose:
+      scalars = 2 * m * n;
+      break;
+    case Op::Inverse:
+      if (uses_structured_inverse(op, config)) {
+        const std::int64_t d = m - kPoseBlock;
+        scalars = d + d * kPoseBlock + sym(kPoseBlock) + sym(m);
+      } else if (has(op, flags::kSymmetric)) {
+        scalars = 2 * sym(m);
+      } else {
+        scalars = 2 * m * m;
+      }
+      break;
+  }
+  return scalars * config.scalar_bytes;
+}
+
+std::vector<OpRecord> kernel_ops(const trace::KernelRecord& kernel, const BackendConfig& config) {
+  if (!kernel.ops.empty()) return kernel.ops;
+  const std::int64_t m = kernel.m, n = kernel.n;
+  if (m < 0 || n < 0) {
+    throw std::runtime_error(
+        fmt::format("kernel '{}': negative size (m {}, n {})", kernel.kernel, m, n));
+  }
+  std::vector<OpRecord> ops;
+  const auto add = [&](Op op, std::int64_t om, std::int64_t on, std::int64_t ok, std::uint32_t f) {
+    ops.push_back(OpRecord{op, om, on, ok, f, 0});
+  };
+  if (kernel.kernel == "projection") {
+    add(Op::Gemm, 3, m, 4, 0);  // C (3x4) · X (4xM)
+  } else if (kernel.kernel == "kalman_gain") {
+    add(Op::Gemm, n, m, n, flags::kSymmetric | flags::kTransposeB);  // P H^T
+    add(Op::Gemm, m, m, n, flags::kSymmetric);                       // S = H (P H^T)
+    add(Op::Potrf, m, m, 0, flags::kSymmetric);                      // S = L L^T
+    add(Op::Trsm, m, n, 0, flags::kLower);                           // L Y = H P
+    add(Op::Trsm, m, n, 0, flags::kUpper);                           // L^T K^T = Y
+    add(Op::Transpose, m, n, 0, 0);                                  // K
+  } else if (kernel.kernel == "marginalization") {
+    const std::int64_t mm = m * config.landmark_dim + config.pose_dim;
+    const std::int64_t r = n;
+    add(Op::Inverse, mm, mm, 0,
+        flags::kDiagonalBlock | flags::kSymmetric |
+            (config.pose_dim == kPoseBlock ? flags::kBlock6x6 : 0u));
+    if (r > 0) {
+      add(Op::Transpose, mm, r, 0, 0);              // A_rm = A_mr^T
+      add(Op::Gemm, r, mm, mm, flags::kSymmetric);  // T = A_rm A_mm^-1
+      add(Op::Gemm, r, r, mm, flags::kSymmetric);   // H* = A_rr - T A_mr
+      add(Op::Gemm, r, 1, mm, 0);                   // b* = b_r - T b_m
+      add(Op::Ldlt, r, r, 0, flags::kSymmetric);    // H* = P^T L D L^T P
+      add(Op::Trsv, r, 1, 0, flags::kLower);        // L^-1 P b*
+      add(Op::Transpose, r, r, 0, flags::kLower);   // J = D^1/2 L^T P
+    }
+  } else {
+    throw std::runtime_error(
+        fmt::format("kernel '{}': no ops recorded and no rule to derive them (expected projection, "
+                    "kalman_gain or marginalization, or a trace with ops)",
+                    kernel.kernel));
+  }
+  return ops;
+}
+
+std::int64_t kernel_cycles(const trace::KernelRecord& kernel, const BackendConfig& config) {
+  std::int64_t cycles = 0;
+  for (const OpRecord& op : kernel_ops(kernel, config)) cycles += op_cycles(op, config);
+  return cycles;
+}
+
+double kernel_seconds(const trace::KernelRecord& kernel, const BackendConfig& config) {
+  return static_cast<double>(kernel_cycles(kernel, config)) / (config.clock_mhz * 1e6);
+}
+
+double predict_kernel_seconds(const std::string& kernel, std::int64_t m, std::int64_t n,
+                              const BackendConfig& config) {
+  trace::KernelRecord record;
+  record.kernel = kernel;
+  record.accelerable = true;
+  record.m = m;
+  record.n = n;
+  return kernel_seconds(record, config);
+}
+
+}  // namespace edx::arch

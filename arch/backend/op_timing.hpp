@@ -1,0 +1,129 @@
+#pragma once
+// Cycles of each matrix op of the trace (docs/TRACE.md, ops table) on the backend accelerator's
+// units (paper Sec. VI-A, Table II), and the scratchpad bytes its operands take. These are the
+// "latency profiles of the five building blocks" the runtime scheduler estimates accelerator
+// time from (Sec. VI-B): a scheduler calls op_cycles() per op, or kernel_cycles() per kernel.
+// Every formula is listed in docs/MODEL.md ("Backend accelerator"); ceil(x / y) is written ⌈x/y⌉.
+//
+// Which unit serves each op (Table II's building blocks):
+//   gemm, syrk        -> matrix multiplication     potrf, ldlt  -> decomposition
+//   inverse           -> inverse                    transpose    -> transpose
+//   trsm, trsv        -> forward/back substitution
+//
+// Symmetric matrices (op flag kSymmetric, "result or operand is symmetric"): a syrk's result is
+// symmetric; for a gemm the flag is read as: the result when it is square (m == n: S = H P H^T,
+// the SLAM prior H* = A_rr - A_rm A_mm^-1 A_mr), else the square operand (A when m == k: P in
+// P H^T; B when k == n: A_mm^-1 in A_rm A_mm^-1). With symmetric_optimization a symmetric result
+// is computed as its blocks on and above the diagonal, and any symmetric matrix is stored as a
+// triangle, sym(n) = n(n+1)/2 scalars (else n^2).
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "arch/backend/backend_config.hpp"
+#include "workloads/trace/records.hpp"
+
+namespace edx::arch {
+
+/// The five building blocks of Table II / Fig. 14.
+enum class BackendUnit { kMultiply, kDecompose, kInverse, kTranspose, kSubstitute };
+inline constexpr std::size_t kBackendUnitCount = 5;
+inline constexpr std::array<BackendUnit, kBackendUnitCount> kBackendUnits = {
+    BackendUnit::kMultiply, BackendUnit::kDecompose, BackendUnit::kInverse, BackendUnit::kTranspose,
+    BackendUnit::kSubstitute};
+/// "multiply", "decompose", "inverse", "transpose", "substitute".
+const char* to_string(BackendUnit unit);
+/// The unit that serves `op` (table above).
+BackendUnit unit_of(trace::Op op);
+
+/// The pose block of the structured inverse (Sec. VI-A: "6 represents the number of degrees of
+/// freedom in a pose").
+inline constexpr std::int64_t kPoseBlock = 6;
+
+/// ⌈a / b⌉ for a >= 0, b >= 1.
+std::int64_t ceil_div(std::int64_t a, std::int64_t b);
+/// Tiles of a ⌈m/b⌉ x ⌈n/b⌉ result on a b x b array; when `symmetric_result` (m == n) only the
+/// T(T+1)/2 tiles on and above the diagonal, T = ⌈m/b⌉.
+std::int64_t gemm_tiles(std::int64_t m, std::int64_t n, int block, bool symmetric_result);
+
+/// Multiply-adds of an unblocked n x n Cholesky or LDL^T (right-looking): the trailing updates
+/// Σ_{j<n} (n-j-1)(n-j)/2 = (n^3 - n)/6 plus the column scalings by the pivot's reciprocal
+/// Σ_{j<n} (n-j-1) = n(n-1)/2. (LDL^T updates a_ik -= l_ij a_kj with the unscaled a_kj, so it
+/// needs no more products than Cholesky.)
+std::int64_t factorization_macs(std::int64_t n);
+
+/// Cycles of a general n x n Gauss-Jordan inverse on `lanes` MAC lanes: each of the n pivot
+/// steps takes a reciprocal (divide latency on the critical path) and updates n rows of n
+/// (n^2 products): n * t_div + ⌈n^3 / lanes⌉.
+std::int64_t general_inverse_cycles(std::int64_t n, const BackendConfig& config);
+
+/// Cycles of the structured inverse of A_mm = [A B; B^T D], A diagonal (d = m - 6), D 6x6, as
+/// the SLAM marginalization computes it (workloads/backend/slam/marginalizer.cpp), producing the
+/// full symmetric inverse:
+///   reciprocals a^-1 of the diagonal, pipelined over the lanes   t_div + ⌈d / L⌉
+///   S^-1 of the 6x6 Schur complement, Gauss-Jordan               general_inverse_cycles(6)
+///   products on the lanes: A^-1 B (6d), S = D - B^T A^-1 B (36d), A^-1 B S^-1 (36d), and the
+///   dense top-left block (A^-1 B S^-1)(A^-1 B)^T + A^-1 (6 sym(d) with the symmetric
+///   optimization, else 6 d^2)                                     ⌈(78d + 6 sym(d)) / L⌉
+std::int64_t structured_inverse_cycles(std::int64_t m, const BackendConfig& config);
+
+/// True when `op` is an inverse the structured unit serves: flags kDiagonalBlock and kBlock6x6,
+/// m > 6, and structured_inverse on.
+bool uses_structured_inverse(const trace::OpRecord& op, const BackendConfig& config);
+
+/// Cycles of one op on its unit (0 for an op with a zero dimension):
+///   gemm  m x n x k on the b x b array: tiles(m, n) * (k + 2b), the 2b being the array's fill
+///         and drain per tile (operands skewed into b rows and columns, results shifted out);
+///         transposed operands (flags kTransposeA/B) cost nothing (the address generator reads
+///         them transposed); a symmetric result counts only the upper tiles (see above)
+///   syrk  m x m result of k: the same with n = m, the result always symmetric
+///   potrf ⌈factorization_macs(m) / b_d^2⌉ + m (t_sqrt + t_div)    (a root and a reciprocal
+///         per column on the critical path)
+///   ldlt  ⌈factorization_macs(m) / b_d^2⌉ + m t_div               (a reciprocal per column)
+///   trsm, trsv  column-oriented substitution of an m x m triangle against n right-hand sides:
+///         reciprocals of the diagonal (t_div + m - 1, pipelined), one broadcast cycle per
+///         column, and the n m(m+1)/2 products on the lanes:
+///         t_div + (m - 1) + m + ⌈n m (m+1)/2 / L_s⌉   (trsv: n = 1)
+///   transpose  ⌈m n / w⌉
+///   inverse  structured_inverse_cycles(m) when uses_structured_inverse, else
+///         general_inverse_cycles(m)
+/// Throws std::runtime_error for negative dimensions.
+std::int64_t op_cycles(const trace::OpRecord& op, const BackendConfig& config);
+
+/// Scratchpad bytes of one op's operands and result (Sec. VI-A: "the input matrices must be
+/// ready before an operation starts"), s bytes a scalar, sym(n) = n(n+1)/2 with the symmetric
+/// optimization, else n^2:
+///   gemm  (mk + kn + mn) s, the symmetric one of them counted as sym        syrk (mk + sym(m)) s
+///   potrf, ldlt  sym(m) s (in place)          trsm, trsv  (sym(m) + mn) s (triangle; in place)
+///   transpose  2mn s (out of place)
+///   inverse  structured: in d + 6d + sym(6) (diagonal, B, D), out sym(m); general: 2 m^2, or
+///            2 sym(m) when kSymmetric
+std::int64_t op_spm_bytes(const trace::OpRecord& op, const BackendConfig& config);
+
+/// The ops an accelerable kernel runs: its recorded ops, or, when the trace recorded none, the
+/// ops derived from its sizes (docs/TRACE.md kernels table), mirroring what the backends record:
+///   projection (m = M map points): C (3x4) · X (4xM) = one gemm m=3, n=M, k=4
+///   kalman_gain (m = rows of H, n = state): gemm P H^T (n, m, n; symmetric P, B transposed),
+///     gemm S = H (P H^T) (m, m, n; symmetric), potrf m, trsm m x n lower, trsm m x n upper,
+///     transpose m x n (workloads/backend/vio/ekf_update.cpp)
+///   marginalization (m landmarks, n = r kept): mm = m landmark_dim + pose_dim; inverse mm
+///     (diagonal block, symmetric, 6x6 block when pose_dim = 6), transpose mm x r, gemm
+///     (r, mm, mm), gemm (r, r, mm; symmetric), gemm (r, 1, mm), ldlt r, trsv r, transpose
+///     r x r (workloads/backend/slam/marginalizer.cpp); with r = 0 only the inverse
+/// Throws std::runtime_error for a kernel without ops whose name is none of these.
+std::vector<trace::OpRecord> kernel_ops(const trace::KernelRecord& kernel,
+                                        const BackendConfig& config);
+
+/// Σ op_cycles over kernel_ops(kernel): the kernel's cycles on an idle accelerator (its ops run
+/// one after another: each needs the previous one's result).
+std::int64_t kernel_cycles(const trace::KernelRecord& kernel, const BackendConfig& config);
+/// kernel_cycles / clock.
+double kernel_seconds(const trace::KernelRecord& kernel, const BackendConfig& config);
+/// What a scheduler that knows only a kernel's sizes calls (Sec. VI-B: accelerator time from the
+/// latency profiles of the five building blocks): kernel_seconds of the ops kernel_ops() derives
+/// for `kernel` ("projection", "kalman_gain", "marginalization") with sizes m, n (docs/TRACE.md).
+double predict_kernel_seconds(const std::string& kernel, std::int64_t m, std::int64_t n,
+                              const BackendConfig& config);
+
+}  // namespace edx::arch

@@ -1,0 +1,91 @@
+#pragma once
+// Configuration of the resource and energy models (docs/COST.md): the `cost:` and `power:`
+// sections of a platform YAML, and the backend unit sizes the resource model reads (the
+// backend's own `backend:` section owns them; BackendUnitSizes is what the cost model needs of
+// it). Every field has a default and its source in docs/COST.md; unknown keys are errors.
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "arch/cost/resources.hpp"
+
+namespace YAML {
+class Node;
+}
+
+namespace edx::arch::cost {
+
+/// The configured sizes of the five backend building blocks (paper Table II, Fig. 14).
+/// Defaults: assumed (the paper gives none); docs/COST.md shows that Table III's DSP leaves room
+/// for about 18 double-precision MACs beside the frontend, hence a 4x4 GEMM array on Edx-Car.
+struct BackendUnitSizes {
+  int gemm_block = 4;                 ///< b: a b x b array of MAC PEs
+  int decomp_lanes = 1;               ///< MAC lanes of the Cholesky / LDL^T unit
+  int inverse_lanes = 1;              ///< MAC lanes of the (diagonal + 6x6) inverse unit
+  int transpose_words_per_cycle = 4;  ///< words the transpose unit moves a cycle
+  int trsv_lanes = 1;                 ///< MAC lanes of forward / back substitution
+  std::int64_t spm_bytes = 1310720;   ///< operand scratchpad shared by the units
+
+  void validate() const;  ///< throws std::runtime_error naming the field
+  nlohmann::json to_json() const;
+};
+
+/// `cost:` section: knobs of the resource model.
+struct CostConfig {
+  /// Multiply-accumulates of IF and LSS: "fixed" (one DSP each) or "single" (PG060). Selected
+  /// against Table III (docs/COST.md): single precision brings DSP within 12 % uncalibrated.
+  std::string frontend_arithmetic = "single";
+  bool if_separable = false;                 ///< IF as two 1-D passes (2k taps) instead of k^2
+  int fc_angle_bins = 30;                    ///< rBRIEF's rotated-pattern table (ORB: 12 degrees)
+  std::string backend_precision = "double";  ///< the backend units' MACs
+  /// Control and glue logic (FSMs, AXI/DMA ports, handshakes, pipeline registers, fan-out) as a
+  /// fraction of each group's datapath LUTs / FFs (units and memories). Calibrated on Edx-Car's
+  /// Table III LUT / FF totals x frontend shares (calibrate_control_overheads, docs/COST.md).
+  double frontend_lut_overhead = 0.051;
+  double frontend_ff_overhead = 0.350;
+  double backend_lut_overhead = 0.480;
+  double backend_ff_overhead = 1.963;
+  bool memory_read_muxes = true;  ///< count the LUT muxes selecting among stacked BRAM rows
+  bool allow_bram18 = true;       ///< map small memories to BRAM18 halves
+  // The no-sharing ("N.S.") variant of Table III.
+  int ns_modes = 3;                  ///< registration, VIO, SLAM: one frontend each
+  bool ns_frontend_per_mode = true;  ///< replicate the whole frontend per mode
+  /// Also replicate FE (FD, IF, FC + their SBs) per camera. Off: the paper's N.S. is "without
+  /// sharing ... across the three modes" (Sec. VII-B), and on overshoots its N.S. (docs/COST.md).
+  bool ns_fe_per_camera = false;
+  bool ns_backend_per_kernel = true;  ///< one set of units per kernel (Table II)
+
+  Arithmetic frontend_arith() const;
+  Arithmetic backend_arith() const;
+  void validate() const;  ///< throws std::runtime_error "cost.<field>: expected ..."
+  nlohmann::json to_json() const;
+  /// Errors name file, line and key: "car.yaml:40: cost.ns_modes: expected an integer >= 1".
+  static CostConfig from_yaml(const YAML::Node& node, const std::string& where);
+};
+
+/// `power:` section: static and dynamic power of host and FPGA, energies per operation and per
+/// byte (docs/COST.md gives each one's source or marks it assumed).
+struct PowerConfig {
+  double fpga_static_w = 0.8;   ///< assumed: XPE-order static power of a large 28 nm device
+  double host_active_w = 15.0;  ///< host package power while it computes (Kaby Lake U TDP)
+  double host_idle_w = 2.0;     ///< assumed: package power while it waits
+  // Per-operation energies at 45 nm (Horowitz, ISSCC 2014), scaled by fpga_energy_factor.
+  double int8_op_pj = 0.03;          ///< 8-bit add
+  double fixed_mac_pj = 1.0;         ///< 16-bit multiply + 32-bit add (between 8- and 32-bit mult)
+  double single_mac_pj = 4.6;        ///< 32-bit FP mult 3.7 + add 0.9
+  double double_mac_pj = 18.4;       ///< assumed 4x single (53-bit vs 24-bit mantissa multiplier)
+  double fpga_energy_factor = 10.0;  ///< FPGA vs ASIC dynamic energy (Kuon and Rose 2007: 7-14x)
+  // Per-byte energies.
+  double bram_pj_per_byte = 1.25;   ///< 8 KB SRAM, 10 pJ per 64-bit access (Horowitz 2014)
+  double dram_pj_per_byte = 160.0;  ///< 20 pJ/bit (Horowitz 2014: 1.3-2.6 nJ per 64 bits)
+  double link_pj_per_byte = 80.0;   ///< assumed 10 pJ/bit for PCIe 3.0 SerDes + controller
+  // Calibration hooks against Edx-Car's 1.9 J -> 0.5 J per frame (not calibrated: 1).
+  double host_power_scale = 1.0;
+  double fpga_dynamic_scale = 1.0;
+
+  void validate() const;  ///< throws std::runtime_error "power.<field>: expected ..."
+  nlohmann::json to_json() const;
+  static PowerConfig from_yaml(const YAML::Node& node, const std::string& where);
+};
+
+}  // namespace edx::arch::cost

@@ -1,0 +1,59 @@
+#pragma once
+// Energy per frame (docs/COST.md, "Energy"):
+//
+//   E = P_fpga_static·t_frame                                       (when an FPGA is present)
+//     + s_host·(P_host_active·t_host + P_host_idle·(t_frame − t_host))
+//     + s_fpga·f_fpga·(n_int8·e_int8 + n_fixed·e_fixed + n_single·e_single + n_double·e_double)
+//     + b_bram·e_bram + b_dram·e_dram + b_link·e_link
+//
+// with the constants of PowerConfig (s_host = host_power_scale, s_fpga = fpga_dynamic_scale,
+// f_fpga = fpga_energy_factor; energies in pJ). The paper's Edx-Car figures (1.9 J -> 0.5 J per
+// frame, −73.7 %, Sec. VII-C) are exposed for comparison; nothing is calibrated yet.
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "arch/cost/cost_config.hpp"
+#include "arch/cost/resource_report.hpp"
+
+namespace edx::arch::cost {
+
+/// What one frame did.
+struct FrameActivity {
+  double frame_s = 0;      ///< t_frame: frame period (1 / throughput)
+  double host_busy_s = 0;  ///< t_host: host computing within the frame (<= frame_s)
+  bool fpga_present = true;
+  double int8_ops = 0;    ///< pixel operations (adds, compares, |a − b|)
+  double fixed_macs = 0;  ///< fixed-point multiply-accumulates
+  double single_macs = 0;
+  double double_macs = 0;
+  double bram_bytes = 0;  ///< on-chip memory traffic
+  double dram_bytes = 0;
+  double link_bytes = 0;  ///< host <-> FPGA
+  void validate() const;  ///< throws std::runtime_error naming the field
+  nlohmann::json to_json() const;
+};
+
+struct FrameEnergy {
+  double fpga_static_j = 0;
+  double host_j = 0;     ///< active + idle
+  double compute_j = 0;  ///< operations on the FPGA
+  double memory_j = 0;   ///< BRAM + DRAM
+  double link_j = 0;
+  double total_j = 0;
+  nlohmann::json to_json() const;
+};
+
+FrameEnergy frame_energy(const FrameActivity& activity, const PowerConfig& power);
+
+/// Edx-Car's energy per frame (Sec. VII-C): baseline 1.9 J, accelerated 0.5 J (−73.7 %).
+struct EdxCarEnergy {
+  static constexpr double kBaselineJ = 1.9;
+  static constexpr double kAcceleratedJ = 0.5;
+  static constexpr double kReduction = 0.737;
+};
+
+/// Baseline, accelerated and reduction against EdxCarEnergy (the calibration hook for
+/// host_power_scale and fpga_dynamic_scale once end-to-end traces exist).
+std::vector<PaperComparison> compare_energy_to_edx_car(double baseline_j, double accelerated_j);
+
+}  // namespace edx::arch::cost

@@ -1,0 +1,126 @@
+// The backend accelerator as a DES component (arch/backend/backend_accelerator.hpp).
+#include "arch/backend/backend_accelerator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "tests/arch/backend/backend_test_support.hpp"
+
+namespace edx::arch {
+namespace {
+
+namespace flags = trace::op_flags;
+using testing::kalman_gain;
+using testing::kernel_of;
+using testing::small_config;
+using trace::Op;
+using trace::OpRecord;
+
+TEST(BackendAccelerator, IdleRunEqualsTheAnalyticalSum) {
+  const BackendConfig c = small_config();
+  sim::Simulator sim;
+  BackendAccelerator accel(sim, c);
+  const trace::KernelRecord k = kalman_gain(10, 8);
+  sim::Time end = 0;
+  auto process = [&]() -> sim::Process {
+    co_await accel.run(k);
+    end = sim.now();
+  };
+  sim.spawn(process(), "kalman");
+  sim.run();
+  const std::int64_t cycles = accelerate_kernel(k, c).cycles;
+  EXPECT_EQ(cycles, 933);  // kernel_replay_test: 96 + 96 + 203 + 249 + 249 + 40
+  EXPECT_EQ(end, accel.clock().time_of_cycles(static_cast<std::uint64_t>(cycles)));
+  EXPECT_EQ(end, sim::ps(6220000));  // 933 cycles at 150 MHz = 6.22 µs exactly
+  EXPECT_EQ(accel.kernels(), 1u);
+  EXPECT_EQ(accel.ops(), 6u);
+  EXPECT_DOUBLE_EQ(accel.kernel_latency_us().mean(), 6.22);
+}
+
+TEST(BackendAccelerator, ConcurrentKernelsSerializeOnASharedUnit) {
+  const BackendConfig c = small_config();
+  sim::Simulator sim;
+  BackendAccelerator accel(sim, c);
+  // Two projections (gemm only) issued at the same instant: 25 tiles x 12 = 300 cycles each.
+  const trace::KernelRecord a = kernel_of("projection", {OpRecord{Op::Gemm, 3, 100, 4, 0, 0}});
+  const trace::KernelRecord b = a;
+  // A transpose-only kernel uses another unit: it overlaps the gemms (⌈35/2⌉ = 18 cycles).
+  const trace::KernelRecord t = kernel_of("other", {OpRecord{Op::Transpose, 7, 5, 0, 0, 0}});
+  sim::Time end_a = 0, end_b = 0, end_t = 0;
+  auto run = [&](const trace::KernelRecord& k, sim::Time& end) -> sim::Process {
+    co_await accel.run(k);
+    end = sim.now();
+  };
+  sim.spawn(run(a, end_a), "a");
+  sim.spawn(run(b, end_b), "b");
+  sim.spawn(run(t, end_t), "t");
+  sim.run();
+  EXPECT_EQ(end_a, accel.clock().time_of_cycles(300));
+  EXPECT_EQ(end_b, accel.clock().time_of_cycles(600));  // waited for a's gemm
+  EXPECT_EQ(end_t, accel.clock().time_of_cycles(18));
+  // The multiplication unit was busy the whole run; the transpose unit 18 of 600 cycles.
+  EXPECT_NEAR(accel.unit(BackendUnit::kMultiply).busy().mean(), 1.0, 1e-12);
+  EXPECT_NEAR(accel.unit(BackendUnit::kTranspose).busy().mean(),
+              sim::to_seconds(accel.clock().time_of_cycles(18)) /
+                  sim::to_seconds(accel.clock().time_of_cycles(600)),
+              1e-12);
+
+  sim::StatsRegistry stats;
+  accel.register_stats(stats, "backend");
+  const nlohmann::json json = stats.to_json();
+  EXPECT_EQ(json["backend"]["kernels"], 3);
+  EXPECT_EQ(json["backend"]["ops"], 3);
+  EXPECT_NEAR(json["backend"]["multiply"]["busy"]["mean"].get<double>(), 1.0, 1e-12);
+  EXPECT_EQ(json["backend"]["kernel_latency_us"]["count"], 3);
+}
+
+TEST(BackendAccelerator, OpsOfOneKernelWaitForEachOther) {
+  const BackendConfig c = small_config();
+  sim::Simulator sim;
+  BackendAccelerator accel(sim, c);
+  // gemm (300 cycles) then transpose (18): the transpose starts after the gemm even though its
+  // unit is free.
+  const trace::KernelRecord k = kernel_of(
+      "chain", {OpRecord{Op::Gemm, 3, 100, 4, 0, 0}, OpRecord{Op::Transpose, 7, 5, 0, 0, 0}});
+  sim::Timeline timeline;
+  accel.set_timeline(timeline, "backend");
+  auto process = [&]() -> sim::Process { co_await accel.run(k); };
+  sim.spawn(process(), "chain");
+  sim.run();
+  EXPECT_EQ(sim.now(), accel.clock().time_of_cycles(318));
+  EXPECT_EQ(timeline.span_count(), 3u);  // two ops and the kernel
+  const nlohmann::json doc = timeline.to_json();
+  bool found = false;
+  for (const nlohmann::json& e : doc["traceEvents"]) {
+    if (e.value("ph", "") == "X" && e.value("name", "") == "chain transpose 7x5x0") {
+      found = true;
+      EXPECT_NEAR(e["ts"].get<double>(), sim::to_us(accel.clock().time_of_cycles(300)), 1e-9);
+    }
+  }
+  EXPECT_TRUE(found) << doc.dump();
+}
+
+TEST(BackendAccelerator, KernelThatDoesNotFitTheSpmThrows) {
+  BackendConfig c = small_config();
+  c.spm_bytes = 1000;
+  sim::Simulator sim;
+  BackendAccelerator accel(sim, c);
+  const trace::KernelRecord k = kalman_gain(10, 8);
+  auto process = [&]() -> sim::Process { co_await accel.run(k); };
+  sim.spawn(process(), "kalman");
+  try {
+    sim.run();
+    FAIL() << "expected an SPM overflow";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("kalman_gain"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("capacity 1000 B"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace edx::arch

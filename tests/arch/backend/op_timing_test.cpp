@@ -1,0 +1,213 @@
+// Cycles of each backend op against hand-computed values (arch/backend/op_timing.hpp).
+#include "arch/backend/op_timing.hpp"
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <stdexcept>
+#include <string>
+
+#include "arch/backend/backend_config.hpp"
+#include "tests/arch/backend/backend_test_support.hpp"
+
+namespace edx::arch {
+namespace {
+
+namespace flags = trace::op_flags;
+using testing::small_config;
+using trace::Op;
+using trace::OpRecord;
+
+OpRecord op(Op kind, std::int64_t m, std::int64_t n, std::int64_t k, std::uint32_t f = 0) {
+  return OpRecord{kind, m, n, k, f, 0};
+}
+
+TEST(BackendUnits, TableTwoMapping) {
+  EXPECT_EQ(unit_of(Op::Gemm), BackendUnit::kMultiply);
+  EXPECT_EQ(unit_of(Op::Syrk), BackendUnit::kMultiply);
+  EXPECT_EQ(unit_of(Op::Potrf), BackendUnit::kDecompose);
+  EXPECT_EQ(unit_of(Op::Ldlt), BackendUnit::kDecompose);
+  EXPECT_EQ(unit_of(Op::Inverse), BackendUnit::kInverse);
+  EXPECT_EQ(unit_of(Op::Transpose), BackendUnit::kTranspose);
+  EXPECT_EQ(unit_of(Op::Trsm), BackendUnit::kSubstitute);
+  EXPECT_EQ(unit_of(Op::Trsv), BackendUnit::kSubstitute);
+}
+
+TEST(BackendOpCycles, Gemm) {
+  const BackendConfig c = small_config();
+  // 10x6x7: ⌈10/4⌉ ⌈6/4⌉ = 3 x 2 = 6 tiles of 7 + 8 = 15 cycles.
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 10, 6, 7), c), 90);
+  // Transposed operands cost nothing.
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 10, 6, 7, flags::kTransposeA | flags::kTransposeB), c), 90);
+  // Matrix-vector 9x1x5: 3 x 1 tiles of 13.
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 9, 1, 5), c), 39);
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 0, 6, 7), c), 0);
+}
+
+TEST(BackendOpCycles, SymmetricGemmResultComputesUpperTiles) {
+  BackendConfig c = small_config();
+  // S = H (P H^T), 10x10 of k = 5: 3 tile rows -> 6 upper tiles of 13 cycles.
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 10, 10, 5, flags::kSymmetric), c), 78);
+  // P H^T (8x10 of 8; P symmetric, the result is not square): all 2 x 3 tiles of 16.
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 8, 10, 8, flags::kSymmetric | flags::kTransposeB), c), 96);
+  c.symmetric_optimization = false;
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 10, 10, 5, flags::kSymmetric), c), 117);  // 9 x 13
+}
+
+TEST(BackendOpCycles, SyrkHalvesBlocksExactly) {
+  BackendConfig c = small_config();
+  // 9x9 of k = 3: 3 tile rows: 6 upper tiles (on) vs 9 (off), 3 + 8 = 11 cycles each.
+  EXPECT_EQ(op_cycles(op(Op::Syrk, 9, 9, 3), c), 66);
+  c.symmetric_optimization = false;
+  EXPECT_EQ(op_cycles(op(Op::Syrk, 9, 9, 3), c), 99);
+  // The tile count is that of the blocks (i, j) with i <= j, counted one by one.
+  for (const int block : {1, 3, 4, 16}) {
+    for (const std::int64_t m : {1, 4, 5, 17, 64, 100, 306}) {
+      const std::int64_t tiles = (m + block - 1) / block;
+      std::int64_t upper = 0;
+      for (std::int64_t i = 0; i < tiles; ++i) {
+        for (std::int64_t j = i; j < tiles; ++j) ++upper;
+      }
+      EXPECT_EQ(gemm_tiles(m, m, block, true), upper) << "m " << m << " b " << block;
+      EXPECT_EQ(gemm_tiles(m, m, block, false), tiles * tiles);
+      BackendConfig on = small_config(), off = small_config();
+      on.gemm_block = off.gemm_block = block;
+      off.symmetric_optimization = false;
+      const std::int64_t per_tile = 7 + 2 * block;
+      EXPECT_EQ(op_cycles(op(Op::Syrk, m, m, 7), on), upper * per_tile);
+      EXPECT_EQ(op_cycles(op(Op::Syrk, m, m, 7), off), tiles * tiles * per_tile);
+    }
+  }
+}
+
+/// Multiply-adds of a textbook right-looking Cholesky, counted by running its loops.
+std::int64_t counted_cholesky_macs(std::int64_t n) {
+  std::int64_t macs = 0;
+  for (std::int64_t j = 0; j < n; ++j) {
+    for (std::int64_t i = j + 1; i < n; ++i) ++macs;  // l_ij = a_ij * (1 / l_jj)
+    for (std::int64_t i = j + 1; i < n; ++i) {
+      for (std::int64_t k = j + 1; k <= i; ++k) ++macs;  // a_ik -= l_ij l_kj
+    }
+  }
+  return macs;
+}
+
+TEST(BackendOpCycles, Factorizations) {
+  for (const std::int64_t n : {1, 2, 6, 13, 40}) {
+    EXPECT_EQ(factorization_macs(n), counted_cholesky_macs(n)) << n;
+  }
+  const BackendConfig c = small_config();
+  // 6x6: (216 - 6)/6 + 15 = 50 MACs on 4 lanes = 13 cycles; + 6 columns x (sqrt 5 + div 10).
+  EXPECT_EQ(factorization_macs(6), 50);
+  EXPECT_EQ(op_cycles(op(Op::Potrf, 6, 6, 0, flags::kSymmetric), c), 13 + 90);
+  // LDL^T: no root: 13 + 6 x 10.
+  EXPECT_EQ(op_cycles(op(Op::Ldlt, 6, 6, 0, flags::kSymmetric), c), 13 + 60);
+  EXPECT_EQ(op_cycles(op(Op::Potrf, 0, 0, 0), c), 0);
+}
+
+TEST(BackendOpCycles, Substitution) {
+  const BackendConfig c = small_config();
+  // 5x5 triangle, 3 right-hand sides: reciprocals 10 + 4, broadcasts 5, products
+  // 3 x 5 x 6 / 2 = 45 on 2 lanes = 23.
+  EXPECT_EQ(op_cycles(op(Op::Trsm, 5, 3, 0, flags::kLower), c), 10 + 4 + 5 + 23);
+  // trsv: one right-hand side (n is ignored): 15 products -> 8.
+  EXPECT_EQ(op_cycles(op(Op::Trsv, 5, 1, 0, flags::kLower), c), 10 + 4 + 5 + 8);
+  EXPECT_EQ(op_cycles(op(Op::Trsm, 5, 0, 0), c), 0);
+}
+
+TEST(BackendOpCycles, Transpose) {
+  const BackendConfig c = small_config();
+  EXPECT_EQ(op_cycles(op(Op::Transpose, 7, 5, 0), c), 18);  // ⌈35 / 2⌉
+  EXPECT_EQ(op_cycles(op(Op::Transpose, 8, 1, 0), c), 4);
+}
+
+TEST(BackendOpCycles, Inverse) {
+  BackendConfig c = small_config();
+  // General 5x5 Gauss-Jordan: 5 pivots x 10 + ⌈125 / 2⌉.
+  EXPECT_EQ(op_cycles(op(Op::Inverse, 5, 5, 0), c), 50 + 63);
+  // Structured 10x10 (d = 4): reciprocals 10 + ⌈4/2⌉ = 12; 6x6 Gauss-Jordan 60 + 108 = 168;
+  // products 78 x 4 + 6 x sym(4) = 312 + 60 = 372 on 2 lanes = 186.
+  const std::uint32_t structured = flags::kDiagonalBlock | flags::kBlock6x6 | flags::kSymmetric;
+  EXPECT_EQ(structured_inverse_cycles(10, c), 12 + 168 + 186);
+  EXPECT_EQ(op_cycles(op(Op::Inverse, 10, 10, 0, structured), c), 366);
+  // Without the 6x6 flag (a 15-dimensional pose block) or with the unit off: general.
+  EXPECT_EQ(op_cycles(op(Op::Inverse, 10, 10, 0, flags::kDiagonalBlock), c), 100 + 500);
+  c.structured_inverse = false;
+  EXPECT_EQ(op_cycles(op(Op::Inverse, 10, 10, 0, structured), c), 600);
+  c.structured_inverse = true;
+  c.symmetric_optimization = false;  // the dense top-left block in full: 6 x 16 products
+  EXPECT_EQ(structured_inverse_cycles(10, c), 12 + 168 + (312 + 96) / 2);
+}
+
+TEST(BackendOpCycles, StructuredInverseBeatsGeneralFor100Landmarks) {
+  const BackendConfig c;  // defaults
+  const std::int64_t m = 3 * 100 + 6;
+  const std::uint32_t structured = flags::kDiagonalBlock | flags::kBlock6x6 | flags::kSymmetric;
+  const std::int64_t fast = op_cycles(op(Op::Inverse, m, m, 0, structured), c);
+  const std::int64_t general = op_cycles(op(Op::Inverse, m, m, 0, flags::kSymmetric), c);
+  EXPECT_EQ(general, general_inverse_cycles(m, c));
+  EXPECT_EQ(fast, structured_inverse_cycles(m, c));
+  EXPECT_LT(10 * fast, general);  // n^3 against ~3 n^2: more than an order of magnitude
+}
+
+TEST(BackendOpCycles, NegativeDimensionThrows) {
+  EXPECT_THROW(op_cycles(op(Op::Gemm, -1, 2, 2), BackendConfig{}), std::runtime_error);
+}
+
+TEST(BackendOpSpm, OperandBytes) {
+  BackendConfig c = small_config();
+  // gemm 10x6x7: A 70 + B 42 + C 60 doubles.
+  EXPECT_EQ(op_spm_bytes(op(Op::Gemm, 10, 6, 7), c), 172 * 8);
+  // S (10x10 of 5, symmetric): 50 + 50 + sym(10) = 55.
+  EXPECT_EQ(op_spm_bytes(op(Op::Gemm, 10, 10, 5, flags::kSymmetric), c), 155 * 8);
+  // P H^T (8x10 of 8, P symmetric): sym(8) 36 + 80 + 80.
+  EXPECT_EQ(op_spm_bytes(op(Op::Gemm, 8, 10, 8, flags::kSymmetric), c), 196 * 8);
+  EXPECT_EQ(op_spm_bytes(op(Op::Syrk, 9, 9, 3), c), (27 + 45) * 8);
+  EXPECT_EQ(op_spm_bytes(op(Op::Potrf, 6, 6, 0), c), 21 * 8);
+  EXPECT_EQ(op_spm_bytes(op(Op::Trsm, 5, 3, 0), c), (15 + 15) * 8);
+  EXPECT_EQ(op_spm_bytes(op(Op::Transpose, 7, 5, 0), c), 70 * 8);
+  // Structured 10x10: diagonal 4 + B 24 + D sym(6) 21 in, sym(10) 55 out.
+  const std::uint32_t structured = flags::kDiagonalBlock | flags::kBlock6x6 | flags::kSymmetric;
+  EXPECT_EQ(op_spm_bytes(op(Op::Inverse, 10, 10, 0, structured), c), 104 * 8);
+  c.symmetric_optimization = false;
+  EXPECT_EQ(op_spm_bytes(op(Op::Gemm, 10, 10, 5, flags::kSymmetric), c), 200 * 8);
+  EXPECT_EQ(op_spm_bytes(op(Op::Inverse, 5, 5, 0, flags::kSymmetric), c), 50 * 8);
+}
+
+TEST(BackendConfigYaml, ReadsFieldsAndNamesFileLineKey) {
+  const BackendConfig c = BackendConfig::from_yaml(
+      YAML::Load("clock_mhz: 200\ngemm_block: 32\nsymmetric_optimization: false\n"
+                 "spm_bytes: 4194304\n"),
+      "car.yaml");
+  EXPECT_DOUBLE_EQ(c.clock_mhz, 200.0);
+  EXPECT_EQ(c.gemm_block, 32);
+  EXPECT_FALSE(c.symmetric_optimization);
+  EXPECT_EQ(c.spm_bytes, 4194304);
+  EXPECT_EQ(c.decomp_block, BackendConfig{}.decomp_block);
+  EXPECT_EQ(c.to_json()["gemm_block"], 32);
+
+  const auto error_of = [](const std::string& text) {
+    try {
+      BackendConfig::from_yaml(YAML::Load(text), "car.yaml");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error_of("clock_mhz: 200\ngemm_block: 0\n").find("car.yaml:2: backend.gemm_block"),
+            std::string::npos)
+      << error_of("clock_mhz: 200\ngemm_block: 0\n");
+  EXPECT_NE(error_of("trsv_lanes: 2\ngemm_blok: 4\n").find("car.yaml:2: backend.gemm_blok"),
+            std::string::npos)
+      << error_of("trsv_lanes: 2\ngemm_blok: 4\n");
+  // A value the reader accepts but validate() refuses still names its line.
+  EXPECT_NE(
+      error_of("clock_mhz: 100\n\nscalar_bytes: 2\n").find("car.yaml:3: backend.scalar_bytes"),
+      std::string::npos)
+      << error_of("clock_mhz: 100\n\nscalar_bytes: 2\n");
+  EXPECT_NE(error_of("structured_inverse: maybe\n").find("car.yaml:1: backend.structured_inverse"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace edx::arch

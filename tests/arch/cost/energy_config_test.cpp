@@ -1,0 +1,133 @@
+// Energy per frame on hand numbers, and the `cost:` / `power:` YAML sections.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <stdexcept>
+
+#include "arch/cost/cost_config.hpp"
+#include "arch/cost/energy.hpp"
+
+namespace edx::arch::cost {
+namespace {
+
+using ::testing::HasSubstr;
+
+TEST(FrameEnergy, HandComputedFrame) {
+  PowerConfig p;
+  p.fpga_static_w = 1.0;
+  p.host_active_w = 10.0;
+  p.host_idle_w = 2.0;
+  p.double_mac_pj = 20.0;
+  p.int8_op_pj = 0.1;
+  p.fpga_energy_factor = 10.0;
+  p.dram_pj_per_byte = 100.0;
+  p.bram_pj_per_byte = 1.0;
+  p.link_pj_per_byte = 50.0;
+  FrameActivity a;
+  a.frame_s = 0.05;
+  a.host_busy_s = 0.02;
+  a.double_macs = 1e6;
+  a.int8_ops = 1e8;
+  a.dram_bytes = 2e6;
+  a.bram_bytes = 1e7;
+  a.link_bytes = 1e5;
+  const FrameEnergy e = frame_energy(a, p);
+  EXPECT_DOUBLE_EQ(e.fpga_static_j, 0.05);                               // 1 W x 50 ms
+  EXPECT_DOUBLE_EQ(e.host_j, 10 * 0.02 + 2 * 0.03);                      // busy 20 ms, idle 30 ms
+  EXPECT_NEAR(e.compute_j, 10 * (1e6 * 20 + 1e8 * 0.1) * 1e-12, 1e-15);  // 3e-4 J
+  EXPECT_NEAR(e.memory_j, (2e6 * 100 + 1e7 * 1) * 1e-12, 1e-15);         // 2.1e-4 J
+  EXPECT_NEAR(e.link_j, 1e5 * 50 * 1e-12, 1e-15);
+  EXPECT_NEAR(e.total_j, 0.05 + 0.26 + 3e-4 + 2.1e-4 + 5e-6, 1e-12);
+}
+
+TEST(FrameEnergy, NoFpgaNoStaticAndScalesApply) {
+  PowerConfig p;
+  p.host_active_w = 16.0;
+  p.host_idle_w = 16.0;
+  p.host_power_scale = 0.5;
+  FrameActivity cpu;
+  cpu.frame_s = 0.1;
+  cpu.host_busy_s = 0.1;
+  cpu.fpga_present = false;
+  const FrameEnergy e = frame_energy(cpu, p);
+  EXPECT_DOUBLE_EQ(e.fpga_static_j, 0);
+  EXPECT_DOUBLE_EQ(e.total_j, 0.5 * 16 * 0.1);
+}
+
+TEST(FrameEnergy, RejectsAHostBusierThanTheFrame) {
+  FrameActivity a;
+  a.frame_s = 0.01;
+  a.host_busy_s = 0.02;
+  EXPECT_THROW(frame_energy(a, {}), std::runtime_error);
+}
+
+TEST(FrameEnergy, ComparesWithEdxCar) {
+  const auto rows = compare_energy_to_edx_car(2.0, 0.5);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_NEAR(rows[0].relative_error, 2.0 / 1.9 - 1, 1e-12);
+  EXPECT_NEAR(rows[1].relative_error, 0.0, 1e-12);
+  EXPECT_NEAR(rows[2].simulated, 0.75, 1e-12);
+  EXPECT_NEAR(rows[2].relative_error, 0.75 / 0.737 - 1, 1e-12);
+}
+
+TEST(CostYaml, ReadsFieldsOverDefaults) {
+  const YAML::Node n = YAML::Load(
+      "frontend_arithmetic: single\nbackend_precision: single\nns_modes: 2\n"
+      "frontend_lut_overhead: 1.5\nns_fe_per_camera: false\n");
+  const CostConfig c = CostConfig::from_yaml(n, "car.yaml");
+  EXPECT_EQ(c.frontend_arith(), Arithmetic::kSingle);
+  EXPECT_EQ(c.backend_arith(), Arithmetic::kSingle);
+  EXPECT_EQ(c.ns_modes, 2);
+  EXPECT_DOUBLE_EQ(c.frontend_lut_overhead, 1.5);
+  EXPECT_FALSE(c.ns_fe_per_camera);
+  EXPECT_EQ(c.to_json()["ns_modes"], 2);
+  EXPECT_EQ(CostConfig::from_yaml(YAML::Node(), "x").to_json(), CostConfig{}.to_json());
+}
+
+void expect_error(const std::string& yaml, bool power, const std::string& message) {
+  try {
+    const YAML::Node n = YAML::Load(yaml)["s"];
+    if (power) {
+      PowerConfig::from_yaml(n, "car.yaml");
+    } else {
+      CostConfig::from_yaml(n, "car.yaml");
+    }
+    FAIL() << "expected an error for " << yaml;
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr(message));
+  }
+}
+
+TEST(CostYaml, ErrorsNameFileLineAndKey) {
+  expect_error("s:\n  ns_modes: 0\n", false,
+               "car.yaml:2: cost.ns_modes: expected an integer >= 1, got '0'");
+  expect_error("s:\n  bogus: 1\n", false, "car.yaml:2: cost.bogus: unknown key");
+  expect_error("s:\n  if_separable: maybe\n", false, "car.yaml:2: cost.if_separable");
+  expect_error("s:\n  ns_modes: 2\n  backend_precision: half\n", false,
+               "car.yaml:3: cost.backend_precision: expected single or double");
+  expect_error("s:\n  frontend_arithmetic: double\n", false,
+               "cost.frontend_arithmetic: expected fixed or single");
+  expect_error("s:\n  fpga_static_w: -1\n", true, "car.yaml:2: power.fpga_static_w");
+  expect_error("s:\n  host_active_w: 5\n  host_idle_w: 6\n", true,
+               "car.yaml:3: power.host_idle_w: expected a power in [0, host_active_w] W");
+  expect_error("s:\n  fpga_energy_factor: [1]\n", true,
+               "car.yaml:2: power.fpga_energy_factor: expected a number > 0, got 'a list'");
+}
+
+TEST(PowerYaml, ReadsFieldsAndPrintsThem) {
+  const PowerConfig p =
+      PowerConfig::from_yaml(YAML::Load("fpga_static_w: 0.5\ndram_pj_per_byte: 120"), "d.yaml");
+  EXPECT_DOUBLE_EQ(p.fpga_static_w, 0.5);
+  EXPECT_DOUBLE_EQ(p.dram_pj_per_byte, 120);
+  EXPECT_DOUBLE_EQ(p.to_json()["dram_pj_per_byte"].get<double>(), 120);
+}
+
+TEST(BackendUnitSizes, Validates) {
+  BackendUnitSizes be;
+  be.gemm_block = 0;
+  EXPECT_THROW(be.validate(), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace edx::arch::cost

@@ -1,0 +1,127 @@
+// Resource primitives and unit cost functions against hand-computed counts (docs/COST.md).
+#include "arch/cost/resources.hpp"
+
+#include <gtest/gtest.h>
+
+#include "arch/cost/unit_costs.hpp"
+
+namespace edx::arch::cost {
+namespace {
+
+TEST(Datapath, AdderTreeOfFourEightBitInputs) {
+  Datapath d;
+  // Level 1: two 9-bit adders; level 2: one 10-bit adder.
+  EXPECT_EQ(d.adder_tree(1, 4, 8), 10);
+  EXPECT_DOUBLE_EQ(d.resources().lut, 2 * 9 + 10);
+  EXPECT_DOUBLE_EQ(d.resources().ff, 2 * 9 + 10);
+  EXPECT_DOUBLE_EQ(d.resources().dsp, 0);
+}
+
+TEST(Datapath, AdderTreeOfAnOddCountCarriesTheLeftover) {
+  Datapath d;
+  // 9 inputs of 24 bits: 4 adders of 25, 2 of 26, 1 of 27, 1 of 28 bits.
+  EXPECT_EQ(d.adder_tree(1, 9, 24), 28);
+  EXPECT_DOUBLE_EQ(d.resources().lut, 4 * 25 + 2 * 26 + 27 + 28);
+}
+
+TEST(Datapath, PopcountOf256Bits) {
+  Datapath d;
+  d.popcounts(1, 256);
+  // Σ_l (256 / 2^l) · l for l = 1..8.
+  EXPECT_DOUBLE_EQ(d.resources().lut, 128 + 128 + 96 + 64 + 40 + 24 + 14 + 8);
+}
+
+TEST(Datapath, PrimitivesCostWhatTheTableSays) {
+  Datapath d;
+  d.comparators(2, 8).abs_diffs(1, 8).reductions(3, 9).xors(1, 7).muxes(1, 8, 10);
+  // LUT: 16 + 16 + 3·⌈8/5⌉ + ⌈7/2⌉ + 8·⌈9/3⌉ = 16 + 16 + 6 + 4 + 24.
+  EXPECT_DOUBLE_EQ(d.resources().lut, 66);
+  // FF: 2 (comparator bits) + 8 (|a − b|) + 3 (reductions).
+  EXPECT_DOUBLE_EQ(d.resources().ff, 13);
+  d.multipliers(2, 8, 16).multipliers(1, 26, 20);  // 2·1 + ⌈26/25⌉·⌈20/18⌉ = 2 + 4
+  EXPECT_DOUBLE_EQ(d.resources().dsp, 6);
+}
+
+TEST(Datapath, FloatingPointMacsTakePg060Operators) {
+  Datapath d;
+  d.macs(2, Arithmetic::kDouble);
+  EXPECT_DOUBLE_EQ(d.resources().dsp, 2 * (11 + 3));
+  EXPECT_DOUBLE_EQ(d.resources().lut, 2 * (208 + 1149));
+  EXPECT_DOUBLE_EQ(d.resources().ff, 2 * (317 + 445));
+  Datapath s;
+  s.macs(1, Arithmetic::kSingle);
+  EXPECT_DOUBLE_EQ(s.resources().dsp, 3 + 2);
+  Datapath f;
+  f.macs(3, Arithmetic::kFixed, 16, 16);
+  EXPECT_DOUBLE_EQ(f.resources().dsp, 3);
+  EXPECT_DOUBLE_EQ(f.resources().lut, 0);
+}
+
+TEST(UnitCosts, HammingUnitByHand) {
+  FrontendConfig fe;
+  fe.mo_comparators = 1;
+  const Resources r = mo_cost(fe);
+  // XOR 128 + popcount 502 + two 9-bit comparators 18.
+  EXPECT_DOUBLE_EQ(r.lut, 128 + 502 + 18);
+  // popcount 502 + comparators 2 + two descriptors 512 + 4 x (9 + 16) index/distance registers.
+  EXPECT_DOUBLE_EQ(r.ff, 502 + 2 + 512 + 100);
+  EXPECT_DOUBLE_EQ(r.dsp, 0);
+  fe.mo_comparators = 4;
+  const Resources four = mo_cost(fe);
+  EXPECT_DOUBLE_EQ(four.lut, 4 * (128 + 502 + 18));
+}
+
+TEST(UnitCosts, GaussianThreeByThreeOnOneLane) {
+  FrontendConfig fe;
+  fe.fe_pixels_per_cycle = 1;
+  fe.if_stencil = 3;
+  CostConfig cost;
+  cost.frontend_arithmetic = "fixed";
+  const Resources r = if_cost(fe, cost);
+  EXPECT_DOUBLE_EQ(r.dsp, 9);                          // k² products
+  EXPECT_DOUBLE_EQ(r.lut, 4 * 25 + 2 * 26 + 27 + 28);  // tree of 9 24-bit products
+  EXPECT_DOUBLE_EQ(r.ff, 207 + 3 * 3 * 8);             // tree + 3x3 window of pixels
+  cost.if_separable = true;
+  EXPECT_DOUBLE_EQ(if_cost(fe, cost).dsp, 6);  // 2k taps
+  fe.fe_pixels_per_cycle = 2;
+  EXPECT_DOUBLE_EQ(if_cost(fe, cost).dsp, 12);  // two lanes
+  cost.frontend_arithmetic = "single";
+  EXPECT_DOUBLE_EQ(if_cost(fe, cost).dsp, 12 * (3 + 2));  // PG060 fmul + fadd per tap
+}
+
+TEST(UnitCosts, GemmTwoByTwoDoubleByHand) {
+  BackendUnitSizes be;
+  be.gemm_block = 2;
+  CostConfig cost;
+  const Resources r = gemm_cost(be, cost);
+  EXPECT_DOUBLE_EQ(r.dsp, 4 * 14);
+  EXPECT_DOUBLE_EQ(r.lut, 4 * (208 + 1149) + 3 * 16);
+  // MACs + operand registers 4·2·64 + input registers 2·2·64 + AGX 48.
+  EXPECT_DOUBLE_EQ(r.ff, 4 * (317 + 445) + 512 + 256 + 48);
+  cost.backend_precision = "single";
+  EXPECT_DOUBLE_EQ(gemm_cost(be, cost).dsp, 4 * 5);
+}
+
+TEST(UnitCosts, UnitsGrowWithTheirDimensions) {
+  FrontendConfig small, big;
+  big.fe_pixels_per_cycle = 4;
+  big.fc_tests_per_cycle = 64;
+  big.dr_sad_units = 22;
+  big.lss_macs_per_cycle = 128;
+  CostConfig cost;
+  EXPECT_GT(fd_cost(big).lut, fd_cost(small).lut);
+  EXPECT_GT(fc_cost(big, cost).lut, fc_cost(small, cost).lut);
+  EXPECT_GT(dr_cost(big).lut, dr_cost(small).lut);
+  EXPECT_GT(lss_cost(big, cost).dsp, lss_cost(small, cost).dsp);
+  EXPECT_GT(fc_cost(small, cost).bram, 0);  // the rotated-pattern table
+}
+
+TEST(UnitCosts, LanesRoundUpFractionalRates) {
+  EXPECT_EQ(lanes_of(0.25), 1);
+  EXPECT_EQ(lanes_of(1.0), 1);
+  EXPECT_EQ(lanes_of(2.0), 2);
+  EXPECT_EQ(lanes_of(2.5), 3);
+}
+
+}  // namespace
+}  // namespace edx::arch::cost
