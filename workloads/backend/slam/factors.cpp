@@ -37,12 +37,12 @@ bool linearize_reprojection(const Window& window, const Landmark& landmark,
 
   const double s = 1.0 / pixel_sigma;
   // Rows of one image: d pi / d P at P (left) or P - b e_x (right).
-  auto add_image = [&](const Eigen::Vector3d& P, const Eigen::Vector2d& z) {
+  auto add_image = [&](const Eigen::Vector3d& P, const Eigen::Vector2d& z, double offset_x) {
     const int row = term.dim;
     const double iz = 1.0 / P.z();
     Eigen::Matrix<double, 2, 3> dpi;
     dpi << cam.fx * iz, 0, -cam.fx * P.x() * iz * iz, 0, cam.fy * iz, -cam.fy * P.y() * iz * iz;
-    const Eigen::Vector2d uv(cam.fx * P.x() * iz + cam.cx, cam.fy * P.y() * iz + cam.cy);
+    const Eigen::Vector2d uv(cam.fx * P.x() * iz + cam.cx + offset_x, cam.fy * P.y() * iz + cam.cy);
     term.r.segment<2>(row) = s * (uv - z);
     term.J_rho.segment<2>(row) = s * dpi * dPc_drho;
     if (!term.same_frame) {
@@ -54,10 +54,13 @@ bool linearize_reprojection(const Window& window, const Landmark& landmark,
     }
     term.dim += 2;
   };
-  if (!term.same_frame) add_image(P_c, observation.left);
+  if (!term.same_frame) add_image(P_c, observation.left, 0.0);
   if (observation.right) {
     const Eigen::Vector3d P_r = P_c - Eigen::Vector3d(cam.baseline_m, 0, 0);
-    if (P_r.z() > 1e-3) add_image(P_r, *observation.right);
+    if (P_r.z() > 1e-3) {
+      term.J_offset(term.dim) = s;
+      add_image(P_r, *observation.right, window.disparity_offset_px);
+    }
   }
   return term.dim > 0;
 }

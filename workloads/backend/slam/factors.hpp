@@ -4,7 +4,8 @@
 // Stereo reprojection of landmark (anchor a, bearing m = (x, y, 1), inverse depth rho) into
 // keyframe j, whitened by the pixel sigma:
 //   P_ba = R_bc m / rho + t_bc,  P_w = R_a P_ba + p_a,  P_bj = R_j^T (P_w - p_j),
-//   P_cj = R_bc^T (P_bj - t_bc),  r_left = pi(P_cj) - z_left,  r_right = pi(P_cj - b e_x) - z_right
+//   P_cj = R_bc^T (P_bj - t_bc),  r_left = pi(P_cj) - z_left,  r_right = pi(P_cj - b e_x) + (delta,
+//   0) - z_right
 // with pi(P) = (fx X/Z + cx, fy Y/Z + cy). In the anchor itself the left residual is zero by
 // construction and only the right one (depth) remains. Jacobians (right perturbations):
 //   dP_w/dp_a = I, dP_w/dtheta_a = -R_a [P_ba]x, dP_w/drho = -R_a R_bc m / rho^2,
@@ -30,6 +31,8 @@ struct ReprojectionTerm {
   Eigen::Matrix<double, 4, 6> J_anchor = Eigen::Matrix<double, 4, 6>::Zero();
   Eigen::Matrix<double, 4, 6> J_target = Eigen::Matrix<double, 4, 6>::Zero();
   Eigen::Matrix<double, 4, 1> J_rho = Eigen::Matrix<double, 4, 1>::Zero();
+  /// d r / d delta (disparity offset): 1/sigma on the right image's x row, else 0.
+  Eigen::Matrix<double, 4, 1> J_offset = Eigen::Matrix<double, 4, 1>::Zero();
   bool same_frame = false;  ///< observation in the anchor: only J_rho is used
 };
 

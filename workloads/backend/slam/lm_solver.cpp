@@ -19,6 +19,7 @@ struct LandmarkRow {
   double H_ll = 0;
   double b_l = 0;
   std::vector<std::pair<int, Vector6d>> H_lc;  ///< (keyframe slot, coupling with its pose)
+  double H_lo = 0;  ///< coupling with the disparity offset (its right-image residuals)
 
   Vector6d& coupling(int slot) {
     for (auto& [s, v] : H_lc) {
@@ -102,9 +103,31 @@ double add_imu(const Window& window, Eigen::MatrixXd* H, Eigen::VectorXd* b) {
   return cost;
 }
 
+/// Index of the disparity offset in the camera block (after the keyframes), or -1.
+int offset_index(const Window& window, const SlamOptions& options) {
+  return options.estimate_disparity_offset
+             ? static_cast<int>(window.keyframes.size()) * window.state_dim
+             : -1;
+}
+
+/// Zero-mean prior on the disparity offset, r = delta / sigma; adds to (H, b) when given.
+double add_offset_prior(const Window& window, const SlamOptions& options, Eigen::MatrixXd* H,
+                        Eigen::VectorXd* b) {
+  if (!options.estimate_disparity_offset) return 0;
+  const double s = 1.0 / options.disparity_offset_sigma_px;
+  const double r = s * window.disparity_offset_px;
+  if (H != nullptr) {
+    const int o = offset_index(window, options);
+    (*H)(o, o) += s * s;
+    (*b)(o) -= s * r;
+  }
+  return 0.5 * r * r;
+}
+
 NormalEquations linearize(Window& window, const SlamOptions& options) {
   const int d = window.state_dim;
-  const int C = static_cast<int>(window.keyframes.size()) * d;
+  const int off = offset_index(window, options);
+  const int C = static_cast<int>(window.keyframes.size()) * d + (off >= 0 ? 1 : 0);
   NormalEquations ne;
   ne.H_cc = Eigen::MatrixXd::Zero(C, C);
   ne.b_c = Eigen::VectorXd::Zero(C);
@@ -126,6 +149,13 @@ NormalEquations linearize(Window& window, const SlamOptions& options) {
       const Eigen::Vector4d& J_rho = t.J_rho;
       row.H_ll += w.weight * J_rho.squaredNorm();
       row.b_l -= w.weight * J_rho.dot(r);
+      const Eigen::Vector4d& J_o = t.J_offset;
+      const bool has_offset = off >= 0 && J_o.squaredNorm() > 0;
+      if (has_offset) {
+        row.H_lo += w.weight * J_rho.dot(J_o);
+        ne.H_cc(off, off) += w.weight * J_o.squaredNorm();
+        ne.b_c(off) -= w.weight * J_o.dot(r);
+      }
       if (t.same_frame) continue;
       const int j = window.slot(o.keyframe_id);
       const Eigen::Matrix<double, 4, 6>&Ja = t.J_anchor, &Jj = t.J_target;
@@ -137,17 +167,26 @@ NormalEquations linearize(Window& window, const SlamOptions& options) {
       ne.b_c.segment<6>(j * d) -= w.weight * Jj.transpose() * r;
       row.coupling(a) += w.weight * Ja.transpose() * J_rho;
       row.coupling(j) += w.weight * Jj.transpose() * J_rho;
+      if (has_offset) {
+        const Vector6d ha = w.weight * Ja.transpose() * J_o, hj = w.weight * Jj.transpose() * J_o;
+        ne.H_cc.block<6, 1>(a * d, off) += ha;
+        ne.H_cc.block<1, 6>(off, a * d) += ha.transpose();
+        ne.H_cc.block<6, 1>(j * d, off) += hj;
+        ne.H_cc.block<1, 6>(off, j * d) += hj.transpose();
+      }
     }
     if (row.H_ll > 0) ne.rows.push_back(std::move(row));
   }
   ne.cost += add_imu(window, &ne.H_cc, &ne.b_c);
   ne.cost += add_prior(window, &ne.H_cc, &ne.b_c);
+  ne.cost += add_offset_prior(window, options, &ne.H_cc, &ne.b_c);
   return ne;
 }
 
 struct Snapshot {
   std::vector<KeyframeState> keyframes;
   std::vector<double> inverse_depths;
+  double disparity_offset_px = 0;
 };
 
 }  // namespace
@@ -164,14 +203,16 @@ double window_cost(const Window& window, const SlamOptions& options) {
       cost += huber(t.r.norm(), options.huber_threshold).cost;
     }
   }
-  return cost + add_imu(window, nullptr, nullptr) + add_prior(window, nullptr, nullptr);
+  return cost + add_imu(window, nullptr, nullptr) + add_prior(window, nullptr, nullptr) +
+         add_offset_prior(window, options, nullptr, nullptr);
 }
 
 LmReport optimize_window(Window& window, const SlamOptions& options, KernelRecorder& recorder) {
   LmReport report;
   const int d = window.state_dim;
   const int K = static_cast<int>(window.keyframes.size());
-  const int C = K * d;
+  const int off = offset_index(window, options);
+  const int C = K * d + (off >= 0 ? 1 : 0);
   double lambda = options.lm_initial_lambda, nu = 2.0;
   bool relinearize = true;
   NormalEquations ne;
@@ -208,6 +249,14 @@ LmReport optimize_window(Window& window, const SlamOptions& options, KernelRecor
           for (const auto& [s2, v2] : row.H_lc) {
             S.block<6, 6>(s1 * d, s2 * d) -= v1 * v2.transpose() / h;
           }
+          if (off >= 0) {
+            S.block<6, 1>(s1 * d, off) -= v1 * (row.H_lo / h);
+            S.block<1, 6>(off, s1 * d) -= v1.transpose() * (row.H_lo / h);
+          }
+        }
+        if (off >= 0) {
+          S(off, off) -= row.H_lo * row.H_lo / h;
+          s(off) -= row.H_lo * row.b_l / h;
         }
       }
     }
@@ -221,6 +270,7 @@ LmReport optimize_window(Window& window, const SlamOptions& options, KernelRecor
         const LandmarkRow& row = ne.rows[l];
         double rhs = row.b_l;
         for (const auto& [slot, v] : row.H_lc) rhs -= v.dot(dx_c.segment<6>(slot * d));
+        if (off >= 0) rhs -= row.H_lo * dx_c(off);
         dx_l(static_cast<Eigen::Index>(l)) = rhs / H_ll_damped(static_cast<Eigen::Index>(l));
       }
     }
@@ -241,6 +291,8 @@ LmReport optimize_window(Window& window, const SlamOptions& options, KernelRecor
       saved.keyframes.push_back(kf.navigation_state());
     for (std::size_t l = 0; l < L; ++l)
       saved.inverse_depths.push_back(ne.rows[l].landmark->inverse_depth);
+    saved.disparity_offset_px = window.disparity_offset_px;
+    if (off >= 0) window.disparity_offset_px += dx_c(off);
     for (int slot = 0; slot < K; ++slot) {
       window.keyframes[static_cast<std::size_t>(slot)].apply_increment(dx_c.segment(slot * d, d),
                                                                        d);
@@ -270,6 +322,7 @@ LmReport optimize_window(Window& window, const SlamOptions& options, KernelRecor
       }
       for (std::size_t l = 0; l < L; ++l)
         ne.rows[l].landmark->inverse_depth = saved.inverse_depths[l];
+      window.disparity_offset_px = saved.disparity_offset_px;
       lambda *= nu;
       nu *= 2;
       relinearize = false;

@@ -90,6 +90,12 @@ void SlamBackend::add_keyframe(const BackendInput& input, const Eigen::Isometry3
   auto k = recorder_.kernel("triangulation");
   const KeyframeState& added = window_.keyframes.back();
   int created = 0, observed = 0;
+  // Stereo depth with the current disparity offset: z = fx b / (d + delta).
+  const double fb = window_.camera.fx * window_.camera.baseline_m;
+  auto stereo_depth = [&](const frontend::Feature& f) {
+    const double disparity = f.disparity + window_.disparity_offset_px;
+    return disparity > 0 ? fb / disparity : 0.0;
+  };
   for (const frontend::Feature& f : added.features) {
     Observation o;
     o.keyframe_id = added.id;
@@ -97,7 +103,8 @@ void SlamBackend::add_keyframe(const BackendInput& input, const Eigen::Isometry3
     const auto it = window_.landmarks.find(f.id);
     // The right image only for points close enough (stereo_max_depth_baselines), judged on the
     // landmark's depth where it exists, else on this stereo depth.
-    const double depth = it != window_.landmarks.end() ? 1.0 / it->second.inverse_depth : f.depth_m;
+    const double depth =
+        it != window_.landmarks.end() ? 1.0 / it->second.inverse_depth : stereo_depth(f);
     if (f.stereo && is_close(depth)) o.right = Eigen::Vector2d(f.right.x, f.right.y);
     if (it != window_.landmarks.end()) {
       if (inlier_tracks != nullptr &&
@@ -109,16 +116,15 @@ void SlamBackend::add_keyframe(const BackendInput& input, const Eigen::Isometry3
       continue;
     }
     if (!f.stereo || created >= options_.max_new_landmarks_per_keyframe) continue;
-    if (f.depth_m < options_.min_landmark_depth_m || f.depth_m > options_.max_landmark_depth_m) {
-      continue;
-    }
+    const double z = stereo_depth(f);
+    if (z < options_.min_landmark_depth_m || z > options_.max_landmark_depth_m) continue;
     const BackendCamera& cam = window_.camera;
     Landmark l;
     l.track_id = f.id;
     l.map_id = next_landmark_id_++;
     l.anchor_id = added.id;
     l.bearing = {(f.left.x - cam.cx) / cam.fx, (f.left.y - cam.cy) / cam.fy, 1.0};
-    l.inverse_depth = 1.0 / f.depth_m;
+    l.inverse_depth = 1.0 / z;
     l.descriptor = f.descriptor;
     l.observations.push_back(o);
     window_.landmarks.emplace(f.id, std::move(l));
@@ -165,6 +171,7 @@ void SlamBackend::initialize(const BackendInput& input) {
 void SlamBackend::map_window() {
   const LmReport lm = optimize_window(window_, options_, recorder_);
   statistics_.lm_iterations += lm.iterations;
+  statistics_.disparity_offset_px = window_.disparity_offset_px;
   {
     auto k = recorder_.kernel("outlier_rejection");
     statistics_.outliers_rejected += reject_outliers(window_, options_);

@@ -30,6 +30,7 @@ struct SlamStatistics {
   int landmarks_created = 0;
   int outliers_rejected = 0;
   int lm_iterations = 0;
+  double disparity_offset_px = 0;  ///< the window's latest estimate (SlamOptions)
 };
 
 class SlamBackend : public Backend {

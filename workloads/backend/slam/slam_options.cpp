@@ -23,6 +23,7 @@ void SlamOptions::validate() const {
   require(min_landmark_depth_m > 0 && max_landmark_depth_m > min_landmark_depth_m,
           "min_landmark_depth_m/max_landmark_depth_m", "0 < min < max");
   require(stereo_max_depth_baselines >= 0, "stereo_max_depth_baselines", ">= 0");
+  require(disparity_offset_sigma_px > 0, "disparity_offset_sigma_px", "> 0");
   require(pixel_sigma > 0, "pixel_sigma", "> 0");
   require(huber_threshold > 0, "huber_threshold", "> 0");
   require(outlier_px > 0, "outlier_px", "> 0");
@@ -45,6 +46,8 @@ nlohmann::json SlamOptions::to_json() const {
           {"min_landmark_depth_m", min_landmark_depth_m},
           {"max_landmark_depth_m", max_landmark_depth_m},
           {"stereo_max_depth_baselines", stereo_max_depth_baselines},
+          {"estimate_disparity_offset", estimate_disparity_offset},
+          {"disparity_offset_sigma_px", disparity_offset_sigma_px},
           {"pixel_sigma", pixel_sigma},
           {"huber_threshold", huber_threshold},
           {"outlier_px", outlier_px},

@@ -16,10 +16,20 @@ struct SlamOptions {
   double min_landmark_depth_m = 0.1;
   double max_landmark_depth_m = 80.0;
   /// Stereo (right-image) residuals only for points closer than this many baselines (ORB-SLAM2's
-  /// close/far split): the disparity of far points is a few pixels and a sub-pixel bias of the
-  /// matcher becomes a scale bias; far landmarks keep their stereo depth as the starting value
-  /// and are refined from the motion parallax between keyframes. 0: stereo for every point.
-  double stereo_max_depth_baselines = 40.0;
+  /// close/far split, 40 there); 0: stereo for every point (default). With the disparity offset
+  /// estimated, far points are what makes it observable (their depth error delta / d is the
+  /// largest); with only close points it trades against the scale (docs/SLAM.md, KITTI).
+  double stereo_max_depth_baselines = 0.0;
+
+  /// Stereo disparity offset: the right image's x is modelled as pi_x(P - b e_x) + delta, i.e.
+  /// a measured disparity d = d_true - delta (a rectification error of the right principal
+  /// point, which makes depth errors grow as delta / d with distance). When estimated, delta is
+  /// one more unknown of every window LM, observable because left-image parallax across
+  /// keyframes fixes relative depths independently of it (near and far points disagree on the
+  /// scale unless delta is right); a zero-mean prior with disparity_offset_sigma_px keeps it
+  /// bounded when the window does not see enough depth range. Marginalization conditions on it.
+  bool estimate_disparity_offset = true;
+  double disparity_offset_sigma_px = 2.0;
 
   // Factors.
   double pixel_sigma = 1.0;      ///< reprojection noise, px (left and right image)

@@ -21,12 +21,13 @@ struct Match {
 /// One image's residual (px) and its 2x6 Jacobian for camera point P_c (offset by -b e_x for the
 /// right image).
 void image_term(const BackendCamera& cam, const Eigen::Vector3d& P_c, const Eigen::Vector2d& z,
-                const Eigen::Matrix<double, 3, 6>& dPc_dx, Eigen::Vector2d& r,
+                double offset_x, const Eigen::Matrix<double, 3, 6>& dPc_dx, Eigen::Vector2d& r,
                 Eigen::Matrix<double, 2, 6>& J) {
   const double iz = 1.0 / P_c.z();
   Eigen::Matrix<double, 2, 3> dpi;
   dpi << cam.fx * iz, 0, -cam.fx * P_c.x() * iz * iz, 0, cam.fy * iz, -cam.fy * P_c.y() * iz * iz;
-  r = Eigen::Vector2d(cam.fx * P_c.x() * iz + cam.cx, cam.fy * P_c.y() * iz + cam.cy) - z;
+  r = Eigen::Vector2d(cam.fx * P_c.x() * iz + cam.cx + offset_x, cam.fy * P_c.y() * iz + cam.cy) -
+      z;
   J = dpi * dPc_dx;
 }
 
@@ -75,13 +76,13 @@ TrackingResult track_frame(const Window& window, const std::vector<frontend::Fea
         dPc_dx.rightCols<3>() = R_bc.transpose() * skew(P_b);
         Eigen::Vector2d r;
         Eigen::Matrix<double, 2, 6> J;
-        image_term(cam, P_c, m.left, dPc_dx, r, J);
+        image_term(cam, P_c, m.left, 0.0, dPc_dx, r, J);
         double w = huber(r.norm(), k).weight;
         H += w * J.transpose() * J;
         b -= w * J.transpose() * r;
         if (m.right) {
           const Eigen::Vector3d P_r = P_c - Eigen::Vector3d(cam.baseline_m, 0, 0);
-          image_term(cam, P_r, *m.right, dPc_dx, r, J);
+          image_term(cam, P_r, *m.right, window.disparity_offset_px, dPc_dx, r, J);
           w = huber(r.norm(), k).weight;
           H += w * J.transpose() * J;
           b -= w * J.transpose() * r;

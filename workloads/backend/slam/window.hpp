@@ -78,6 +78,9 @@ struct Window {
   std::deque<KeyframeState> keyframes;
   std::map<std::int64_t, Landmark> landmarks;  ///< by track id
   Prior prior;
+  /// Estimated stereo disparity offset delta (px): the right image is predicted at
+  /// pi(P - b e_x) + (delta, 0) (SlamOptions::estimate_disparity_offset; 0 when not estimated).
+  double disparity_offset_px = 0;
 
   /// Position of a keyframe id in the deque, or -1.
   int slot(std::int64_t keyframe_id) const;

@@ -94,6 +94,39 @@ TEST(ReprojectionFactor, AnchorObservationConstrainsDepthOnly) {
   EXPECT_NEAR(t.J_rho(0), -450 * 0.11, 1e-9);
 }
 
+// The disparity offset delta shifts the predicted right x: a point at 4 m (12.375 px) measured
+// at 11.375 px (delta = 1 px) is explained exactly with delta = 1, and dr/d delta = 1/sigma on
+// the right x row only.
+TEST(ReprojectionFactor, DisparityOffsetShiftsTheRightImage) {
+  Window w = two_keyframe_window();
+  Landmark l;
+  l.anchor_id = 0;
+  l.bearing = {0.1, -0.05, 1};
+  l.inverse_depth = 0.25;
+  Observation o;
+  o.keyframe_id = 0;
+  o.right = Eigen::Vector2d(320 + 45 - 11.375, 240 - 22);
+  ReprojectionTerm t;
+  ASSERT_TRUE(linearize_reprojection(w, l, o, 2.0, t));
+  // delta = 0: predicted 1 px left of the measurement, whitened by sigma 2.
+  EXPECT_NEAR(t.r(0), -1.0 / 2.0, 1e-9);
+  w.disparity_offset_px = 1.0;
+  ASSERT_TRUE(linearize_reprojection(w, l, o, 2.0, t));
+  EXPECT_NEAR(t.r(0), 0.0, 1e-9);
+  EXPECT_NEAR(t.r(1), 0.0, 1e-9);
+  EXPECT_EQ(t.J_offset, Eigen::Vector4d(0.5, 0, 0, 0));
+  // In another keyframe: the right x row is the third one.
+  Window other = two_keyframe_window();
+  Landmark m = l;
+  m.bearing = {0.1, -0.05, 1};
+  Observation q;
+  q.keyframe_id = 1;
+  q.left = {300, 250};
+  q.right = Eigen::Vector2d(280, 250);
+  ASSERT_TRUE(linearize_reprojection(other, m, q, 1.0, t));
+  EXPECT_EQ(t.J_offset, Eigen::Vector4d(0, 0, 1, 0));
+}
+
 TEST(ImuFactor, ResidualVanishesOnConsistentStates) {
   const ImuNoiseDensities noise{1.7e-4, 2e-3, 1.9e-5, 3e-3};
   const Eigen::Vector3d g(0, 0, -9.81);

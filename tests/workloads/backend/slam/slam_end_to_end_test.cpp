@@ -6,6 +6,7 @@
 // the DISABLED_ tests (run with --gtest_also_run_disabled_tests); docs/SLAM.md reports them.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -29,6 +30,7 @@ struct RunFigures {
   double final_drift_pct = 0;  ///< |t(E)| / path length over the whole run (KITTI segment form)
   double marginalization_share = 0;
   int keyframes = 0, marginalizations = 0, tracking_failures = 0;
+  double disparity_offset_px = 0;  ///< the backend's final estimate
 };
 
 double final_drift_pct(const fs::path& trace_file);
@@ -54,9 +56,10 @@ class StatisticsKeeper : public Backend {
 
 /// Runs the pipeline with the SLAM backend; writes its map to map_file when not empty.
 RunFigures run(const fs::path& dataset, datasets::DatasetFormat format, const fs::path& out,
-               std::optional<std::size_t> max_frames = std::nullopt,
-               const fs::path& map_file = {}) {
+               std::optional<std::size_t> max_frames = std::nullopt, const fs::path& map_file = {},
+               std::optional<cv::Size> resize = std::nullopt) {
   modes::TraceRunOptions options;
+  options.dataset.resize = resize;
   options.dataset_path = dataset;
   options.format = format;
   options.out = out;
@@ -81,6 +84,7 @@ RunFigures run(const fs::path& dataset, datasets::DatasetFormat format, const fs
   f.keyframes = statistics.keyframes;
   f.marginalizations = statistics.marginalizations;
   f.tracking_failures = statistics.tracking_failures;
+  f.disparity_offset_px = statistics.disparity_offset_px;
   return f;
 }
 
@@ -116,12 +120,13 @@ void print(const char* what, const RunFigures& f) {
       "%s: %zu frames, ATE RMSE %.3f m over %.1f m, final drift %.2f%%; backend %.2f ms mean, SD "
       "%.2f ms, RSD %.1f%%; "
       "marginalization %.1f%% of kernel time; %d keyframes, %d marginalizations, %d tracking "
-      "failures\n",
+      "failures; disparity offset %.3f px\n",
       what, f.summary.frames, f.ate_rmse_m,
       f.summary.accuracy ? f.summary.accuracy->gt_length_m : 0, f.final_drift_pct,
       f.summary.backend_ms.mean, f.summary.backend_ms.sd,
       f.summary.backend_ms.mean > 0 ? 100 * f.summary.backend_ms.sd / f.summary.backend_ms.mean : 0,
-      100 * f.marginalization_share, f.keyframes, f.marginalizations, f.tracking_failures);
+      100 * f.marginalization_share, f.keyframes, f.marginalizations, f.tracking_failures,
+      f.disparity_offset_px);
   for (const auto& [name, stats] : f.summary.kernel_ms) {
     std::printf("  kernel %-20s mean %.3f ms  sd %.3f ms\n", name.c_str(), stats.mean, stats.sd);
   }
@@ -148,6 +153,8 @@ TEST(SlamEndToEnd, SyntheticIndoorUnknownSmall) {
   EXPECT_GT(f.marginalizations, 0);
   EXPECT_EQ(f.tracking_failures, 0);
   EXPECT_LT(f.ate_rmse_m, 0.19);
+  // The synthetic rig is calibrated exactly: no disparity offset to find.
+  EXPECT_LT(std::abs(f.disparity_offset_px), 0.2);
   // With the IMU the removed keyframe's velocity and biases are eliminated first (a 9x9 LDLT),
   // then the structured inverse with D the 6x6 pose block; the trace carries the IMU
   // preintegration kernel.
@@ -176,8 +183,10 @@ fs::path kitti_excerpt() {
   return fs::path(EDX_SHARED_DATA_DIR) / "kitti_odometry_excerpt" / "sequences" / "01";
 }
 
-// The target is <= 2 % translational drift over the 52 m; the backend reaches 3.8 %
-// (docs/SLAM.md). The bound here guards that figure against regressions.
+// The target is <= 2 % translational drift over the 52 m; the backend reaches 2.6 %
+// (3.8 % before the disparity offset was estimated; docs/SLAM.md). KITTI's rectified disparities
+// measure ~1.1 px short of the calibration's geometry (checked against ground-truth motion in
+// docs/SLAM.md): the estimated offset must come out positive and about that size.
 TEST(SlamEndToEnd, KittiExcerptVisualOnly) {
   const testing::TempDir dir;
   const RunFigures f = run(kitti_excerpt(), datasets::DatasetFormat::kKitti,
@@ -185,8 +194,10 @@ TEST(SlamEndToEnd, KittiExcerptVisualOnly) {
   print("KITTI 01 excerpt", f);
   EXPECT_EQ(f.summary.estimated_frames, f.summary.frames);
   EXPECT_EQ(f.tracking_failures, 0);
-  EXPECT_LT(f.final_drift_pct, 5.0);
-  EXPECT_LT(f.ate_rmse_m, 1.0);
+  EXPECT_LT(f.final_drift_pct, 3.0);
+  EXPECT_LT(f.ate_rmse_m, 0.4);
+  EXPECT_GT(f.disparity_offset_px, 0.4);
+  EXPECT_LT(f.disparity_offset_px, 1.6);
 
   // Every marginalization in the trace is the accelerable kernel with the structured inverse
   // of Sec. VI first: visual-only, so the pose block D is 6x6.
@@ -219,6 +230,16 @@ TEST(SlamEndToEnd, KittiExcerptVisualOnly) {
     EXPECT_EQ(kf.keypoints[l.observations.front().keypoint_index].track_id, l.track_id);
   }
   EXPECT_EQ(in_front, static_cast<int>(map.landmarks.size()));
+}
+
+// The car input size of the paper (aspect ratio changes: fx, fy scale apart). By hand.
+TEST(SlamEndToEnd, DISABLED_KittiExcerpt1280x720) {
+  const testing::TempDir dir;
+  const RunFigures f = run(kitti_excerpt(), datasets::DatasetFormat::kKitti,
+                           dir.path() / "trace.db", std::nullopt, {}, cv::Size(1280, 720));
+  print("KITTI 01 excerpt 1280x720", f);
+  EXPECT_EQ(f.tracking_failures, 0);
+  EXPECT_LT(f.final_drift_pct, 5.0);
 }
 
 TEST(SlamEndToEnd, SameInputGivesTheSameEstimate) {

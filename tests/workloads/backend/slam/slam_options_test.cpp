@@ -12,7 +12,9 @@ TEST(SlamOptions, DefaultsAreValidAndPrintable) {
   EXPECT_NO_THROW(options.validate());
   const nlohmann::json j = options.to_json();
   EXPECT_EQ(j.at("window_size"), 10);
-  EXPECT_EQ(j.size(), 20u);
+  EXPECT_EQ(j.at("estimate_disparity_offset"), true);
+  EXPECT_EQ(j.at("stereo_max_depth_baselines"), 0.0);
+  EXPECT_EQ(j.size(), 22u);
 }
 
 TEST(SlamOptions, BadValuesNameTheField) {
