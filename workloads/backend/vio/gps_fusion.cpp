@@ -28,21 +28,43 @@ void GpsFusion::align(VioState& state) {
     sigma2 += s * s / static_cast<double>(count);
     spread += (gps.col(i) - mean).head<2>().squaredNorm();
   }
-  // t is the translation at the filter's origin: its variance grows with the lever |mean_W|.
+  // The estimate (yaw, t) = g depends on the fixes' noise and on the filter's error over the
+  // batch. The latter is taken as the 4-DoF motion (yaw alpha about the filter's origin, shift
+  // delta) of the current antenna a: dtheta_z = alpha, da = dp - [R_WI l]x dtheta = alpha
+  // [e_z]x a + delta, which the alignment absorbs: dyaw = -alpha, dt = -Rz delta. Hence
+  // dg = G dx + n with
+  //   G_yaw = -e_z^T on dtheta,   G_t = -Rz on dp,  Rz [R_WI l]x + Rz [e_z]x a e_z^T on dtheta,
+  // and P <- [P, P G^T; G P, G P G^T + N]: the frames keep their correlation with the pose
+  // (fixes constrain p + t, which was aligned, not p alone). G N_x equals the GPS-frame part of
+  // the unobservable directions (yaw: -1, 0; translation: 0, -Rz), so no spurious information.
+  // N: var(yaw) = sigma^2 / sum_i |e_i,xy|^2 (e_i the centred fixes); t = mean_G - Rz mean_W:
+  // var(t) = sigma^2/n I + lever var_yaw lever^T, cov(t, yaw) = -lever var_yaw.
   const double var_yaw = sigma2 / spread;
   const Eigen::Vector3d mean_w = est.rowwise().mean();
   const Eigen::Vector3d lever = skew(Eigen::Vector3d::UnitZ()) * T.rotation * mean_w;
-  state.P.row(kGpsYaw).setZero();
-  state.P.col(kGpsYaw).setZero();
-  state.P.middleRows<3>(kGpsPos).setZero();
-  state.P.middleCols<3>(kGpsPos).setZero();
-  state.P(kGpsYaw, kGpsYaw) = var_yaw;
-  // t = mean_G - Rz mean_W: var(t) = sigma^2/n I + lever var_yaw lever^T, cov(t, yaw) = -lever.
-  state.P.block<3, 3>(kGpsPos, kGpsPos) =
-      sigma2 / static_cast<double>(count) * Eigen::Matrix3d::Identity() +
-      var_yaw * lever * lever.transpose();
-  state.P.block<3, 1>(kGpsPos, kGpsYaw) = -var_yaw * lever;
-  state.P.block<1, 3>(kGpsYaw, kGpsPos) = -var_yaw * lever.transpose();
+  constexpr int kG = kGpsYaw;  // yaw_GV, t_GV: 4 consecutive error states
+  const int n = state.dim();
+  const Eigen::Matrix3d Rz = T.rotation;
+  const Eigen::Vector3d arm = state.R_WI * options_.gps_lever_arm_m;
+  const Eigen::Vector3d a = state.p_lin() + arm;
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(4, n);
+  G(0, kTheta + 2) = -1;
+  G.block<3, 3>(1, kPos) = -Rz;
+  G.block<3, 3>(1, kTheta) = Rz * skew(arm);
+  G.block<3, 1>(1, kTheta + 2) += Rz * skew(Eigen::Vector3d::UnitZ()) * a;
+  state.P.middleRows<4>(kG).setZero();
+  state.P.middleCols<4>(kG).setZero();
+  const Eigen::MatrixXd GP = G * state.P;
+  Eigen::Matrix4d noise = Eigen::Matrix4d::Zero();
+  noise(0, 0) = var_yaw;
+  noise.block<3, 3>(1, 1) = sigma2 / static_cast<double>(count) * Eigen::Matrix3d::Identity() +
+                            var_yaw * lever * lever.transpose();
+  noise.block<3, 1>(1, 0) = -var_yaw * lever;
+  noise.block<1, 3>(0, 1) = -var_yaw * lever.transpose();
+  state.P.middleRows<4>(kG) = GP;
+  state.P.middleCols<4>(kG) = GP.transpose();
+  state.P.block<4, 4>(kG, kG) = GP * G.transpose() + noise;
+  state.yaw_GV_fe = state.yaw_GV;
   aligned_ = true;
 }
 
@@ -87,11 +109,18 @@ GpsReport GpsFusion::process(VioState& state, std::span<const datasets::GpsFix> 
     const Eigen::Matrix3d Rz =
         Eigen::AngleAxisd(state.yaw_GV, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     const Eigen::Vector3d a = antenna(fix);
+    // First-estimate Jacobians: yaw_GV at its alignment value, and H_yaw = H N_yaw's remainder
+    // with p, v at their first estimates, so that H N = 0 for the 4 unobservable directions.
+    const Eigen::Matrix3d Rz_fe =
+        Eigen::AngleAxisd(state.yaw_GV_fe.value_or(state.yaw_GV), Eigen::Vector3d::UnitZ())
+            .toRotationMatrix();
+    const Eigen::Vector3d arm = state.R_WI * lever;
+    const Eigen::Vector3d a_fe = state.p_lin() + arm - state.v_lin() * dt;
     Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3, n);
-    H.block<3, 3>(0, kTheta) = -Rz * skew(state.R_WI * lever);
-    H.block<3, 3>(0, kPos) = Rz;
-    H.block<3, 3>(0, kVel) = -dt * Rz;
-    H.block<3, 1>(0, kGpsYaw) = skew(Eigen::Vector3d::UnitZ()) * Rz * a;
+    H.block<3, 3>(0, kTheta) = -Rz_fe * skew(arm);
+    H.block<3, 3>(0, kPos) = Rz_fe;
+    H.block<3, 3>(0, kVel) = -dt * Rz_fe;
+    H.block<3, 1>(0, kGpsYaw) = Rz_fe * skew(Eigen::Vector3d::UnitZ()) * a_fe;
     H.block<3, 3>(0, kGpsPos).setIdentity();
     const Eigen::Vector3d r = fix.position_m - (Rz * a + state.t_GV);
     const Eigen::Vector3d noise = Eigen::Vector3d::Constant(sigma * sigma);

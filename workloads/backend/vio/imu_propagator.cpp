@@ -55,6 +55,10 @@ int ImuPropagator::propagate(VioState& state, std::int64_t t_ns) {
     if (s.t_ns > state.t_ns && s.t_ns < t_ns) readings.push_back(s);
   readings.push_back(at(t_ns));
 
+  // First estimates of the interval start (FEJ): the values propagated to it, before the
+  // updates of that image.
+  const Eigen::Vector3d p0_fe = state.p_lin(), v0_fe = state.v_lin();
+  const std::int64_t t0_ns = state.t_ns;
   using Mat15 = Eigen::Matrix<double, kImuDim, kImuDim>;
   Mat15 Phi_total = Mat15::Identity();
   Mat15 Q_total = Mat15::Zero();
@@ -96,6 +100,21 @@ int ImuPropagator::propagate(VioState& state, std::int64_t t_ns) {
     ++steps;
   }
   state.t_ns = t_ns;
+  // First-estimate Jacobian of the whole interval T: the dtheta columns of dp and dv evaluated
+  // so that the yaw direction of the unobservable subspace, N = (e_z, -[p]x e_z, -[v]x e_z),
+  // propagates exactly, Phi N(p0_fe, v0_fe) = N(p1, v1):
+  //   Phi_v,theta = -[v1 - v0_fe - g T]x,  Phi_p,theta = -[p1 - p0_fe - v0_fe T - g T^2/2]x.
+  // (The per-sample product gives the same up to the linearization point of the interval start
+  // and the first-order rotation of the specific force.)
+  if (steps > 0) {
+    const double T = static_cast<double>(t_ns - t0_ns) * 1e-9;
+    Phi_total.block<3, 3>(kVel, kTheta) = -skew(state.v_WI - v0_fe - gravity_ * T);
+    Phi_total.block<3, 3>(kPos, kTheta) =
+        -skew(state.p_WI - p0_fe - v0_fe * T - 0.5 * gravity_ * T * T);
+  }
+  state.p_fe = state.p_WI;
+  state.v_fe = state.v_WI;
+  state.has_fe = true;
   // Samples before the new time are no longer needed (keep the last one before it).
   const auto keep =
       std::lower_bound(buffer_.begin(), buffer_.end(), t_ns,

@@ -116,7 +116,9 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
         const int k = o.rows();
         const Eigen::MatrixXd J_world = dz * state.R_IC.transpose() * clone.R_WI.transpose();
         const int at = VioState::clone_index(static_cast<std::size_t>(f.clones[i]));
-        f.H_x.block(row, at, k, 3) = J_world * skew(d);
+        // FEJ: the clone position of [d]x at its first estimate, so that H_x N_yaw lies in the
+        // span of H_f and the null-space projection removes the unobservable yaw exactly.
+        f.H_x.block(row, at, k, 3) = J_world * skew(f.p_W - clone.p_lin());
         f.H_x.block(row, at + 3, k, 3) = -J_world;
         if (options_.estimate_extrinsics) {
           f.H_x.block(row, kExtTheta, k, 3) = dz * state.R_IC.transpose() * skew(q);
@@ -164,6 +166,8 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
       S.diagonal().array() += sigma2;
       const double gamma = f.r.dot(S.ldlt().solve(f.r));
       if (gamma > chi2_threshold(static_cast<int>(f.r.size()))) continue;
+      report.gamma_sum += gamma;
+      report.gamma_dof += static_cast<int>(f.r.size());
       accepted.push_back(&f);
       rows_total += static_cast<int>(f.r.size());
     }

@@ -29,6 +29,10 @@ struct UpdateReport {
   int accepted = 0;      ///< of them passing the chi-square gate
   int rows = 0;          ///< rows of H before compression
   int rows_used = 0;     ///< rows of H in the EKF update
+  /// Sum of the accepted features' normalized innovations gamma and of their dof: the ratio is
+  /// about 1 when the measurement noise model fits.
+  double gamma_sum = 0;
+  int gamma_dof = 0;
   bool updated = false;
 };
 

@@ -19,7 +19,7 @@ void VioState::augment_clone() {
   grown.block(0, n, n, kCloneDim) = P.leftCols(kCloneDim);
   grown.block(n, n, kCloneDim, kCloneDim) = P.topLeftCorner(kCloneDim, kCloneDim);
   P = std::move(grown);
-  clones.push_back({t_ns, R_WI, p_WI});
+  clones.push_back({t_ns, R_WI, p_WI, p_lin(), true});
 }
 
 void VioState::marginalize_clone(std::size_t index) {

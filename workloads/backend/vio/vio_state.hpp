@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "workloads/backend/so3.hpp"
@@ -31,6 +32,11 @@ struct Clone {
   std::int64_t t_ns = 0;
   Eigen::Matrix3d R_WI = Eigen::Matrix3d::Identity();
   Eigen::Vector3d p_WI = Eigen::Vector3d::Zero();
+  /// First estimate of p_WI (at cloning, before any update): the linearization point of the
+  /// clone's dtheta Jacobian (first-estimate Jacobians, see msckf_updater.hpp). Unset: p_WI.
+  Eigen::Vector3d p_fe = Eigen::Vector3d::Zero();
+  bool has_fe = false;
+  Eigen::Vector3d p_lin() const { return has_fe ? p_fe : p_WI; }
 };
 
 struct VioState {
@@ -45,7 +51,14 @@ struct VioState {
   double yaw_GV = 0;  ///< GPS frame <- filter world frame
   Eigen::Vector3d t_GV = Eigen::Vector3d::Zero();
   std::vector<Clone> clones;  ///< oldest first
-  Eigen::MatrixXd P;          ///< error-state covariance, dim() x dim()
+  /// First estimates (FEJ, Huang, Mourikis & Roumeliotis 2010): position and velocity as last
+  /// propagated, before the updates of that image; the next propagation's Jacobian starts from
+  /// them. Unset: the current estimate.
+  Eigen::Vector3d p_fe = Eigen::Vector3d::Zero(), v_fe = Eigen::Vector3d::Zero();
+  bool has_fe = false;
+  /// yaw_GV when the GPS frame was aligned: the linearization point of the GPS Jacobians.
+  std::optional<double> yaw_GV_fe;
+  Eigen::MatrixXd P;  ///< error-state covariance, dim() x dim()
 
   int dim() const { return kCoreDim + kCloneDim * static_cast<int>(clones.size()); }
   static int clone_index(std::size_t clone) {
@@ -64,6 +77,8 @@ struct VioState {
   /// P <- (P + P^T) / 2.
   void symmetrize();
   Eigen::Isometry3d T_world_body() const;
+  Eigen::Vector3d p_lin() const { return has_fe ? p_fe : p_WI; }
+  Eigen::Vector3d v_lin() const { return has_fe ? v_fe : v_WI; }
 };
 
 }  // namespace edx::backend::vio

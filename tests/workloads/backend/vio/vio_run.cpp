@@ -61,7 +61,8 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
   std::int64_t previous = std::numeric_limits<std::int64_t>::min();
   std::optional<Eigen::Isometry3d> T_filter_gt;  // 4-DoF gauge at initialization
   std::optional<Eigen::Vector3d> last_gt_position;
-  double nees_sum = 0;
+  double nees_sum = 0, gamma_sum = 0;
+  long gamma_dof = 0;
   int nees_count = 0, nees_inside = 0;
   const double nees_lo = chi2_quantile(0.025, 6), nees_hi = chi2_quantile(0.975, 6);
   for (std::size_t i = 0; i < run.frames; ++i) {
@@ -82,6 +83,8 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
     for (const auto& k : output.kernels) run.kernel_ms_total[k.kernel] += k.host_ns * 1e-6;
     if (collect_kernels) run.kernels.push_back(output.kernels);
     if (backend.last_update().updated) ++run.visual_updates;
+    gamma_sum += backend.last_update().gamma_sum;
+    gamma_dof += backend.last_update().gamma_dof;
     run.gps_fused += backend.last_gps().fused;
     ++run.estimated;
     const auto truth = datasets::interpolate_ground_truth(dataset->ground_truth(), images.t_ns);
@@ -141,6 +144,7 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
     }
   }
   run.gps_aligned = backend.gps_aligned();
+  if (gamma_dof > 0) run.gamma_per_dof = gamma_sum / static_cast<double>(gamma_dof);
   if (nees_count > 0) {
     run.mean_nees = nees_sum / nees_count;
     run.nees_in_bounds = static_cast<double>(nees_inside) / nees_count;

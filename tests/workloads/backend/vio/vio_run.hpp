@@ -31,6 +31,7 @@ struct VioRun {
   std::vector<std::vector<trace::KernelRecord>> kernels;  ///< per frame
   int visual_updates = 0;                                 ///< frames whose MSCKF update was applied
   int gps_fused = 0;
+  double gamma_per_dof = 0;  ///< accepted features' sum gamma / sum dof (about 1: noise fits)
   bool gps_aligned = false;
 };
 

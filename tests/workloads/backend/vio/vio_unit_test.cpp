@@ -87,6 +87,45 @@ TEST(ImuPropagator, NoiseFreeMotionAndCovarianceGrowth) {
   EXPECT_NEAR(state.P(kTheta, kTheta), sg * sg, 1e-14);
 }
 
+// First-estimate Jacobians: with the interval start's first estimates (p0, v0) differing from
+// the current (updated) estimate, the propagated covariance of the yaw direction
+// N(p, v) = (e_z, [e_z]x p, [e_z]x v, 0, ...) must be N(p1, v1) N(p1, v1)^T exactly: Phi maps
+// the unobservable direction at the first estimates onto the one at the propagated estimate.
+TEST(ImuPropagator, FirstEstimateJacobianPropagatesTheYawNullSpace) {
+  ImuPropagator propagator({0.0, 0.0, 0.0, 0.0}, 9.81);  // noise free: P = Phi P Phi^T
+  std::vector<datasets::ImuSample> samples;
+  for (int k = 0; k <= 40; ++k) {  // 0.2 s, accelerating and turning about all axes
+    datasets::ImuSample s;
+    s.t_ns = k * 5'000'000;
+    s.gyro_rad_s = {0.3, -0.2, 0.5 + 0.01 * k};
+    s.accel_m_s2 = {1.0 + 0.05 * k, -0.5, 9.81 + 0.3};
+    samples.push_back(s);
+  }
+  propagator.add(samples);
+  VioState state;
+  state.R_WI = so3_exp(Eigen::Vector3d(0.1, -0.05, 0.7));
+  state.p_WI = {3, -2, 1};
+  state.v_WI = {2, 1, 0.2};
+  state.p_fe = {3.3, -2.1, 0.9};  // the estimates before the last update
+  state.v_fe = {1.8, 1.3, 0.1};
+  state.has_fe = true;
+  const auto yaw_direction = [](const Eigen::Vector3d& p, const Eigen::Vector3d& v) {
+    Eigen::VectorXd N = Eigen::VectorXd::Zero(kCoreDim);
+    N(kTheta + 2) = 1;
+    N.segment<3>(kPos) = Eigen::Vector3d::UnitZ().cross(p);
+    N.segment<3>(kVel) = Eigen::Vector3d::UnitZ().cross(v);
+    return N;
+  };
+  const Eigen::VectorXd N0 = yaw_direction(state.p_fe, state.v_fe);
+  state.P = N0 * N0.transpose();
+  propagator.propagate(state, 200'000'000);
+  const Eigen::VectorXd N1 = yaw_direction(state.p_WI, state.v_WI);
+  EXPECT_LT((state.P - N1 * N1.transpose()).norm(), 1e-9 * N1.squaredNorm());
+  // The first estimates of the next interval are the propagated values.
+  EXPECT_EQ(state.p_fe, state.p_WI);
+  EXPECT_EQ(state.v_fe, state.v_WI);
+}
+
 TEST(EkfUpdate, GainMatchesTheClosedFormAndRecordsItsOps) {
   std::mt19937 rng(5);
   std::normal_distribution<double> normal;
@@ -257,6 +296,70 @@ TEST(MsckfUpdater, UpdateMovesPerturbedClonesTowardTheTruth) {
   const std::vector<std::string> expected{"triangulation", "jacobians",   "nullspace_projection",
                                           "compression",   "kalman_gain", "covariance_update"};
   EXPECT_EQ(names, expected);
+}
+
+// First-estimate Jacobians in the MSCKF update: the clones' current positions differ from their
+// first estimates (as after earlier updates); the covariance is large only along the 4
+// unobservable directions at the first estimates (yaw about world z: dtheta_j = e_z,
+// dp_j = [e_z]x p_j,fe; translation: dp_j = I). With H N = 0 after the null-space projection
+// the update gains no information along them: their variance stays.
+TEST(MsckfUpdater, FirstEstimateJacobiansGainNoInformationAlongTheNullSpace) {
+  VioOptions options;
+  options.estimate_extrinsics = false;
+  const double b = 0.11, fx = 450.0;
+  VioState state;
+  state.R_IC << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  state.p_IC = {0.05, -0.02, 0.01};
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  std::vector<Clone> truth;
+  for (int i = 0; i < 6; ++i) {
+    Clone c;
+    c.t_ns = i;
+    c.R_WI = so3_exp(Eigen::Vector3d(0.01 * i, -0.02 * i, 0.05 * i));
+    c.p_WI = {0.2 * i, 0.03 * i, -0.01 * i};
+    truth.push_back(c);
+  }
+  std::vector<FeatureTrack> tracks;
+  for (int f = 0; f < 40; ++f) {
+    const Eigen::Vector3d p_W(5 + 3 * uniform(rng), 2 * uniform(rng), 1.5 * uniform(rng));
+    FeatureTrack track;
+    track.id = f;
+    for (const Clone& c : truth) {
+      Observation o = observe({c.R_WI * state.R_IC, c.p_WI + c.R_WI * state.p_IC}, p_W, b, true);
+      o.t_ns = c.t_ns;
+      track.observations.push_back(o);
+    }
+    tracks.push_back(track);
+  }
+  state.P = Eigen::MatrixXd::Zero(kCoreDim, kCoreDim);
+  for (const Clone& c : truth) {
+    state.augment_clone();
+    Clone& e = state.clones.back();
+    e = c;
+    e.p_fe = c.p_WI + 0.03 * Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng));
+    e.has_fe = true;
+  }
+  const int n = state.dim();
+  Eigen::MatrixXd N = Eigen::MatrixXd::Zero(n, 4);
+  for (std::size_t i = 0; i < state.clones.size(); ++i) {
+    const int at = VioState::clone_index(i);
+    N(at + 2, 0) = 1;
+    N.block<3, 1>(at + 3, 0) = Eigen::Vector3d::UnitZ().cross(state.clones[i].p_fe);
+    N.block<3, 3>(at + 3, 1).setIdentity();
+  }
+  const double eps = 1e-8;
+  state.P = N * N.transpose() + eps * Eigen::MatrixXd::Identity(n, n);
+  state.P.topLeftCorner(kCoreDim, kCoreDim) = eps * Eigen::MatrixXd::Identity(kCoreDim, kCoreDim);
+  const Eigen::MatrixXd before = N.transpose() * state.P * N;
+  MsckfUpdater updater(options, b, fx);
+  std::vector<const FeatureTrack*> pointers;
+  for (const auto& t : tracks) pointers.push_back(&t);
+  KernelRecorder recorder;
+  ASSERT_TRUE(updater.update(state, pointers, recorder).updated);
+  const Eigen::MatrixXd after = N.transpose() * state.P * N;
+  // Without FEJ (p_WI in [d]x) the yaw variance drops by orders of magnitude here.
+  EXPECT_LT((after - before).norm(), 1e-3 * before.norm());
 }
 
 // GPS fusion: the first fixes align the frames, the later ones correct a position error.
