@@ -13,5 +13,7 @@ void add_des_bench(CLI::App& app);
 void add_render_bench(CLI::App& app);
 /// `edx-bench frontend`: stereo frontend frames/s (workloads/frontend).
 void add_frontend_bench(CLI::App& app);
+/// `edx-bench system`: the whole-system model of `edx simulate` (arch/system).
+void add_system_bench(CLI::App& app);
 
 }  // namespace edx::bench

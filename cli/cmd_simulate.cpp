@@ -1,5 +1,6 @@
-// `edx simulate`: runs a trace through a platform model and prints its figures (now: the
-// frontend accelerator against the CPU baseline). Logic: arch/system.
+// `edx simulate`: runs a trace through a platform model (the whole system against its CPU-only
+// baseline, docs/MODEL.md "System") and prints its figures; --out adds the run to a results
+// database. Logic: arch/system.
 #include <fmt/core.h>
 
 #include <optional>
@@ -7,6 +8,8 @@
 
 #include "arch/system/frontend_study.hpp"
 #include "arch/system/platform.hpp"
+#include "arch/system/results_db.hpp"
+#include "arch/system/system_model.hpp"
 #include "cli/commands.hpp"
 #include "workloads/trace/reader.hpp"
 
@@ -17,6 +20,7 @@ struct SimulateArguments {
   std::string config;
   std::string trace;
   std::string timeline;
+  std::string out;
   std::size_t timeline_first = 0;
   std::size_t timeline_frames = 10;
   bool json = false;
@@ -32,13 +36,20 @@ void run(const SimulateArguments& args) {
     timeline.timeline_first = args.timeline_first;
     timeline.timeline_count = args.timeline_frames;
   }
-  const arch::FrontendStudy study =
-      arch::study_frontend(platform, frames, reader.meta().at("resolution"), timeline);
+  const arch::SystemResult result =
+      arch::simulate_system(platform, frames, reader.meta(), args.trace, timeline);
+  if (!args.out.empty()) arch::write_results(args.out, result);
   if (args.json) {
-    fmt::print("{}\n", nlohmann::json{{"frontend", study.to_json()}}.dump(2));
+    fmt::print(
+        "{}\n",
+        nlohmann::json{{"frontend", result.frontend.to_json()}, {"system", result.to_json()}}.dump(
+            2));
   } else {
-    fmt::print("{}", arch::format_frontend_study(study));
+    fmt::print("{}", arch::format_frontend_study(result.frontend));
+    fmt::print("{}", arch::format_system_result(result));
     if (!args.timeline.empty()) fmt::print("timeline   {}\n", args.timeline);
+    if (!args.out.empty())
+      fmt::print("results    {} (run {}-{})\n", args.out, result.config_hash, result.trace_hash);
   }
 }
 
@@ -50,6 +61,9 @@ void add_simulate_command(CLI::App& app) {
       "simulate", "Run a trace through a platform model (configs/*.yaml) and print its figures");
   cmd->add_option("--config", args->config, "Platform description (YAML)")->required();
   cmd->add_option("--trace", args->trace, "Trace database written by edx trace")->required();
+  cmd->add_option("--out", args->out,
+                  "Results database (SQLite) to add the run to; the same config and trace "
+                  "replace their earlier run");
   cmd->add_option("--timeline", args->timeline,
                   "Write a Perfetto timeline (Chrome trace JSON) of the pipelined frontend");
   cmd->add_option("--timeline-first", args->timeline_first, "First frame of the timeline");

@@ -6,9 +6,13 @@
 // section of a platform YAML; every field has a default, unknown keys are errors. The unit sizes
 // are public so that the cost model (arch/cost) can read them.
 //
-// Defaults are assumptions (the paper gives no unit sizes): Edx-Car "uses a larger matrix
-// multiplication/decomposition unit" than Edx-Drone (Sec. VII-A, VII-E), which the platform
-// files express through gemm_block and decomp_block; nothing here is calibrated.
+// Defaults are Edx-Car's sizes (configs/edx_car.yaml repeats them). The paper gives no unit
+// sizes; docs/MODEL.md ("Backend unit sizes") derives them from Table III: the DSP the frontend
+// leaves (1284 x (1 - 80.2 %) = 254) holds about 18 double-precision MACs (14 DSP each, PG060),
+// i.e. a 4x4 array and one MAC lane for each of decomposition, inverse and substitution. The
+// same numbers size the timing (op_timing) and the resources (arch/cost). Edx-Car "uses a larger
+// matrix multiplication/decomposition unit" than Edx-Drone (Sec. VII-A), which configs/
+// edx_drone.yaml expresses through gemm_block.
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -22,21 +26,24 @@ namespace edx::arch {
 struct BackendConfig {
   double clock_mhz = 150.0;  ///< assumed: the frontend's HLS clock on Virtex-7
   // Matrix multiplication unit: a b x b output-stationary systolic array (b^2 MACs a cycle).
-  int gemm_block = 16;  ///< b (assumed)
+  int gemm_block = 4;  ///< b (assumed; Table III DSP budget, docs/MODEL.md)
   // Decomposition unit (blocked Cholesky / LDL^T): b_d x b_d multiply-accumulate lanes.
-  int decomp_block = 8;  ///< b_d (assumed)
+  int decomp_block = 1;  ///< b_d (assumed): b_d^2 MAC lanes
   // Inverse unit: reciprocal and multiply-accumulate lanes; specialized for [A B; B^T D] with A
   // diagonal and D 6x6 (structured_inverse), general Gauss-Jordan otherwise.
-  int inverse_lanes = 8;  ///< (assumed)
+  int inverse_lanes = 1;  ///< (assumed)
   // Transpose unit: words moved a cycle (one SPM read and write port pair per word).
   int transpose_words_per_cycle = 4;  ///< (assumed)
   // Forward/back substitution unit: multiply-accumulate lanes.
-  int trsv_lanes = 8;  ///< (assumed)
+  int trsv_lanes = 1;  ///< (assumed)
   // Latencies of the pipelined double-precision divider and square root (a reciprocal or a root
   // is on the critical path of every pivot / column).
   int divide_latency_cycles = 30;  ///< (assumed; order of a pipelined double divider)
   int sqrt_latency_cycles = 30;    ///< (assumed)
   int scalar_bytes = 8;            ///< IEEE 754 double
+
+  /// MAC lanes of the decomposition unit: b_d^2 (what the timing and the cost model both use).
+  int decomp_lanes() const { return decomp_block * decomp_block; }
   /// One scratchpad shared by the units, holding the operands of the running op ("the SPMs need
   /// to accommodate the size of the entire input matrices", Sec. VI-A). Assumed 1.25 MiB: within
   /// the BRAM Edx-Car leaves to the backend (26.5 % of 5.0 MB, Sec. VII-B).

@@ -30,23 +30,6 @@ void validate_at(const Config& c, const YamlFields& f, const std::string& sectio
 
 }  // namespace
 
-void BackendUnitSizes::validate() const {
-  const char* s = "backend_units";
-  require(gemm_block >= 1, s, "gemm_block", "an integer >= 1");
-  require(decomp_lanes >= 1, s, "decomp_lanes", "an integer >= 1");
-  require(inverse_lanes >= 1, s, "inverse_lanes", "an integer >= 1");
-  require(transpose_words_per_cycle >= 1, s, "transpose_words_per_cycle", "an integer >= 1");
-  require(trsv_lanes >= 1, s, "trsv_lanes", "an integer >= 1");
-  require(spm_bytes >= 0, s, "spm_bytes", "a size >= 0");
-}
-
-nlohmann::json BackendUnitSizes::to_json() const {
-  return {
-      {"gemm_block", gemm_block},       {"decomp_lanes", decomp_lanes},
-      {"inverse_lanes", inverse_lanes}, {"transpose_words_per_cycle", transpose_words_per_cycle},
-      {"trsv_lanes", trsv_lanes},       {"spm_bytes", spm_bytes}};
-}
-
 Arithmetic CostConfig::frontend_arith() const {
   return parse_arithmetic(frontend_arithmetic, "cost.frontend_arithmetic");
 }

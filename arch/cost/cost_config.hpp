@@ -1,8 +1,8 @@
 #pragma once
-// Configuration of the resource and energy models (docs/COST.md): the `cost:` and `power:`
-// sections of a platform YAML, and the backend unit sizes the resource model reads (the
-// backend's own `backend:` section owns them; BackendUnitSizes is what the cost model needs of
-// it). Every field has a default and its source in docs/COST.md; unknown keys are errors.
+// Configuration of the resource and energy models (docs/MODEL.md, "Cost"): the `cost:` and
+// `power:` sections of a platform YAML. The backend unit sizes are the backend's own
+// (arch/backend BackendConfig, `backend:`). Every field has a default and its source in
+// docs/MODEL.md; unknown keys are errors.
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -15,32 +15,17 @@ class Node;
 
 namespace edx::arch::cost {
 
-/// The configured sizes of the five backend building blocks (paper Table II, Fig. 14).
-/// Defaults: assumed (the paper gives none); docs/COST.md shows that Table III's DSP leaves room
-/// for about 18 double-precision MACs beside the frontend, hence a 4x4 GEMM array on Edx-Car.
-struct BackendUnitSizes {
-  int gemm_block = 4;                 ///< b: a b x b array of MAC PEs
-  int decomp_lanes = 1;               ///< MAC lanes of the Cholesky / LDL^T unit
-  int inverse_lanes = 1;              ///< MAC lanes of the (diagonal + 6x6) inverse unit
-  int transpose_words_per_cycle = 4;  ///< words the transpose unit moves a cycle
-  int trsv_lanes = 1;                 ///< MAC lanes of forward / back substitution
-  std::int64_t spm_bytes = 1310720;   ///< operand scratchpad shared by the units
-
-  void validate() const;  ///< throws std::runtime_error naming the field
-  nlohmann::json to_json() const;
-};
-
 /// `cost:` section: knobs of the resource model.
 struct CostConfig {
   /// Multiply-accumulates of IF and LSS: "fixed" (one DSP each) or "single" (PG060). Selected
-  /// against Table III (docs/COST.md): single precision brings DSP within 12 % uncalibrated.
+  /// against Table III (docs/MODEL.md): single precision brings DSP within 12 % uncalibrated.
   std::string frontend_arithmetic = "single";
   bool if_separable = false;                 ///< IF as two 1-D passes (2k taps) instead of k^2
   int fc_angle_bins = 30;                    ///< rBRIEF's rotated-pattern table (ORB: 12 degrees)
   std::string backend_precision = "double";  ///< the backend units' MACs
   /// Control and glue logic (FSMs, AXI/DMA ports, handshakes, pipeline registers, fan-out) as a
   /// fraction of each group's datapath LUTs / FFs (units and memories). Calibrated on Edx-Car's
-  /// Table III LUT / FF totals x frontend shares (calibrate_control_overheads, docs/COST.md).
+  /// Table III LUT / FF totals x frontend shares (calibrate_control_overheads, docs/MODEL.md).
   double frontend_lut_overhead = 0.051;
   double frontend_ff_overhead = 0.350;
   double backend_lut_overhead = 0.480;
@@ -51,7 +36,7 @@ struct CostConfig {
   int ns_modes = 3;                  ///< registration, VIO, SLAM: one frontend each
   bool ns_frontend_per_mode = true;  ///< replicate the whole frontend per mode
   /// Also replicate FE (FD, IF, FC + their SBs) per camera. Off: the paper's N.S. is "without
-  /// sharing ... across the three modes" (Sec. VII-B), and on overshoots its N.S. (docs/COST.md).
+  /// sharing ... across the three modes" (Sec. VII-B), and on overshoots its N.S. (docs/MODEL.md).
   bool ns_fe_per_camera = false;
   bool ns_backend_per_kernel = true;  ///< one set of units per kernel (Table II)
 
@@ -64,7 +49,7 @@ struct CostConfig {
 };
 
 /// `power:` section: static and dynamic power of host and FPGA, energies per operation and per
-/// byte (docs/COST.md gives each one's source or marks it assumed).
+/// byte (docs/MODEL.md gives each one's source or marks it assumed).
 struct PowerConfig {
   double fpga_static_w = 0.8;   ///< assumed: XPE-order static power of a large 28 nm device
   double host_active_w = 15.0;  ///< host package power while it computes (Kaby Lake U TDP)

@@ -1,5 +1,5 @@
 #pragma once
-// Energy per frame (docs/COST.md, "Energy"):
+// Energy per frame (docs/MODEL.md, "Energy"):
 //
 //   E = P_fpga_static·t_frame                                       (when an FPGA is present)
 //     + s_host·(P_host_active·t_host + P_host_idle·(t_frame − t_host))

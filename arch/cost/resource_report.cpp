@@ -99,14 +99,14 @@ nlohmann::json ResourceReport::to_json() const {
           {"fits", fits}};
 }
 
-std::vector<MemoryStructure> backend_memories(const BackendUnitSizes& be, const CostConfig& cost) {
+std::vector<MemoryStructure> backend_memories(const BackendConfig& be, const CostConfig& cost) {
   const std::int64_t word_bytes = cost.backend_arith() == Arithmetic::kSingle ? 4 : 8;
   const std::int64_t row_bytes = word_bytes * be.gemm_block;
   MemoryStructure spm{"backend_spm", row_bytes * 8, (be.spm_bytes + row_bytes - 1) / row_bytes, 1};
   return {spm};
 }
 
-ResourceReport build_resource_report(const FrontendConfig& fe, const BackendUnitSizes& be,
+ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConfig& be,
                                      const CostConfig& cost,
                                      const std::vector<MemoryStructure>& frontend_memories,
                                      const Device& device) {

@@ -1,5 +1,5 @@
 #pragma once
-// The FPGA resource report of a platform (paper Sec. VII-B, Table III; docs/COST.md): every
+// The FPGA resource report of a platform (paper Sec. VII-B, Table III; docs/MODEL.md): every
 // unit and memory with its LUT/FF/DSP/BRAM, per-group totals (frontend, backend) and the memory
 // subtotal, the control overhead of each group, totals and utilization against the device, and
 // the no-sharing ("N.S.") variant: each entry carries how many copies a design without sharing
@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "arch/backend/backend_config.hpp"
 #include "arch/cost/cost_config.hpp"
 #include "arch/cost/resources.hpp"
 #include "arch/frontend/frontend_config.hpp"
@@ -56,12 +57,12 @@ struct ResourceReport {
 
 /// The backend's memories from its unit sizes: the operand scratchpad (spm_bytes in rows of
 /// gemm_block words of the backend precision, so the array reads a block row a cycle).
-std::vector<MemoryStructure> backend_memories(const BackendUnitSizes& be, const CostConfig& cost);
+std::vector<MemoryStructure> backend_memories(const BackendConfig& be, const CostConfig& cost);
 
 /// Builds the report. `frontend_memories`: the frontend memory plan's structures
 /// (FrontendMemoryPlan::bram.structures[i].structure), by their plan names (fe.L<l>..., fc...,
 /// fd_to_fc: FE; everything else: SM/TM/SPM).
-ResourceReport build_resource_report(const FrontendConfig& fe, const BackendUnitSizes& be,
+ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConfig& be,
                                      const CostConfig& cost,
                                      const std::vector<MemoryStructure>& frontend_memories,
                                      const Device& device);

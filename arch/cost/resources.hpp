@@ -1,5 +1,5 @@
 #pragma once
-// FPGA resources of a datapath (docs/COST.md): LUTs, flip-flops, DSP slices and BRAM36 blocks,
+// FPGA resources of a datapath (docs/MODEL.md): LUTs, flip-flops, DSP slices and BRAM36 blocks,
 // and the primitives a unit is built from, each with its cost on 7-series / UltraScale(+) fabric.
 //
 // Fabric primitives (assumed model of the CLB, UG474 "7 Series FPGAs CLB User Guide" and UG574
@@ -46,7 +46,7 @@ inline constexpr const char* kResourceNames[4] = {"lut", "ff", "dsp", "bram"};
 /// One floating-point operator instance of PG060 (Floating-Point Operator v7.1), non-blocking,
 /// maximum latency, with the DSP usage named. Source: the resource figures of the core on
 /// 7-series as Vivado HLS instantiates it (dadd/dmul/fadd/fmul "full_dsp"/"max_dsp", ddiv/dsqrt/
-/// fdiv fabric only); rounded. docs/COST.md lists them; treat them as typical, not exact.
+/// fdiv fabric only); rounded. docs/MODEL.md lists them; treat them as typical, not exact.
 struct FpOperatorCost {
   const char* name;
   double lut, ff, dsp;

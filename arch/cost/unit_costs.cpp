@@ -126,7 +126,7 @@ Resources lss_cost(const FrontendConfig& fe, const CostConfig& cost) {
   return d.resources();
 }
 
-Resources gemm_cost(const BackendUnitSizes& be, const CostConfig& cost) {
+Resources gemm_cost(const BackendConfig& be, const CostConfig& cost) {
   const Arithmetic a = cost.backend_arith();
   const double pes = double(be.gemm_block) * be.gemm_block;
   Datapath d;
@@ -137,16 +137,16 @@ Resources gemm_cost(const BackendUnitSizes& be, const CostConfig& cost) {
   return d.resources();
 }
 
-Resources decomposition_cost(const BackendUnitSizes& be, const CostConfig& cost) {
+Resources decomposition_cost(const BackendConfig& be, const CostConfig& cost) {
   const Arithmetic a = cost.backend_arith();
   Datapath d;
-  d.macs(be.decomp_lanes, a).sqrt(1, a).divider(1, a);
-  d.registers(2.0 * be.decomp_lanes * word_bits(a));
+  d.macs(be.decomp_lanes(), a).sqrt(1, a).divider(1, a);
+  d.registers(2.0 * be.decomp_lanes() * word_bits(a));
   address_generator(d);
   return d.resources();
 }
 
-Resources inverse_cost(const BackendUnitSizes& be, const CostConfig& cost) {
+Resources inverse_cost(const BackendConfig& be, const CostConfig& cost) {
   const Arithmetic a = cost.backend_arith();
   Datapath d;
   d.divider(1, a).macs(be.inverse_lanes, a);
@@ -155,7 +155,7 @@ Resources inverse_cost(const BackendUnitSizes& be, const CostConfig& cost) {
   return d.resources();
 }
 
-Resources transpose_cost(const BackendUnitSizes& be, const CostConfig& cost) {
+Resources transpose_cost(const BackendConfig& be, const CostConfig& cost) {
   const int w = be.transpose_words_per_cycle;
   Datapath d;
   d.registers(double(w) * w * word_bits(cost.backend_arith()));  // a w x w tile, read across
@@ -164,7 +164,7 @@ Resources transpose_cost(const BackendUnitSizes& be, const CostConfig& cost) {
   return d.resources();
 }
 
-Resources substitution_cost(const BackendUnitSizes& be, const CostConfig& cost) {
+Resources substitution_cost(const BackendConfig& be, const CostConfig& cost) {
   const Arithmetic a = cost.backend_arith();
   Datapath d;
   d.macs(be.trsv_lanes, a).divider(1, a);

@@ -1,9 +1,10 @@
 #pragma once
-// Parameterised resource cost of each hardware unit (docs/COST.md, "Units"), built from the
+// Parameterised resource cost of each hardware unit (docs/MODEL.md, "Units"), built from the
 // primitives of arch/cost/resources.hpp and the unit's configured dimensions: the seven frontend
 // tasks (paper Sec. V, FrontendConfig) and the five backend building blocks (Table II,
-// BackendUnitSizes). Memories are not here: they come in as BRAM structures
+// BackendConfig). Memories are not here: they come in as BRAM structures
 // (arch/cost/resource_report.hpp).
+#include "arch/backend/backend_config.hpp"
 #include "arch/cost/cost_config.hpp"
 #include "arch/cost/resources.hpp"
 #include "arch/frontend/frontend_config.hpp"
@@ -42,16 +43,16 @@ Resources lss_cost(const FrontendConfig& fe, const CostConfig& cost);
 
 // Backend (backend_precision). Each unit has an address generator (AGX: three 16-bit counters).
 /// b x b PEs, one MAC each, with operand registers; b-wide input and output registers.
-Resources gemm_cost(const BackendUnitSizes& be, const CostConfig& cost);
+Resources gemm_cost(const BackendConfig& be, const CostConfig& cost);
 /// Blocked Cholesky / LDL^T: decomp_lanes MACs, one square root, one divider (reciprocal).
-Resources decomposition_cost(const BackendUnitSizes& be, const CostConfig& cost);
+Resources decomposition_cost(const BackendConfig& be, const CostConfig& cost);
 /// Diagonal + 6x6 inverse: one divider (reciprocals of the diagonal), inverse_lanes MACs for
 /// the 6x6 block and the Schur complement.
-Resources inverse_cost(const BackendUnitSizes& be, const CostConfig& cost);
+Resources inverse_cost(const BackendConfig& be, const CostConfig& cost);
 /// transpose_words_per_cycle word registers and a words:words crossbar.
-Resources transpose_cost(const BackendUnitSizes& be, const CostConfig& cost);
+Resources transpose_cost(const BackendConfig& be, const CostConfig& cost);
 /// Forward / back substitution: trsv_lanes MACs and one divider.
-Resources substitution_cost(const BackendUnitSizes& be, const CostConfig& cost);
+Resources substitution_cost(const BackendConfig& be, const CostConfig& cost);
 /// "Misc." of Fig. 14: one adder (e.g. + R in S = H P H^T + R).
 Resources misc_cost(const CostConfig& cost);
 

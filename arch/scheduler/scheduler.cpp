@@ -90,6 +90,8 @@ nlohmann::json KernelScheduleSummary::to_json() const {
           {"always_s", always_s},
           {"policy_s", policy_s},
           {"oracle_s", oracle_s},
+          {"training_samples", training_samples},
+          {"has_model", has_model},
           {"r_squared_train", r_squared_train},
           {"r_squared_eval", r_squared_eval},
           {"gap_to_oracle", gap_to_oracle}};
@@ -100,8 +102,12 @@ std::vector<KernelScheduleSummary> evaluate_schedule(
   scheduler.train(invocations);
   std::map<std::string, KernelScheduleSummary> by_kernel;
   std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> eval_samples;
+  std::map<std::string, std::size_t> training_samples;
   for (const KernelInvocation& k : invocations) {
-    if (scheduler.in_training(k)) continue;
+    if (scheduler.in_training(k)) {
+      ++training_samples[k.kernel];
+      continue;
+    }
     KernelScheduleSummary& s = by_kernel[k.kernel];
     s.kernel = k.kernel;
     ++s.invocations;
@@ -116,8 +122,10 @@ std::vector<KernelScheduleSummary> evaluate_schedule(
   }
   std::vector<KernelScheduleSummary> out;
   for (auto& [kernel, s] : by_kernel) {
+    s.training_samples = training_samples[kernel];
     const auto model = scheduler.models().find(kernel);
-    if (model != scheduler.models().end()) {
+    s.has_model = model != scheduler.models().end();
+    if (s.has_model) {
       s.r_squared_train = model->second.r_squared;
       s.r_squared_eval =
           r_squared(model->second, eval_samples[kernel].first, eval_samples[kernel].second);

@@ -74,13 +74,15 @@ struct KernelScheduleSummary {
   std::string kernel;
   std::size_t invocations = 0;
   std::size_t offloaded = 0;
-  double host_only_s = 0;      ///< every invocation on the host
-  double always_s = 0;         ///< every invocation offloaded
-  double policy_s = 0;         ///< as the policy decided
-  double oracle_s = 0;         ///< as the oracle decides
-  double r_squared_train = 0;  ///< the model on its training samples (regression policy)
-  double r_squared_eval = 0;   ///< the model on the evaluation samples
-  double gap_to_oracle = 0;    ///< policy_s / oracle_s − 1
+  double host_only_s = 0;            ///< every invocation on the host
+  double always_s = 0;               ///< every invocation offloaded
+  double policy_s = 0;               ///< as the policy decided
+  double oracle_s = 0;               ///< as the oracle decides
+  std::size_t training_samples = 0;  ///< invocations in the training frames
+  bool has_model = false;            ///< regression: enough training samples for the model's degree
+  double r_squared_train = 0;        ///< the model on its training samples (regression policy)
+  double r_squared_eval = 0;         ///< the model on the evaluation samples
+  double gap_to_oracle = 0;          ///< policy_s / oracle_s − 1
   nlohmann::json to_json() const;
 };
 

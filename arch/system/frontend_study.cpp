@@ -29,7 +29,7 @@ Distribution Distribution::of(const std::vector<double>& values) {
   d.count = set.count();
   if (d.count == 0) return d;
   d.mean = set.mean();
-  d.sd = set.sd();
+  d.sd = d.count >= 2 ? set.sd() : 0.0;  // one sample: no spread
   d.rsd = d.mean > 0 ? d.sd / d.mean : 0.0;
   d.p50 = set.percentile(50);
   d.p90 = set.percentile(90);
@@ -96,10 +96,17 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   std::vector<double> accel, fe, sm, tm;
   for (const FrontendFrameTiming& t : one_at_a_time.frames) {
     accel.push_back(t.latency_ms);
+    study.frame_results_bytes.push_back(t.transfer_bytes);
     fe.push_back(t.fe_ms);
     sm.push_back(t.sm_ms);
     tm.push_back(t.tm_ms);
   }
+  const sim::Time first_start = overlapped.frames.empty() ? 0 : overlapped.frames.front().start;
+  for (const FrontendFrameTiming& t : overlapped.frames) {
+    study.frame_pipelined_end_ms.push_back(sim::to_seconds(t.end - first_start) * 1e3);
+  }
+  study.frame_cpu_ms = cpu;
+  study.frame_accel_ms = accel;
   study.cpu_ms = Distribution::of(cpu);
   study.accel_ms = Distribution::of(accel);
   study.fe_ms = Distribution::of(fe);

@@ -37,6 +37,12 @@ struct FrontendStudy {
   double fps_without_pipelining = 0, fps_with_pipelining = 0;  ///< frames back to back
   std::vector<std::pair<std::string, double>> utilization;     ///< pipelined run
   FrontendMemoryPlan memory;  ///< SBs, FIFOs, SPM for the pipelined run's timing
+  // Per frame, in trace order (not in to_json(); the system model reads them):
+  std::vector<double> frame_cpu_ms;               ///< CPU baseline frontend latency
+  std::vector<double> frame_accel_ms;             ///< accelerator latency, frames one at a time
+  std::vector<double> frame_pipelined_end_ms;     ///< end of each frame, frames back to back with
+                                                  ///< FE/SM pipelining (from the first start)
+  std::vector<std::int64_t> frame_results_bytes;  ///< transfer (1), FPGA -> host
   nlohmann::json to_json() const;
 };
 

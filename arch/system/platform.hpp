@@ -5,17 +5,25 @@
 //   name: edx_car
 //   description: ...
 //   device: xc7v690t
-//   host: {frontend_time_scale: 2.37, provenance: "..."}
-//   frontend: {clock_mhz: 150, ...}
-//   link: {preset: pcie3_x8, ...}
-//   transfers: {scalar_bytes: 8, ...}
+//   host: {frontend_time_scale: 2.37, provenance: "...", backend_time_scale: 2.37,
+//          backend_provenance: "..."}
+//   frontend: {clock_mhz: 150, ...}             FrontendConfig
+//   backend: {gemm_block: 4, ...}               BackendConfig (arch/backend)
+//   link: {preset: pcie3_x8, ...}               LinkSpec
+//   transfers: {scalar_bytes: 8, ...}           FrameTransferConfig
+//   cost: {...}  power: {...}                   cost::CostConfig, cost::PowerConfig
+//   scheduler: {policy: regression, training_fraction: 0.25}
+// Every section is optional (defaults); unknown keys and wrong types are file:line:key errors.
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "arch/backend/backend_config.hpp"
+#include "arch/cost/cost_config.hpp"
 #include "arch/frontend/frontend_config.hpp"
 #include "arch/link/frame_transfers.hpp"
 #include "arch/link/link.hpp"
+#include "arch/scheduler/scheduler.hpp"
 
 namespace edx::arch {
 
@@ -28,6 +36,19 @@ struct HostConfig {
   /// Where the factor comes from (measurement, datasheet ratio, or calibration against a paper
   /// figure: then say so).
   std::string provenance = "identity: the trace host is the target";
+  /// Target CPU time = trace host time x this factor, for the backend (every kernel and the
+  /// backend's whole time of a frame).
+  double backend_time_scale = 1.0;
+  std::string backend_provenance = "identity: the trace host is the target";
+  nlohmann::json to_json() const;
+};
+
+/// `scheduler:` section: the offload policy of Sec. VI-B (arch/scheduler).
+struct SchedulerConfig {
+  OffloadPolicy policy = OffloadPolicy::kRegression;
+  /// Leading share of the trace's frames the regression models are fitted on (paper Sec. VII-A:
+  /// 25 %); those frames run their kernels on the host.
+  double training_fraction = 0.25;
   nlohmann::json to_json() const;
 };
 
@@ -39,6 +60,10 @@ struct Platform {
   FrontendConfig frontend;
   LinkSpec link = LinkSpec::pcie3_x8();  ///< host <-> FPGA
   FrameTransferConfig transfers;         ///< what crosses the link per frame
+  BackendConfig backend;                 ///< the backend accelerator's units and SPM
+  cost::CostConfig cost;                 ///< resource model knobs
+  cost::PowerConfig power;               ///< energy model constants
+  SchedulerConfig scheduler;
   nlohmann::json to_json() const;
 
   /// Reads a platform YAML file; errors name the file, line and key (unknown keys included).

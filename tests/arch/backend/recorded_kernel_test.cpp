@@ -51,10 +51,10 @@ TEST(BackendRecordedKernel, VioKalmanGainOpsMatchTheDerivationRule) {
   const KernelAccelResult b = accelerate_kernel(sizes_only, config);
   EXPECT_EQ(a.cycles, b.cycles);
   EXPECT_GT(a.cycles, 0);
-  // S (40 x 40 of 27) is the symmetric result: ⌈40 / 16⌉ = 3 tile rows, so the 6 tiles on and
-  // above the diagonal (not all 9), each 27 + 2 x 16 cycles.
-  EXPECT_EQ(config.gemm_block, 16);
-  EXPECT_EQ(a.ops[1].cycles, 6 * (kState + 2 * 16));
+  // S (40 x 40 of 27) is the symmetric result: ⌈40 / 4⌉ = 10 tile rows, so the 55 tiles on and
+  // above the diagonal (not all 100), each 27 + 2 x 4 cycles.
+  EXPECT_EQ(config.gemm_block, 4);
+  EXPECT_EQ(a.ops[1].cycles, 55 * (kState + 2 * 4));
 }
 
 }  // namespace

@@ -123,11 +123,5 @@ TEST(PowerYaml, ReadsFieldsAndPrintsThem) {
   EXPECT_DOUBLE_EQ(p.to_json()["dram_pj_per_byte"].get<double>(), 120);
 }
 
-TEST(BackendUnitSizes, Validates) {
-  BackendUnitSizes be;
-  be.gemm_block = 0;
-  EXPECT_THROW(be.validate(), std::runtime_error);
-}
-
 }  // namespace
 }  // namespace edx::arch::cost

@@ -172,7 +172,8 @@ ResourceReport calibrated_car_report(const std::string& variant, CostConfig base
   const fs::path car_yaml = fs::path(EDX_SOURCE_DIR) / "configs" / "edx_car.yaml";
   const FrontendConfig car_frontend =
       FrontendConfig::from_yaml(YAML::LoadFile(car_yaml.string())["frontend"], car_yaml.string());
-  const BackendUnitSizes car_backend;
+  const BackendConfig car_backend =
+      BackendConfig::from_yaml(YAML::LoadFile(car_yaml.string())["backend"], car_yaml.string());
   CostConfig datapath_only = base;
   datapath_only.frontend_lut_overhead = datapath_only.frontend_ff_overhead = 0;
   datapath_only.backend_lut_overhead = datapath_only.backend_ff_overhead = 0;
@@ -211,7 +212,7 @@ ResourceReport calibrated_car_report(const std::string& variant, CostConfig base
 TEST(TableIII, CalibratedControlOverheadsReproduceTheLutAndFfSplitAndReportTheRest) {
   CostConfig calibrated;
   const ResourceReport r = calibrated_car_report("defaults", {}, &calibrated);
-  // The calibrated fractions are CostConfig's documented defaults (docs/COST.md).
+  // The calibrated fractions are CostConfig's documented defaults (docs/MODEL.md).
   const CostConfig defaults;
   EXPECT_NEAR(calibrated.frontend_lut_overhead, defaults.frontend_lut_overhead, 1e-3);
   EXPECT_NEAR(calibrated.frontend_ff_overhead, defaults.frontend_ff_overhead, 1e-3);

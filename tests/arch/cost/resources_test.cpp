@@ -1,4 +1,4 @@
-// Resource primitives and unit cost functions against hand-computed counts (docs/COST.md).
+// Resource primitives and unit cost functions against hand-computed counts (docs/MODEL.md).
 #include "arch/cost/resources.hpp"
 
 #include <gtest/gtest.h>
@@ -90,7 +90,7 @@ TEST(UnitCosts, GaussianThreeByThreeOnOneLane) {
 }
 
 TEST(UnitCosts, GemmTwoByTwoDoubleByHand) {
-  BackendUnitSizes be;
+  BackendConfig be;
   be.gemm_block = 2;
   CostConfig cost;
   const Resources r = gemm_cost(be, cost);

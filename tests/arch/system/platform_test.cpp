@@ -51,6 +51,59 @@ TEST(Platform, BadInputNamesFileLineAndKey) {
               HasSubstr("p.yaml:3: frontend.mo_comparators: expected an integer >= 1"));
 }
 
+TEST(Platform, ReadsBackendCostPowerSchedulerAndHostBackendScale) {
+  const Platform p = Platform::parse(
+      "name: car\nhost:\n  backend_time_scale: 1.5\n  backend_provenance: measured\n"
+      "backend:\n  gemm_block: 8\ncost:\n  ns_modes: 2\npower:\n  host_active_w: 20\n"
+      "scheduler:\n  policy: oracle\n  training_fraction: 0.5\n",
+      "p.yaml");
+  EXPECT_DOUBLE_EQ(p.host.backend_time_scale, 1.5);
+  EXPECT_EQ(p.host.backend_provenance, "measured");
+  EXPECT_EQ(p.backend.gemm_block, 8);
+  EXPECT_EQ(p.backend.decomp_block, BackendConfig{}.decomp_block);
+  EXPECT_EQ(p.cost.ns_modes, 2);
+  EXPECT_DOUBLE_EQ(p.power.host_active_w, 20);
+  EXPECT_EQ(p.scheduler.policy, OffloadPolicy::kOracle);
+  EXPECT_DOUBLE_EQ(p.scheduler.training_fraction, 0.5);
+  EXPECT_EQ(p.to_json()["scheduler"]["policy"], "oracle");
+  EXPECT_EQ(p.to_json()["backend"]["gemm_block"], 8);
+}
+
+TEST(Platform, BadKeysOfTheNewSectionsNameFileLineAndKey) {
+  EXPECT_EQ(error_of("name: car\nbackend:\n  gemm_blok: 4\n"),
+            "p.yaml:3: backend.gemm_blok: unknown key");
+  EXPECT_THAT(error_of("name: car\nbackend:\n  gemm_block: big\n"),
+              HasSubstr("p.yaml:3: backend.gemm_block: expected an integer"));
+  EXPECT_EQ(error_of("name: car\ncost:\n  colour: red\n"), "p.yaml:3: cost.colour: unknown key");
+  EXPECT_THAT(error_of("name: car\npower:\n  host_active_w: hot\n"),
+              HasSubstr("p.yaml:3: power.host_active_w: expected a number"));
+  EXPECT_THAT(
+      error_of("name: car\nscheduler:\n  policy: sometimes\n"),
+      HasSubstr("p.yaml:3: scheduler.policy: expected never, always, regression or oracle"));
+  EXPECT_THAT(error_of("name: car\nscheduler:\n  training_fraction: 1.5\n"),
+              HasSubstr("p.yaml:3: scheduler.training_fraction: expected a fraction in [0, 1)"));
+  EXPECT_EQ(error_of("name: car\nscheduler:\n  polcy: never\n"),
+            "p.yaml:3: scheduler.polcy: unknown key");
+  EXPECT_THAT(error_of("name: car\nhost:\n  backend_time_scale: 0\n"),
+              HasSubstr("p.yaml:3: host.backend_time_scale: expected a number > 0"));
+  EXPECT_EQ(error_of("name: car\npower: 3\n"), "p.yaml:2: platform.power: expected a map of keys");
+}
+
+TEST(Platform, ShippedConfigsLoad) {
+  for (const char* name : {"edx_car.yaml", "edx_drone.yaml"}) {
+    const Platform p = Platform::load(std::string(EDX_SOURCE_DIR) + "/configs/" + name);
+    EXPECT_EQ(p.scheduler.policy, OffloadPolicy::kRegression) << name;
+    EXPECT_DOUBLE_EQ(p.scheduler.training_fraction, 0.25) << name;
+  }
+  const Platform car = Platform::load(std::string(EDX_SOURCE_DIR) + "/configs/edx_car.yaml");
+  const Platform drone = Platform::load(std::string(EDX_SOURCE_DIR) + "/configs/edx_drone.yaml");
+  // The Table III DSP budget on Edx-Car; a smaller array and SPM on Edx-Drone.
+  EXPECT_EQ(car.backend.gemm_block, 4);
+  EXPECT_EQ(car.backend.decomp_lanes(), 1);
+  EXPECT_LT(drone.backend.gemm_block, car.backend.gemm_block);
+  EXPECT_LT(drone.backend.spm_bytes, car.backend.spm_bytes);
+}
+
 TEST(Platform, MissingFileIsNamed) {
   try {
     Platform::load("/nonexistent/edx_car.yaml");

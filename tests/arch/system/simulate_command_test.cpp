@@ -1,6 +1,7 @@
 // `edx simulate` end to end: a real trace of the KITTI 01 excerpt at Edx-Car's 1280x720 through
 // configs/edx_car.yaml, checked against the paper's Edx-Car frontend figures (Sec. VII-C) that
 // depend only on the trace's work counts (the CPU baseline depends on the host that traced).
+#include <SQLiteCpp/SQLiteCpp.h>
 #include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -31,6 +32,22 @@ const fs::path& car_trace() {
     const auto r = edx::testing::run_command(fmt::format(
         "{} trace --dataset {} --format kitti --resolution 1280x720 --frames 20 --out {}", kEdx,
         kKitti.string(), out.string()));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return out;
+  }();
+  return path;
+}
+
+/// A VIO trace of the first 24 frames of the EuRoC V1_01 micro-excerpt at 640x480 (Edx-Drone's
+/// input), made once per test binary.
+const fs::path& vio_trace() {
+  static testing::TempDir dir;
+  static const fs::path path = [] {
+    const fs::path out = dir.path() / "euroc_vio.db";
+    const auto r = edx::testing::run_command(fmt::format(
+        "{} trace --dataset {} --format euroc --resolution 640x480 --backend vio --frames 24 "
+        "--out {}",
+        kEdx, (fs::path(EDX_SHARED_DATA_DIR) / "euroc_v101_micro").string(), out.string()));
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return out;
   }();
@@ -74,6 +91,55 @@ TEST(SimulateCommand, WritesATimeline) {
     if (e["ph"] == "X" && e["name"].get<std::string>().starts_with("frame ")) ++frames;
   }
   EXPECT_EQ(frames, 3);
+}
+
+TEST(SimulateCommand, WholeSystemOnARealVioTraceIntoTheResultsDatabase) {
+  testing::TempDir dir;
+  const fs::path db = dir.path() / "results.db";
+  const fs::path drone = fs::path(EDX_SOURCE_DIR) / "configs" / "edx_drone.yaml";
+  const std::string command = fmt::format("{} simulate --config {} --trace {} --out {} --json",
+                                          kEdx, drone.string(), vio_trace().string(), db.string());
+  const auto r = edx::testing::run_command(command);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const nlohmann::json& s = j["system"];
+  EXPECT_EQ(s["frames"], 24);
+  const nlohmann::json& base = s["baseline"]["modes"];
+  const nlohmann::json& acc = s["accelerated"]["modes"];
+  ASSERT_TRUE(acc.contains("vio")) << s.dump();
+  // The frontend of both variants is the frontend study's.
+  EXPECT_NEAR(acc["all"]["frontend_ms"]["mean"].get<double>(),
+              j["frontend"]["accel_ms"]["mean"].get<double>(), 1e-9);
+  EXPECT_NEAR(base["all"]["frontend_ms"]["mean"].get<double>(),
+              j["frontend"]["cpu_ms"]["mean"].get<double>(), 1e-9);
+  // e2e = FE + BE per frame, so also in the mean.
+  for (const char* v : {"baseline", "accelerated"}) {
+    const nlohmann::json& m = s[v]["modes"]["all"];
+    EXPECT_NEAR(m["e2e_ms"]["mean"].get<double>(),
+                m["frontend_ms"]["mean"].get<double>() + m["backend_ms"]["mean"].get<double>(),
+                1e-9);
+    EXPECT_GT(m["energy_j"]["mean"].get<double>(), 0) << v;
+    EXPECT_GE(s[v]["fps_with_pipelining"].get<double>(),
+              s[v]["fps_without_pipelining"].get<double>() - 1e-9)
+        << v;
+  }
+  EXPECT_GT(s["offload"]["accelerable_invocations"].get<int>(), 0);  // Kalman gains
+  EXPECT_GT(s["resources"]["total"]["dsp"].get<double>(), 0);
+
+  // The database holds the run once, however often it is re-run.
+  ASSERT_EQ(edx::testing::run_command(command).exit_code, 0);
+  SQLite::Database results(db.string());
+  EXPECT_EQ(results.execAndGet("SELECT COUNT(*) FROM runs").getInt(), 1);
+  EXPECT_EQ(results.execAndGet("SELECT COUNT(*) FROM frames").getInt(), 48);
+  EXPECT_EQ(results.execAndGet("SELECT COUNT(*) FROM offload").getInt(),
+            s["offload"]["accelerable_invocations"].get<int>());
+  EXPECT_EQ(results.execAndGet("SELECT COUNT(*) FROM offload WHERE offloaded = 1").getInt(),
+            s["offload"]["offloaded"].get<int>());
+  EXPECT_NEAR(results
+                  .execAndGet("SELECT mean FROM latency WHERE variant = 'accelerated' AND "
+                              "mode = 'all' AND stage = 'e2e'")
+                  .getDouble(),
+              acc["all"]["e2e_ms"]["mean"].get<double>(), 1e-9);
 }
 
 TEST(SimulateCommand, BadInputExitsOneNamingTheFile) {

@@ -1,0 +1,201 @@
+#include "arch/system/results_db.hpp"
+
+#include <SQLiteCpp/SQLiteCpp.h>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <system_error>
+
+namespace edx::arch {
+namespace {
+
+constexpr const char* kSchema = R"sql(
+CREATE TABLE IF NOT EXISTS runs (run_id TEXT PRIMARY KEY, config_hash TEXT NOT NULL,
+  trace_hash TEXT NOT NULL, platform TEXT NOT NULL, trace TEXT NOT NULL, frames INTEGER NOT NULL,
+  policy TEXT NOT NULL, config_json TEXT NOT NULL, summary_json TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS frames (run_id TEXT NOT NULL, variant TEXT NOT NULL,
+  frame_id INTEGER NOT NULL, mode TEXT NOT NULL, frontend_ms REAL, backend_ms REAL, e2e_ms REAL,
+  host_busy_ms REAL, offloaded INTEGER, energy_j REAL, PRIMARY KEY (run_id, variant, frame_id));
+CREATE TABLE IF NOT EXISTS latency (run_id TEXT NOT NULL, variant TEXT NOT NULL,
+  mode TEXT NOT NULL, stage TEXT NOT NULL, count INTEGER, mean REAL, sd REAL, rsd REAL, p50 REAL,
+  p90 REAL, p99 REAL, max REAL, PRIMARY KEY (run_id, variant, mode, stage));
+CREATE TABLE IF NOT EXISTS throughput (run_id TEXT NOT NULL, variant TEXT NOT NULL,
+  fps_without_pipelining REAL, fps_with_pipelining REAL, PRIMARY KEY (run_id, variant));
+CREATE TABLE IF NOT EXISTS energy (run_id TEXT NOT NULL, variant TEXT NOT NULL,
+  mode TEXT NOT NULL, mean_j REAL, sd_j REAL, p99_j REAL, max_j REAL,
+  PRIMARY KEY (run_id, variant, mode));
+CREATE TABLE IF NOT EXISTS offload (run_id TEXT NOT NULL, frame_id INTEGER NOT NULL,
+  kernel_seq INTEGER NOT NULL, kernel TEXT NOT NULL, size REAL, host_ms REAL, accel_ms REAL,
+  compute_ms REAL, transfer_ms REAL, fits_spm INTEGER, training INTEGER, offloaded INTEGER,
+  PRIMARY KEY (run_id, frame_id, kernel_seq));
+CREATE TABLE IF NOT EXISTS schedule (run_id TEXT NOT NULL, kernel TEXT NOT NULL,
+  invocations INTEGER, offloaded INTEGER, host_only_s REAL, always_s REAL, policy_s REAL,
+  oracle_s REAL, r_squared_train REAL, r_squared_eval REAL, gap_to_oracle REAL,
+  PRIMARY KEY (run_id, kernel));
+CREATE TABLE IF NOT EXISTS resources (run_id TEXT NOT NULL, entry TEXT NOT NULL,
+  grp TEXT NOT NULL, kind TEXT NOT NULL, lut REAL, ff REAL, dsp REAL, bram REAL, ns_lut REAL,
+  ns_ff REAL, ns_dsp REAL, ns_bram REAL);
+)sql";
+
+constexpr const char* kTables[] = {"frames",  "latency",  "throughput", "energy",
+                                   "offload", "schedule", "resources",  "runs"};
+
+/// Binds a double, NULL when it is not finite (a kernel that does not fit has no accel time).
+void bind_real(SQLite::Statement& s, int index, double v) {
+  if (std::isfinite(v)) {
+    s.bind(index, v);
+  } else {
+    s.bind(index);
+  }
+}
+
+void write_run(SQLite::Database& db, const SystemResult& r, const std::string& run_id) {
+  for (const char* table : kTables) {
+    SQLite::Statement del(db, fmt::format("DELETE FROM {} WHERE run_id = ?", table));
+    del.bind(1, run_id);
+    del.exec();
+  }
+  SQLite::Statement run(db, "INSERT INTO runs VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  run.bind(1, run_id);
+  run.bind(2, r.config_hash);
+  run.bind(3, r.trace_hash);
+  run.bind(4, r.platform);
+  run.bind(5, r.trace_path);
+  run.bind(6, static_cast<std::int64_t>(r.baseline.frames.size()));
+  run.bind(7, to_string(r.config.scheduler.policy));
+  run.bind(8, r.config.to_json().dump());
+  run.bind(9, r.to_json().dump());
+  run.exec();
+
+  SQLite::Statement frame(db, "INSERT INTO frames VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  SQLite::Statement latency(db, "INSERT INTO latency VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  SQLite::Statement throughput(db, "INSERT INTO throughput VALUES (?, ?, ?, ?)");
+  SQLite::Statement energy(db, "INSERT INTO energy VALUES (?, ?, ?, ?, ?, ?, ?)");
+  for (const VariantResult* v : {&r.baseline, &r.accelerated}) {
+    for (const FrameResult& f : v->frames) {
+      frame.bind(1, run_id);
+      frame.bind(2, v->variant);
+      frame.bind(3, static_cast<std::int64_t>(f.frame_id));
+      frame.bind(4, f.mode);
+      frame.bind(5, f.frontend_ms);
+      frame.bind(6, f.backend_ms);
+      frame.bind(7, f.e2e_ms);
+      frame.bind(8, f.host_busy_ms);
+      frame.bind(9, f.offloaded);
+      frame.bind(10, f.energy.total_j);
+      frame.exec();
+      frame.reset();
+    }
+    for (const auto& [mode, s] : v->modes) {
+      const std::pair<const char*, const Distribution*> stages[] = {
+          {"frontend", &s.frontend_ms}, {"backend", &s.backend_ms}, {"e2e", &s.e2e_ms}};
+      for (const auto& [stage, d] : stages) {
+        latency.bind(1, run_id);
+        latency.bind(2, v->variant);
+        latency.bind(3, mode);
+        latency.bind(4, stage);
+        latency.bind(5, static_cast<std::int64_t>(d->count));
+        latency.bind(6, d->mean);
+        latency.bind(7, d->sd);
+        latency.bind(8, d->rsd);
+        latency.bind(9, d->p50);
+        latency.bind(10, d->p90);
+        latency.bind(11, d->p99);
+        latency.bind(12, d->max);
+        latency.exec();
+        latency.reset();
+      }
+      energy.bind(1, run_id);
+      energy.bind(2, v->variant);
+      energy.bind(3, mode);
+      energy.bind(4, s.energy_j.mean);
+      energy.bind(5, s.energy_j.sd);
+      energy.bind(6, s.energy_j.p99);
+      energy.bind(7, s.energy_j.max);
+      energy.exec();
+      energy.reset();
+    }
+    throughput.bind(1, run_id);
+    throughput.bind(2, v->variant);
+    throughput.bind(3, v->fps_without_pipelining);
+    throughput.bind(4, v->fps_with_pipelining);
+    throughput.exec();
+    throughput.reset();
+  }
+
+  SQLite::Statement offload(db, "INSERT INTO offload VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  for (const KernelDecision& d : r.decisions) {
+    offload.bind(1, run_id);
+    offload.bind(2, static_cast<std::int64_t>(d.frame_id));
+    offload.bind(3, d.kernel_seq);
+    offload.bind(4, d.kernel);
+    offload.bind(5, d.size);
+    offload.bind(6, d.host_ms);
+    bind_real(offload, 7, d.accel_ms);
+    offload.bind(8, d.compute_ms);
+    offload.bind(9, d.transfer_ms);
+    offload.bind(10, d.fits_spm ? 1 : 0);
+    offload.bind(11, d.training ? 1 : 0);
+    offload.bind(12, d.offloaded ? 1 : 0);
+    offload.exec();
+    offload.reset();
+  }
+  SQLite::Statement schedule(db, "INSERT INTO schedule VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  for (const KernelScheduleSummary& s : r.schedule) {
+    schedule.bind(1, run_id);
+    schedule.bind(2, s.kernel);
+    schedule.bind(3, static_cast<std::int64_t>(s.invocations));
+    schedule.bind(4, static_cast<std::int64_t>(s.offloaded));
+    schedule.bind(5, s.host_only_s);
+    bind_real(schedule, 6, s.always_s);
+    schedule.bind(7, s.policy_s);
+    schedule.bind(8, s.oracle_s);
+    schedule.bind(9, s.r_squared_train);
+    schedule.bind(10, s.r_squared_eval);
+    schedule.bind(11, s.gap_to_oracle);
+    schedule.exec();
+    schedule.reset();
+  }
+  SQLite::Statement resource(db,
+                             "INSERT INTO resources VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  const auto put = [&](const std::string& entry, const std::string& group, const std::string& kind,
+                       const cost::Resources& shared, const cost::Resources& ns) {
+    resource.bind(1, run_id);
+    resource.bind(2, entry);
+    resource.bind(3, group);
+    resource.bind(4, kind);
+    for (int i = 0; i < 4; ++i) {
+      resource.bind(5 + i, shared[i]);
+      resource.bind(9 + i, ns[i]);
+    }
+    resource.exec();
+    resource.reset();
+  };
+  for (const cost::CostEntry& e : r.resources.entries) put(e.name, e.group, e.kind, e.shared, e.ns);
+  put("total", "all", "total", r.resources.total.shared, r.resources.total.ns);
+}
+
+}  // namespace
+
+void write_results(const std::filesystem::path& path, const SystemResult& result) {
+  const bool existed = std::filesystem::exists(path);
+  const std::string run_id = result.config_hash + "-" + result.trace_hash;
+  try {
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+    db.exec("PRAGMA busy_timeout = 5000");
+    SQLite::Transaction transaction(db);  // rolled back by its destructor on an exception
+    db.exec(kSchema);
+    write_run(db, result, run_id);
+    transaction.commit();
+  } catch (const std::exception& e) {
+    if (!existed) {
+      std::error_code ignored;
+      std::filesystem::remove(path, ignored);
+    }
+    throw std::runtime_error(
+        fmt::format("{}: cannot write the results: {}", path.string(), e.what()));
+  }
+}
+
+}  // namespace edx::arch

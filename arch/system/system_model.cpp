@@ -1,0 +1,404 @@
+#include "arch/system/system_model.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "arch/backend/kernel_replay.hpp"
+#include "arch/link/frame_transfers.hpp"
+#include "arch/memory/bram.hpp"
+#include "sim_core/time.hpp"
+
+namespace edx::arch {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// JSON has no infinity: a kernel that cannot be offloaded has no accelerator time (null).
+nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
+
+/// MAC lanes of a backend unit (the energy model counts busy cycles x lanes as MACs; the
+/// transpose unit moves words and does no arithmetic).
+double unit_lanes(BackendUnit unit, const BackendConfig& c) {
+  switch (unit) {
+    case BackendUnit::kMultiply:
+      return double(c.gemm_block) * c.gemm_block;
+    case BackendUnit::kDecompose:
+      return c.decomp_lanes();
+    case BackendUnit::kInverse:
+      return c.inverse_lanes;
+    case BackendUnit::kTranspose:
+      return 0;
+    case BackendUnit::kSubstitute:
+      return c.trsv_lanes;
+  }
+  return 0;
+}
+
+ModeSummary summarize(const std::vector<const FrameResult*>& frames) {
+  std::vector<double> fe, be, e2e, energy;
+  for (const FrameResult* f : frames) {
+    fe.push_back(f->frontend_ms);
+    be.push_back(f->backend_ms);
+    e2e.push_back(f->e2e_ms);
+    energy.push_back(f->energy.total_j);
+  }
+  ModeSummary s;
+  s.frames = frames.size();
+  s.frontend_ms = Distribution::of(fe);
+  s.backend_ms = Distribution::of(be);
+  s.e2e_ms = Distribution::of(e2e);
+  s.energy_j = Distribution::of(energy);
+  return s;
+}
+
+/// Per-mode and "all" summaries, and the two throughputs (see the header). `fe_end_ms`: when
+/// each frame's frontend results are in, frames back to back.
+void finish_variant(VariantResult& v, const std::vector<double>& fe_end_ms) {
+  std::map<std::string, std::vector<const FrameResult*>> by_mode;
+  double total_ms = 0;
+  for (const FrameResult& f : v.frames) {
+    by_mode[f.mode].push_back(&f);
+    by_mode["all"].push_back(&f);
+    total_ms += f.e2e_ms;
+  }
+  for (const auto& [mode, frames] : by_mode) v.modes[mode] = summarize(frames);
+  const std::size_t n = v.frames.size();
+  v.fps_without_pipelining = total_ms > 0 ? 1e3 * double(n) / total_ms : 0.0;
+  double b_end = 0, first_end = 0;
+  for (std::size_t f = 0; f < n; ++f) {
+    b_end = std::max(fe_end_ms[f], b_end) + v.frames[f].backend_ms;
+    if (f == 0) first_end = b_end;
+  }
+  if (n >= 2 && b_end > first_end) {
+    v.fps_with_pipelining = 1e3 * double(n - 1) / (b_end - first_end);
+  } else {
+    v.fps_with_pipelining = b_end > 0 ? 1e3 * double(n) / b_end : 0.0;
+  }
+}
+
+}  // namespace
+
+std::string fnv1a_hex(const std::string& text) {
+  std::uint64_t h = 14695981039346656037ull;  // FNV-1a 64 offset basis
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;  // FNV prime
+  }
+  return fmt::format("{:016x}", h);
+}
+
+nlohmann::json KernelDecision::to_json() const {
+  return {{"frame_id", frame_id},     {"kernel_seq", kernel_seq},
+          {"kernel", kernel},         {"size", size},
+          {"host_ms", host_ms},       {"accel_ms", finite_or_null(accel_ms)},
+          {"compute_ms", compute_ms}, {"transfer_ms", transfer_ms},
+          {"fits_spm", fits_spm},     {"training", training},
+          {"offloaded", offloaded}};
+}
+
+nlohmann::json ModeSummary::to_json() const {
+  return {{"frames", frames},
+          {"frontend_ms", frontend_ms.to_json()},
+          {"backend_ms", backend_ms.to_json()},
+          {"e2e_ms", e2e_ms.to_json()},
+          {"energy_j", energy_j.to_json()}};
+}
+
+nlohmann::json VariantResult::to_json() const {
+  nlohmann::json m = nlohmann::json::object();
+  for (const auto& [mode, s] : modes) m[mode] = s.to_json();
+  return {{"variant", variant},
+          {"modes", m},
+          {"fps_without_pipelining", fps_without_pipelining},
+          {"fps_with_pipelining", fps_with_pipelining}};
+}
+
+nlohmann::json SystemResult::comparison() const {
+  const auto ratio = [](double a, double b) { return b > 0 ? a / b : 0.0; };
+  const auto reduction = [](double base, double acc) { return base > 0 ? 1.0 - acc / base : 0.0; };
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [mode, base] : baseline.modes) {
+    const ModeSummary& acc = accelerated.modes.at(mode);
+    out[mode] = {
+        {"e2e_speedup", ratio(base.e2e_ms.mean, acc.e2e_ms.mean)},
+        {"frontend_speedup", ratio(base.frontend_ms.mean, acc.frontend_ms.mean)},
+        {"backend_speedup", ratio(base.backend_ms.mean, acc.backend_ms.mean)},
+        {"backend_latency_reduction", reduction(base.backend_ms.mean, acc.backend_ms.mean)},
+        {"e2e_sd_reduction", reduction(base.e2e_ms.sd, acc.e2e_ms.sd)},
+        {"backend_sd_reduction", reduction(base.backend_ms.sd, acc.backend_ms.sd)},
+        {"energy_reduction", reduction(base.energy_j.mean, acc.energy_j.mean)}};
+  }
+  return out;
+}
+
+nlohmann::json SystemResult::to_json() const {
+  nlohmann::json sched = nlohmann::json::array();
+  for (const KernelScheduleSummary& s : schedule) {
+    nlohmann::json j = s.to_json();
+    j["always_s"] = finite_or_null(s.always_s);
+    sched.push_back(j);
+  }
+  std::size_t offloaded = 0, accelerable = 0;
+  for (const KernelDecision& d : decisions) {
+    ++accelerable;
+    if (d.offloaded) ++offloaded;
+  }
+  nlohmann::json table3 = nlohmann::json::array();
+  for (const cost::PaperComparison& c : cost::compare_to_table_iii(resources)) {
+    table3.push_back(c.to_json());
+  }
+  return {
+      {"platform", platform},
+      {"config_hash", config_hash},
+      {"trace_hash", trace_hash},
+      {"trace", trace_path},
+      {"frames", baseline.frames.size()},
+      {"policy", to_string(config.scheduler.policy)},
+      {"baseline", baseline.to_json()},
+      {"accelerated", accelerated.to_json()},
+      {"comparison", comparison()},
+      {"offload",
+       {{"accelerable_invocations", accelerable}, {"offloaded", offloaded}, {"kernels", sched}}},
+      {"resources",
+       {{"device", resources.device.name},
+        {"total", resources.total.shared.to_json()},
+        {"ns_total", resources.total.ns.to_json()},
+        {"utilization", resources.utilization.to_json()},
+        {"bram_mib", resources.bram_mib},
+        {"ns_bram_mib", resources.ns_bram_mib},
+        {"frontend_share", resources.frontend_share.to_json()},
+        {"fits", resources.fits},
+        {"edx_car_table_iii", table3}}}};
+}
+
+cost::FrameActivity frontend_activity(const trace::FrameTrace& frame, const FrontendConfig& fe,
+                                      const cost::CostConfig& cost) {
+  cost::FrameActivity a;
+  double macs = 0;
+  for (const trace::TaskRecord& t : frame.tasks) {
+    const double px = double(t.pixels);
+    switch (t.task) {
+      case trace::Task::FD:
+        // c±t (2), 32 brighter/darker compares, 16 |p − c| and their 15-adder score tree per
+        // pixel; 8 NMS compares per candidate. Line buffer: each pixel written and read once.
+        a.int8_ops += 65 * px + 8 * double(t.candidates);
+        a.bram_bytes += 2 * px * fe.bytes_per_pixel;
+        break;
+      case trace::Task::IF: {  // k² taps a pixel (k: the trace's window_size, else if_stencil);
+                               // FD's line buffer
+        const double k = t.window_size > 0 ? double(t.window_size) : double(fe.if_stencil);
+        macs += px * k * k;
+      } break;
+      case trace::Task::FC:
+        // Moments (2 patch² products) and 256 tests a descriptor, the patch read from the SB.
+        a.int8_ops += double(t.descriptors) * (2.0 * fe.fc_patch * fe.fc_patch + 256);
+        a.bram_bytes += double(t.descriptors) * fe.fc_patch * fe.fc_patch;
+        break;
+      case trace::Task::MO:
+        // 256-bit XOR and popcount (255 adds) a comparison; two 32 B descriptors read.
+        a.int8_ops += 511 * double(t.comparisons);
+        a.bram_bytes += 64 * double(t.comparisons);
+        break;
+      case trace::Task::DR: {
+        // |L − R| and an add per window pixel and offset; both windows read from the SBs.
+        const double w2 = double(t.window_size) * double(t.window_size);
+        a.int8_ops += 2 * double(t.windows) * double(t.search_range) * w2;
+        a.bram_bytes += 2 * double(t.windows) * double(t.search_range) * w2;
+        break;
+      }
+      case trace::Task::DC:
+        // Scharr x and y (2 · 2k taps) and pyrDown (2g taps) as shift-adds; line buffer.
+        a.int8_ops += px * (4.0 * fe.dc_stencil + 2.0 * fe.pyramid_filter);
+        a.bram_bytes += 2 * px * fe.bytes_per_pixel;
+        break;
+      case trace::Task::LSS: {
+        // As its task timing: window² · (9 · iterations + 3 · points) MACs; I, Ix, Iy read
+        // from the SPM per window pixel and update.
+        const double w2 = double(t.window_size) * double(t.window_size);
+        const double work = w2 * (9.0 * double(t.iterations) + 3.0 * double(t.points));
+        macs += work;
+        a.bram_bytes += 3 * w2 * double(t.iterations + t.points);
+        break;
+      }
+    }
+  }
+  if (cost.frontend_arith() == cost::Arithmetic::kSingle) {
+    a.single_macs += macs;
+  } else {
+    a.fixed_macs += macs;
+  }
+  return a;
+}
+
+SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
+                             const trace::TraceMeta& trace_meta, const std::string& trace_path,
+                             const FrontendSimOptions& timeline) {
+  const auto resolution = trace_meta.find("resolution");
+  if (resolution == trace_meta.end()) {
+    throw std::runtime_error(fmt::format("{}: trace meta has no resolution", trace_path));
+  }
+  SystemResult r;
+  r.platform = platform.name;
+  r.config = platform;
+  r.trace_path = trace_path;
+  r.config_hash = fnv1a_hex(platform.to_json().dump());
+  std::string fingerprint = fmt::format("frames={}\n", frames.size());
+  for (const auto& [key, value] : trace_meta) fingerprint += key + "=" + value + "\n";
+  r.trace_hash = fnv1a_hex(fingerprint);
+  r.frontend = study_frontend(platform, frames, resolution->second, timeline);
+
+  // Every accelerable kernel: host time, accelerator time (units + link), SPM check.
+  const double sb = platform.host.backend_time_scale;
+  std::vector<KernelInvocation> invocations;
+  std::vector<KernelAccelResult> accel;
+  std::vector<KernelTransfer> transfers;
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const trace::FrameTrace& frame = frames[f];
+    for (std::size_t k = 0; k < frame.kernels.size(); ++k) {
+      const trace::KernelRecord& kernel = frame.kernels[k];
+      if (!kernel.accelerable) continue;
+      KernelAccelResult a = accelerate_kernel(kernel, platform.backend);
+      KernelTransfer t = kernel_transfer(kernel, platform.transfers);
+      const double link_s = sim::to_seconds(kernel_transfer_time(platform.link, t));
+      KernelDecision d;
+      d.frame_id = frame.frame.frame_id;
+      d.kernel_seq = static_cast<int>(k);
+      d.kernel = kernel.kernel;
+      d.size = double(kernel.m);
+      d.host_ms = 1e-6 * double(kernel.host_ns) * sb;
+      d.compute_ms = 1e3 * a.seconds;
+      d.transfer_ms = 1e3 * link_s;
+      d.fits_spm = a.fits_spm;
+      d.accel_ms = a.fits_spm ? d.compute_ms + d.transfer_ms : kInf;
+      KernelInvocation inv;
+      inv.frame_index = f;
+      inv.kernel = kernel.kernel;
+      inv.size = d.size;
+      inv.host_s = 1e-3 * d.host_ms;
+      // The scheduler's estimate is the same analytical profile + idle-link time.
+      inv.accel_s = inv.accel_estimate_s = 1e-3 * d.accel_ms;
+      invocations.push_back(inv);
+      r.decisions.push_back(d);
+      accel.push_back(std::move(a));
+      transfers.push_back(std::move(t));
+    }
+  }
+  OffloadScheduler scheduler(platform.scheduler.policy, platform.scheduler.training_fraction,
+                             frames.size());
+  r.schedule = evaluate_schedule(scheduler, invocations);  // trains the models
+  for (std::size_t i = 0; i < invocations.size(); ++i) {
+    r.decisions[i].training = scheduler.in_training(invocations[i]);
+    r.decisions[i].offloaded = r.decisions[i].fits_spm && scheduler.offload(invocations[i]);
+  }
+
+  // Per frame, both variants.
+  r.baseline.variant = "baseline";
+  r.accelerated.variant = "accelerated";
+  const std::int64_t extra_dram = r.frontend.memory.extra_dram_bytes_per_frame;
+  std::size_t next = 0;  // index into decisions (frame order)
+  std::vector<double> cpu_fe_end;
+  double cpu_fe_clock = 0;
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const trace::FrameTrace& frame = frames[f];
+    FrameResult base;
+    base.frame_id = frame.frame.frame_id;
+    base.mode = trace::to_string(frame.frame.mode);
+    base.frontend_ms = r.frontend.frame_cpu_ms[f];
+    base.backend_ms = 1e-6 * double(frame.frame.backend_host_ns) * sb;
+    base.e2e_ms = base.frontend_ms + base.backend_ms;
+    base.host_busy_ms = base.e2e_ms;
+    base.activity.fpga_present = false;
+    base.activity.frame_s = std::max(1e-3 * base.e2e_ms, 1e-12);
+    base.activity.host_busy_s = base.activity.frame_s;
+    base.energy = cost::frame_energy(base.activity, platform.power);
+    cpu_fe_clock += base.frontend_ms;
+    cpu_fe_end.push_back(cpu_fe_clock);
+
+    FrameResult acc = base;
+    acc.frontend_ms = r.frontend.frame_accel_ms[f];
+    acc.activity = frontend_activity(frame, platform.frontend, platform.cost);
+    acc.activity.fpga_present = true;
+    acc.activity.dram_bytes = double(extra_dram);
+    acc.activity.link_bytes = double(r.frontend.frame_results_bytes[f]);
+    double backend_ms = base.backend_ms, host_ms = base.backend_ms;
+    for (; next < r.decisions.size() && r.decisions[next].frame_id == frame.frame.frame_id;
+         ++next) {
+      const KernelDecision& d = r.decisions[next];
+      if (!d.offloaded) continue;
+      ++acc.offloaded;
+      backend_ms += d.accel_ms - d.host_ms;
+      host_ms -= d.host_ms;
+      for (BackendUnit u : kBackendUnits) {
+        acc.activity.double_macs +=
+            double(accel[next].busy_cycles(u)) * unit_lanes(u, platform.backend);
+      }
+      for (const OpTiming& op : accel[next].ops) acc.activity.bram_bytes += double(op.spm_bytes);
+      acc.activity.link_bytes += double(transfers[next].input_bytes + transfers[next].output_bytes);
+    }
+    acc.backend_ms = std::max(0.0, backend_ms);
+    acc.e2e_ms = acc.frontend_ms + acc.backend_ms;
+    acc.host_busy_ms = std::clamp(host_ms, 0.0, acc.e2e_ms);
+    acc.activity.frame_s = std::max(1e-3 * acc.e2e_ms, 1e-12);
+    acc.activity.host_busy_s = std::min(1e-3 * acc.host_busy_ms, acc.activity.frame_s);
+    acc.energy = cost::frame_energy(acc.activity, platform.power);
+    r.baseline.frames.push_back(std::move(base));
+    r.accelerated.frames.push_back(std::move(acc));
+  }
+  finish_variant(r.baseline, cpu_fe_end);
+  finish_variant(r.accelerated, r.frontend.frame_pipelined_end_ms);
+
+  std::vector<MemoryStructure> memories;
+  for (const StructureUsage& s : r.frontend.memory.bram.structures) memories.push_back(s.structure);
+  r.resources = cost::build_resource_report(platform.frontend, platform.backend, platform.cost,
+                                            memories, Device::by_name(platform.device));
+  return r;
+}
+
+std::string format_system_result(const SystemResult& r) {
+  std::string text = fmt::format("system     {} on {} frames, offload policy {}\n", r.platform,
+                                 r.baseline.frames.size(), to_string(r.config.scheduler.policy));
+  text += fmt::format("{:<12} {:<6} {:>7} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}\n", "variant", "mode",
+                      "frames", "FE ms", "BE ms", "e2e ms", "e2e sd", "e2e p99", "energy J");
+  for (const VariantResult* v : {&r.baseline, &r.accelerated}) {
+    for (const auto& [mode, s] : v->modes) {
+      text +=
+          fmt::format("{:<12} {:<6} {:>7} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.3f}\n",
+                      v->variant, mode, s.frames, s.frontend_ms.mean, s.backend_ms.mean,
+                      s.e2e_ms.mean, s.e2e_ms.sd, s.e2e_ms.p99, s.energy_j.mean);
+    }
+    text += fmt::format("{:<12} FPS {:.1f} without FE/BE pipelining, {:.1f} with it\n", v->variant,
+                        v->fps_without_pipelining, v->fps_with_pipelining);
+  }
+  const nlohmann::json cmp = r.comparison();
+  for (const auto& [mode, c] : cmp.items()) {
+    text += fmt::format(
+        "speedup    {:<6} e2e {:.2f}x, backend {:.2f}x, e2e SD -{:.1f}%, energy -{:.1f}%\n", mode,
+        c["e2e_speedup"].get<double>(), c["backend_speedup"].get<double>(),
+        100 * c["e2e_sd_reduction"].get<double>(), 100 * c["energy_reduction"].get<double>());
+  }
+  for (const KernelScheduleSummary& s : r.schedule) {
+    const std::string model =
+        r.config.scheduler.policy != OffloadPolicy::kRegression ? std::string("no model (policy)")
+        : s.has_model
+            ? fmt::format("R² train {:.3f} eval {:.3f}", s.r_squared_train, s.r_squared_eval)
+            : fmt::format("no model: {} training samples (kept on the host)", s.training_samples);
+    text += fmt::format(
+        "offload    {:<16} {} of {} evaluated invocations offloaded; {}; gap to oracle {:+.2f}%\n",
+        s.kernel, s.offloaded, s.invocations, model, 100 * s.gap_to_oracle);
+  }
+  const cost::Resources& t = r.resources.total.shared;
+  text += fmt::format(
+      "resources  {}: LUT {:.0f} ({:.1f}%), FF {:.0f} ({:.1f}%), DSP {:.0f} ({:.1f}%), BRAM "
+      "{:.2f} MiB ({:.1f}%){}\n",
+      r.resources.device.name, t.lut, 100 * r.resources.utilization.lut, t.ff,
+      100 * r.resources.utilization.ff, t.dsp, 100 * r.resources.utilization.dsp,
+      r.resources.bram_mib, 100 * r.resources.utilization.bram,
+      r.resources.fits ? "" : " DOES NOT FIT");
+  return text;
+}
+
+}  // namespace edx::arch

@@ -1,0 +1,114 @@
+#pragma once
+// The whole-system model of `edx simulate` (paper Sec. VII-C..E; docs/MODEL.md, "System"): per
+// frame, the frontend (CPU: the trace's host time scaled; accelerated: the frontend DES), the
+// backend (CPU: the trace's backend host time scaled; accelerated: the same with every kernel
+// the scheduler offloads replaced by its accelerator time plus its transfers), end-to-end
+// latency = frontend + backend, throughput with and without FE/BE pipelining, energy per frame,
+// and the FPGA resources of the platform. Two variants of one platform: "baseline" (CPU only:
+// no FPGA, every kernel on the host) and "accelerated". Statistics per mode of the trace's
+// frames (registration, vio, slam, none) and over all frames.
+//
+// Backend of a frame f (seconds; s_b = host.backend_time_scale, O_f the offloaded kernels):
+//   be_cpu(f) = s_b · backend_host_ns(f)
+//   be_acc(f) = be_cpu(f) − Σ_{k∈O_f} s_b · host_ns(k) + Σ_{k∈O_f} (t_accel(k) + t_link(k))
+// t_accel: Σ op cycles of the kernel on the backend units / clock (accelerate_kernel);
+// t_link: its inputs and results over an idle link (kernel_transfer_time). A kernel whose
+// operands do not fit the backend SPM is never offloaded.
+//
+// Throughput (frames back to back): without FE/BE pipelining N / Σ_f e2e(f); with it, the
+// backend of frame f starts when its frontend results are in and the backend of f−1 is done:
+//   b_start(f) = max(fe_end(f), b_end(f−1)),  b_end(f) = b_start(f) + be(f),
+//   FPS = (N − 1) / (b_end(N−1) − b_end(0))
+// fe_end: accelerated, the frontend DES run with the platform's FE/SM pipelining, frames back
+// to back; CPU, Σ_{g≤f} fe_cpu(g) (one frontend thread, a backend thread beside it).
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "arch/cost/energy.hpp"
+#include "arch/cost/resource_report.hpp"
+#include "arch/scheduler/scheduler.hpp"
+#include "arch/system/frontend_study.hpp"
+#include "arch/system/platform.hpp"
+#include "workloads/trace/records.hpp"
+
+namespace edx::arch {
+
+/// One invocation of an accelerable kernel and what the scheduler did with it.
+struct KernelDecision {
+  std::int64_t frame_id = 0;
+  int kernel_seq = 0;  ///< position among the frame's kernels
+  std::string kernel;
+  double size = 0;         ///< the kernel's m (the scheduler's feature)
+  double host_ms = 0;      ///< on the target CPU
+  double accel_ms = 0;     ///< units + transfers (infinite when it does not fit the SPM)
+  double compute_ms = 0;   ///< units only
+  double transfer_ms = 0;  ///< inputs + results on an idle link
+  bool fits_spm = true;
+  bool training = false;  ///< profiled on the host to fit the models
+  bool offloaded = false;
+  nlohmann::json to_json() const;
+};
+
+/// One frame of one variant.
+struct FrameResult {
+  std::int64_t frame_id = 0;
+  std::string mode;  ///< the trace's backend_mode
+  double frontend_ms = 0, backend_ms = 0, e2e_ms = 0;
+  double host_busy_ms = 0;  ///< host computing within the frame
+  int offloaded = 0;        ///< kernels offloaded
+  cost::FrameActivity activity;
+  cost::FrameEnergy energy;
+};
+
+/// Statistics of a set of frames of one variant.
+struct ModeSummary {
+  std::size_t frames = 0;
+  Distribution frontend_ms, backend_ms, e2e_ms, energy_j;
+  nlohmann::json to_json() const;
+};
+
+struct VariantResult {
+  std::string variant;  ///< "baseline" or "accelerated"
+  std::vector<FrameResult> frames;
+  std::map<std::string, ModeSummary> modes;  ///< per mode and "all"
+  double fps_without_pipelining = 0, fps_with_pipelining = 0;
+  nlohmann::json to_json() const;  ///< summaries only (frames go to the results database)
+};
+
+struct SystemResult {
+  std::string platform;
+  std::string config_hash;  ///< hex FNV-1a 64 of the platform's JSON
+  std::string trace_hash;   ///< hex FNV-1a 64 of the trace's meta and frame count
+  std::string trace_path;
+  Platform config;
+  FrontendStudy frontend;
+  VariantResult baseline, accelerated;
+  std::vector<KernelDecision> decisions;
+  std::vector<KernelScheduleSummary> schedule;  ///< per kernel, over the evaluation frames
+  cost::ResourceReport resources;
+  /// baseline / accelerated mean per mode ("all" included): e2e, backend, frontend speedups, SD
+  /// and energy reductions.
+  nlohmann::json comparison() const;
+  nlohmann::json to_json() const;  ///< the summary `edx simulate --json` prints
+};
+
+/// FNV-1a 64-bit hash of `text`, as 16 hex digits.
+std::string fnv1a_hex(const std::string& text);
+
+/// The frontend's work of one frame as the energy model counts it (docs/MODEL.md, "Energy"):
+/// pixel operations, MACs of IF and LSS, on-chip memory bytes.
+cost::FrameActivity frontend_activity(const trace::FrameTrace& frame, const FrontendConfig& fe,
+                                      const cost::CostConfig& cost);
+
+/// Runs the whole system. `resolution`: the trace's meta.resolution; `trace_meta` keys the run;
+/// `timeline`: the frontend timeline options of `edx simulate --timeline`.
+SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
+                             const trace::TraceMeta& trace_meta, const std::string& trace_path,
+                             const FrontendSimOptions& timeline = {});
+
+std::string format_system_result(const SystemResult& result);
+
+}  // namespace edx::arch

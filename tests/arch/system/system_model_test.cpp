@@ -1,0 +1,266 @@
+// The whole-system model on hand-built traces whose backend times, offload decisions, FPS and
+// energies are computed by hand; the results database's contents and its replace-on-rerun rule.
+#include "arch/system/system_model.hpp"
+
+#include <SQLiteCpp/SQLiteCpp.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "arch/system/results_db.hpp"
+#include "tests/support/temp_dir.hpp"
+
+namespace edx::arch {
+namespace {
+
+using trace::BackendMode;
+
+/// Backend 100 MHz, 2x2 array, 64 MiB SPM; link 1 GB/s with 100 ns setup and latency and one
+/// chunk (a B-byte transfer takes B + 200 ns); frontend and backend host scales 1 and 2; power
+/// with round numbers.
+Platform test_platform(const std::string& policy) {
+  return Platform::parse(
+      "name: test\n"
+      "host: {frontend_time_scale: 1.0, backend_time_scale: 2.0}\n"
+      "backend: {clock_mhz: 100, gemm_block: 2, spm_bytes: 67108864}\n"
+      "link:\n  bandwidth_gb_per_s: 1.0\n  latency_ns: 100\n"
+      "  dma: {setup_ns: 100, chunk_bytes: 4194304, max_outstanding: 1}\n"
+      "power: {fpga_static_w: 1.0, host_active_w: 10.0, host_idle_w: 1.0, int8_op_pj: 1.0,\n"
+      "        single_mac_pj: 1.0, double_mac_pj: 10.0, fpga_energy_factor: 1.0,\n        "
+      "bram_pj_per_byte: 1.0,\n"
+      "        dram_pj_per_byte: 0.0, link_pj_per_byte: 1.0}\n"
+      "scheduler: {policy: " +
+          policy + ", training_fraction: 0.25}\n",
+      "test.yaml");
+}
+
+trace::FrameTrace frame(std::int64_t id, BackendMode mode, std::int64_t backend_ns) {
+  trace::FrameTrace f;
+  f.frame.frame_id = id;
+  f.frame.timestamp_ns = 1000 + id;
+  f.frame.sequence = "test";
+  f.frame.mode = mode;
+  f.frame.frontend_host_ns = 3'000'000;  // 3 ms
+  f.frame.backend_host_ns = backend_ns;
+  // The ten task rows of a frame (docs/TRACE.md), with work only in FD, IF (1000 pixels an
+  // image, 10 FAST candidates) and DC (1000 pixels); no features.
+  using trace::Image;
+  using trace::Task;
+  const auto task = [](Task t, Image i, std::int64_t pixels, std::int64_t window) {
+    trace::TaskRecord r;
+    r.task = t;
+    r.image = i;
+    r.pixels = pixels;
+    r.levels = pixels > 0 ? 1 : 0;
+    r.window_size = window;
+    if (pixels > 0) r.per_level = {trace::LevelWork{0, 40, 25, pixels, 0, 0}};
+    return r;
+  };
+  f.tasks = {task(Task::FD, Image::Left, 1000, 0),  task(Task::IF, Image::Left, 1000, 7),
+             task(Task::FD, Image::Right, 1000, 0), task(Task::IF, Image::Right, 1000, 7),
+             task(Task::DC, Image::Left, 1000, 3),  task(Task::LSS, Image::Left, 0, 21),
+             task(Task::FC, Image::Left, 0, 31),    task(Task::FC, Image::Right, 0, 31),
+             task(Task::MO, Image::Stereo, 0, 0),   task(Task::DR, Image::Stereo, 0, 11)};
+  f.tasks[0].candidates = f.tasks[2].candidates = 10;
+  f.tasks[9].search_range = 11;
+  return f;
+}
+
+trace::KernelRecord projection(std::int64_t points, std::int64_t host_ns) {
+  trace::KernelRecord k;
+  k.kernel = "projection";
+  k.accelerable = true;
+  k.host_ns = host_ns;
+  k.m = points;
+  k.ops = {trace::OpRecord{trace::Op::Gemm, 3, points, 4, 0, 0}};
+  return k;
+}
+
+trace::KernelRecord host_only(std::int64_t host_ns) {
+  trace::KernelRecord k;
+  k.kernel = "tracking";
+  k.host_ns = host_ns;
+  return k;
+}
+
+/// Frame 0 (registration): backend 10 ms of which projection of 100 points 6 ms and tracking
+/// 4 ms. Frame 1 (registration): backend 20 ms, projection of 100 000 points in 1 µs (faster on
+/// the host). Frame 2 (slam): backend 5 ms, no accelerable kernel.
+std::vector<trace::FrameTrace> three_frames() {
+  std::vector<trace::FrameTrace> frames = {frame(0, BackendMode::Registration, 10'000'000),
+                                           frame(1, BackendMode::Registration, 20'000'000),
+                                           frame(2, BackendMode::Slam, 5'000'000)};
+  frames[0].kernels = {projection(100, 6'000'000), host_only(4'000'000)};
+  frames[1].kernels = {projection(100'000, 1'000)};
+  return frames;
+}
+
+const trace::TraceMeta kMeta = {{"resolution", "40x25"}, {"dataset", "hand"}};
+
+// Projection of M points: gemm 3 x M x 4 on the 2x2 array: ⌈3/2⌉·⌈M/2⌉ tiles x (4 + 2·2)
+// cycles at 100 MHz. Inputs (12 + 4M)·8 B, results 2M·8 B, each B + 200 ns on the link.
+constexpr double kCompute0Ms = 2 * 50 * 8 / 100e6 * 1e3;                         // 0.008 ms
+constexpr double kTransfer0Ms = ((3296 + 200) + (1600 + 200)) * 1e-6;            // 0.005296 ms
+constexpr double kCompute1Ms = 2 * 50'000 * 8 / 100e6 * 1e3;                     // 8 ms
+constexpr double kTransfer1Ms = ((3'200'096 + 200) + (1'600'000 + 200)) * 1e-6;  // 4.800496 ms
+
+TEST(SystemModel, OracleOffloadsOnlyWhereTheAcceleratorIsFaster) {
+  const SystemResult r = simulate_system(test_platform("oracle"), three_frames(), kMeta, "t.db");
+  ASSERT_EQ(r.decisions.size(), 2u);
+  EXPECT_NEAR(r.decisions[0].compute_ms, kCompute0Ms, 1e-12);
+  EXPECT_NEAR(r.decisions[0].transfer_ms, kTransfer0Ms, 1e-9);
+  EXPECT_NEAR(r.decisions[0].host_ms, 12.0, 1e-12);  // 6 ms x 2
+  EXPECT_TRUE(r.decisions[0].offloaded);
+  EXPECT_NEAR(r.decisions[1].accel_ms, kCompute1Ms + kTransfer1Ms, 1e-9);
+  EXPECT_NEAR(r.decisions[1].host_ms, 0.002, 1e-12);
+  EXPECT_FALSE(r.decisions[1].offloaded);
+
+  // Baseline: FE 3 ms, BE = 2 x backend host time.
+  const auto& b = r.baseline.frames;
+  EXPECT_NEAR(b[0].e2e_ms, 23.0, 1e-9);
+  EXPECT_NEAR(b[1].e2e_ms, 43.0, 1e-9);
+  EXPECT_NEAR(b[2].e2e_ms, 13.0, 1e-9);
+  // 3 frames in 79 ms; pipelined: b_end = 23, max(6, 23) + 40 = 63, max(9, 63) + 10 = 73.
+  EXPECT_NEAR(r.baseline.fps_without_pipelining, 3e3 / 79.0, 1e-9);
+  EXPECT_NEAR(r.baseline.fps_with_pipelining, 2e3 / (73.0 - 23.0), 1e-9);
+  // Energy: no FPGA, host active all frame: 10 W x e2e.
+  EXPECT_NEAR(b[0].energy.total_j, 0.23, 1e-12);
+  EXPECT_NEAR(r.baseline.modes.at("registration").energy_j.mean, (0.23 + 0.43) / 2, 1e-12);
+
+  // Accelerated: frame 0's projection replaced by its accelerator time.
+  const auto& a = r.accelerated.frames;
+  const double be0 = 20.0 - 12.0 + kCompute0Ms + kTransfer0Ms;
+  EXPECT_NEAR(a[0].backend_ms, be0, 1e-9);
+  EXPECT_NEAR(a[1].backend_ms, 40.0, 1e-9);
+  EXPECT_NEAR(a[2].backend_ms, 10.0, 1e-9);
+  for (int f = 0; f < 3; ++f) {
+    EXPECT_GT(a[f].frontend_ms, 0);
+    EXPECT_DOUBLE_EQ(a[f].frontend_ms, r.frontend.frame_accel_ms[f]);
+    EXPECT_NEAR(a[f].e2e_ms, a[f].frontend_ms + a[f].backend_ms, 1e-12);
+  }
+  EXPECT_EQ(a[0].offloaded, 1);
+  EXPECT_EQ(a[1].offloaded, 0);
+  // Frame 0's energy: static 1 W x t, host 10 W x 8 ms + 1 W x (t − 8 ms), and in pJ:
+  //   backend: 800 busy multiply cycles x 4 MACs x 10 pJ = 32 000; BRAM 5696 B (the gemm's
+  //            operands (12 + 400 + 300) x 8); link 3296 + 1600 B;
+  //   frontend: FD 2 x (65 x 1000 + 8 x 10) int8 ops, DC 1000 x (4 x 3 + 2 x 5) int8 ops,
+  //            IF 2 x 1000 x 7² single MACs at 1 pJ; BRAM FD 2 x 2 x 1000 + DC 2 x 1000 B;
+  //            link: transfer 1 = no features + 10 IMU samples x 56 B = 560 B.
+  const double t = 1e-3 * a[0].e2e_ms;
+  const double pj = 32000 + (5696 + 4896) + (130160 + 22000) + 98000 + 6000 + 560;
+  const double expected = 1.0 * t + 10.0 * 0.008 + 1.0 * (t - 0.008) + 1e-12 * pj;
+  EXPECT_EQ(r.frontend.frame_results_bytes[0], 560);
+  EXPECT_NEAR(a[0].energy.total_j, expected, 1e-12);
+  // Without pipelining: 3 frames over Σ e2e.
+  EXPECT_NEAR(r.accelerated.fps_without_pipelining, 3e3 / (a[0].e2e_ms + a[1].e2e_ms + a[2].e2e_ms),
+              1e-9);
+  // Per mode.
+  EXPECT_EQ(r.accelerated.modes.at("registration").frames, 2u);
+  EXPECT_EQ(r.accelerated.modes.at("slam").frames, 1u);
+  EXPECT_EQ(r.accelerated.modes.at("all").frames, 3u);
+  EXPECT_NEAR(r.comparison()["slam"]["backend_speedup"].get<double>(), 1.0, 1e-12);
+}
+
+TEST(SystemModel, NeverAndAlwaysPolicies) {
+  const SystemResult never = simulate_system(test_platform("never"), three_frames(), kMeta, "t");
+  EXPECT_NEAR(never.accelerated.frames[0].backend_ms, 20.0, 1e-9);
+  EXPECT_EQ(never.accelerated.frames[0].offloaded, 0);
+  const SystemResult always = simulate_system(test_platform("always"), three_frames(), kMeta, "t");
+  EXPECT_NEAR(always.accelerated.frames[1].backend_ms, 40.0 - 0.002 + kCompute1Ms + kTransfer1Ms,
+              1e-9);
+  EXPECT_TRUE(always.decisions[1].offloaded);
+}
+
+TEST(SystemModel, KernelThatDoesNotFitTheSpmStaysOnTheHost) {
+  Platform p = test_platform("always");
+  p.backend.spm_bytes = 4096;  // frame 0's gemm needs 5696 B
+  const SystemResult r = simulate_system(p, three_frames(), kMeta, "t");
+  EXPECT_FALSE(r.decisions[0].fits_spm);
+  EXPECT_FALSE(r.decisions[0].offloaded);
+  EXPECT_TRUE(std::isinf(r.decisions[0].accel_ms));
+  EXPECT_NEAR(r.accelerated.frames[0].backend_ms, 20.0, 1e-9);
+  EXPECT_TRUE(r.to_json()["offload"]["kernels"][0]["always_s"].is_null());
+}
+
+TEST(SystemModel, RegressionFitsOnTheFirstQuarterAndMatchesTheOracle) {
+  // 8 frames; projection host time 50 µs + 0.1 µs per point (exactly linear), sizes alternate
+  // between 10 and 100 000 points: the 2 training frames fit the line exactly.
+  std::vector<trace::FrameTrace> frames;
+  for (int i = 0; i < 8; ++i) {
+    frames.push_back(frame(i, BackendMode::Registration, 50'000'000));
+    const std::int64_t points = i % 2 == 0 ? 10 : 100'000;
+    frames.back().kernels = {projection(points, 50'000 + points * 100)};
+  }
+  const SystemResult r = simulate_system(test_platform("regression"), frames, kMeta, "t");
+  ASSERT_EQ(r.schedule.size(), 1u);
+  EXPECT_EQ(r.schedule[0].invocations, 6u);  // 8 − ⌈0.25 x 8⌉
+  EXPECT_EQ(r.schedule[0].training_samples, 2u);
+  EXPECT_TRUE(r.schedule[0].has_model);
+  EXPECT_NEAR(r.schedule[0].r_squared_train, 1.0, 1e-9);
+  EXPECT_NEAR(r.schedule[0].r_squared_eval, 1.0, 1e-9);
+  EXPECT_NEAR(r.schedule[0].gap_to_oracle, 0.0, 1e-12);
+  for (const KernelDecision& d : r.decisions) {
+    EXPECT_EQ(d.training, d.frame_id < 2);
+    // Host 2 x (50 µs + 0.1 µs x 10) = 0.102 ms against 0.0018 ms: offloaded; 100 000 points:
+    // host 20.1 ms against 12.8 ms: offloaded too. Training frames stay on the host.
+    EXPECT_EQ(d.offloaded, !d.training) << d.frame_id;
+  }
+}
+
+TEST(ResultsDatabase, HoldsEveryTableAndReplacesARerun) {
+  testing::TempDir dir;
+  const auto path = dir.path() / "results.db";
+  const SystemResult r = simulate_system(test_platform("oracle"), three_frames(), kMeta, "t.db");
+  write_results(path, r);
+  write_results(path, r);  // same config and trace: replaced, not duplicated
+  Platform other = test_platform("never");
+  write_results(path, simulate_system(other, three_frames(), kMeta, "t.db"));
+
+  SQLite::Database db(path.string());
+  EXPECT_EQ(db.execAndGet("SELECT COUNT(*) FROM runs").getInt(), 2);
+  const std::string run = r.config_hash + "-" + r.trace_hash;
+  const auto count = [&](const std::string& sql) {
+    SQLite::Statement s(db, sql);
+    s.bind(1, run);
+    s.executeStep();
+    return s.getColumn(0).getDouble();
+  };
+  EXPECT_EQ(count("SELECT COUNT(*) FROM frames WHERE run_id = ?"), 6);  // 3 frames x 2 variants
+  EXPECT_NEAR(count("SELECT e2e_ms FROM frames WHERE run_id = ? AND variant = 'baseline' AND "
+                    "frame_id = 1"),
+              43.0, 1e-9);
+  EXPECT_EQ(count("SELECT offloaded FROM offload WHERE run_id = ? AND frame_id = 0"), 1);
+  EXPECT_EQ(count("SELECT COUNT(*) FROM offload WHERE run_id = ?"), 2);
+  // 3 modes (registration, slam, all) x 3 stages x 2 variants.
+  EXPECT_EQ(count("SELECT COUNT(*) FROM latency WHERE run_id = ?"), 18);
+  EXPECT_NEAR(count("SELECT mean FROM latency WHERE run_id = ? AND variant = 'baseline' AND "
+                    "mode = 'registration' AND stage = 'e2e'"),
+              33.0, 1e-9);
+  EXPECT_NEAR(count("SELECT fps_with_pipelining FROM throughput WHERE run_id = ? AND "
+                    "variant = 'baseline'"),
+              40.0, 1e-9);
+  EXPECT_NEAR(count("SELECT mean_j FROM energy WHERE run_id = ? AND variant = 'baseline' AND "
+                    "mode = 'slam'"),
+              0.13, 1e-12);
+  EXPECT_GT(count("SELECT dsp FROM resources WHERE run_id = ? AND entry = 'total'"), 0);
+  EXPECT_EQ(count("SELECT COUNT(*) FROM schedule WHERE run_id = ?"), 1);
+}
+
+TEST(ResultsDatabase, FailedWriteLeavesNothing) {
+  testing::TempDir dir;
+  const auto path = dir.path() / "bad.db";
+  {  // An older file whose frames table has other columns: the insert fails.
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+    db.exec("CREATE TABLE frames (run_id TEXT, x INTEGER)");
+  }
+  const SystemResult r = simulate_system(test_platform("oracle"), three_frames(), kMeta, "t.db");
+  EXPECT_THROW(write_results(path, r), std::runtime_error);
+  SQLite::Database db(path.string());
+  EXPECT_FALSE(db.tableExists("runs"));  // the whole transaction was rolled back
+}
+
+}  // namespace
+}  // namespace edx::arch
