@@ -28,6 +28,7 @@ struct GenArgs {
   double gps_dropout_duration = 3.0;
   bool imu_noise_free = false;
   bool no_image_noise = false;
+  std::string loc_route = "retraverse";
 };
 
 void run_gen(const GenArgs& a) {
@@ -45,6 +46,7 @@ void run_gen(const GenArgs& a) {
   o.gps.dropout_mean_s = a.gps_dropout_duration;
   o.imu.noise_free = a.imu_noise_free;
   o.image.enabled = !a.no_image_noise;
+  o.loc_route = synthetic::parse_loc_route(a.loc_route);
   ProgressBar bar("gen");
   const synthetic::GenerateSummary s =
       synthetic::generate_dataset(o, [&bar](std::string_view run, int done, int total) {
@@ -98,6 +100,11 @@ void add_gen_command(CLI::App& app) {
   cmd->add_flag("--imu-noise-free", args->imu_noise_free, "ideal IMU: no noise, zero biases");
   cmd->add_flag("--no-image-noise", args->no_image_noise,
                 "ideal images: no exposure change, blur or noise");
+  cmd->add_option("--loc-route", args->loc_route,
+                  "known scenarios: the loc run re-traverses the map route (retraverse) or "
+                  "leaves it (diverge)")
+      ->check(CLI::IsMember({"retraverse", "diverge"}))
+      ->capture_default_str();
   cmd->callback([args] { run_gen(*args); });
 }
 

@@ -5,9 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
@@ -119,11 +121,22 @@ TEST(SyntheticGen, WritesTheEurocLayoutForEveryScenario) {
       EXPECT_FALSE(fs::exists(o.out / "mav0"));
       expect_mav0_layout(o.out / "map" / "mav0", 4, outdoor, summary.rig);
       expect_mav0_layout(o.out / "loc" / "mav0", 4, outdoor, summary.rig);
-      // The localization run is later and takes another path.
+      // The localization run is later and, by default, re-traverses the map route: same lane
+      // graph nodes, starting beside the map run's start (0.3 m lane offset, +-0.45 m wander
+      // of each run, heights drawn afresh), but not on the same path.
       const auto map_gt = testing::read_ground_truth(o.out / "map" / "mav0");
       const auto loc_gt = testing::read_ground_truth(o.out / "loc" / "mav0");
       EXPECT_EQ(loc_gt.front().t_ns - map_gt.front().t_ns, kLocalizationDelayNs);
-      EXPECT_GT((loc_gt.back().p - map_gt.back().p).norm(), 0.5);
+      const auto& map_route = summary.runs[0].route;
+      const auto& loc_route = summary.runs[1].route;
+      ASSERT_GE(loc_route.size(), map_route.size());
+      EXPECT_TRUE(std::equal(map_route.begin(), map_route.end(), loc_route.begin()));
+      const double start_gap = (loc_gt.front().p - map_gt.front().p).head<2>().norm();
+      EXPECT_LT(start_gap, 0.3 + 2 * 0.45 + 1e-6);
+      EXPECT_GT((loc_gt.front().p - map_gt.front().p).norm(), 1e-3);
+      std::ifstream yaml(o.out / "edx_gen.yaml");
+      const std::string text((std::istreambuf_iterator<char>(yaml)), {});
+      EXPECT_NE(text.find("loc_route: retraverse"), std::string::npos);
     } else {
       ASSERT_EQ(summary.runs.size(), 1u);
       expect_mav0_layout(o.out / "mav0", 4, outdoor, summary.rig);
@@ -177,11 +190,21 @@ TEST(SyntheticGen, RejectsBadArguments) {
   }
   EXPECT_EQ(parse_resolution("640x480"), (Resolution{640, 480}));
   EXPECT_THROW(parse_rig("truck"), std::runtime_error);
+  EXPECT_THROW(parse_loc_route("backwards"), std::runtime_error);
+  EXPECT_EQ(parse_loc_route("diverge"), RevisitMode::kDiverge);
 
   TempDir dir("bad_args");
   GenerateOptions o = small_options(Scenario::kIndoorUnknown, dir.path() / "out");
   o.frames = 0;
   EXPECT_THROW(generate_dataset(o), std::runtime_error);
+  EXPECT_FALSE(fs::exists(o.out));
+  o.frames = 2;
+  o.loc_speed_scale = 0.1;
+  EXPECT_THROW(generate_dataset(o), std::runtime_error);
+  o.loc_speed_scale = 0.85;
+  o.loc_lateral_offset_m = 3;
+  EXPECT_THROW(generate_dataset(o), std::runtime_error);
+  o.loc_lateral_offset_m = 0.3;
   EXPECT_FALSE(fs::exists(o.out));
   // An existing non-empty directory is refused and left untouched; --force replaces it.
   o.frames = 2;

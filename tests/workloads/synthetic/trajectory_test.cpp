@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "workloads/datasets/synthetic/random.hpp"
 #include "workloads/datasets/synthetic/rig.hpp"
@@ -162,11 +164,65 @@ TEST(SyntheticTrajectory, RevisitStartsOnTheEarlierRouteAndLeavesDifferently) {
   const Scene scene = build_warehouse(3);
   const auto cams = camera_points(RigKind::kEuroc);
   const PlannedTrajectory first = plan_trajectory(scene, 60.0, 21, cams);
-  const PlannedTrajectory second = plan_trajectory(scene, 60.0, 22, cams, &first.route);
+  Revisit diverge;
+  diverge.route = first.route;
+  diverge.mode = RevisitMode::kDiverge;
+  const PlannedTrajectory second = plan_trajectory(scene, 60.0, 22, cams, &diverge);
   const std::size_t idx = first.route.size() / 3;
   EXPECT_EQ(second.route.front(), first.route[idx]);
   EXPECT_NE(second.route[1], first.route[idx + 1]);
   EXPECT_THROW(plan_trajectory(scene, 0.0, 1, cams), std::runtime_error);
+}
+
+// The default revisit re-traverses the earlier route in the same direction: same lane-graph
+// nodes first, positions within the lateral offset plus both runs' wander (+-0.45 m each) of the
+// earlier path, heading the same way; its speeds are the drawn ones times speed_scale.
+TEST(SyntheticTrajectory, RetraverseFollowsTheEarlierRouteOffsetAndSlower) {
+  const Scene scene = build_warehouse(3);
+  const auto cams = camera_points(RigKind::kEuroc);
+  const double duration = 20.0;
+  const PlannedTrajectory first = plan_trajectory(scene, duration, 21, cams);
+  Revisit revisit;
+  revisit.route = first.route;
+  const PlannedTrajectory second = plan_trajectory(scene, duration, 22, cams, &revisit);
+  ASSERT_GE(second.route.size(), first.route.size());
+  EXPECT_TRUE(std::equal(first.route.begin(), first.route.end(), second.route.begin()));
+  std::vector<BodyState> path;
+  for (double t = 0; t <= duration; t += 0.02) path.push_back(first.trajectory.at(t));
+  double worst = 0;
+  int compared = 0;
+  for (double t = 0; t <= duration; t += 0.1) {
+    const BodyState s = second.trajectory.at(t);
+    double best = 1e9;
+    std::size_t nearest = 0;
+    for (std::size_t i = 0; i < path.size(); ++i) {
+      const double d = (path[i].position - s.position).head<2>().norm();
+      if (d < best) best = d, nearest = i;
+    }
+    if (nearest + 1 == path.size()) continue;  // past the end of the earlier run
+    ++compared;
+    worst = std::max(worst, best);
+    EXPECT_GT(s.velocity.head<2>().normalized().dot(path[nearest].velocity.head<2>().normalized()),
+              0.5)
+        << "t = " << t;
+  }
+  EXPECT_GT(compared, 100);
+  EXPECT_LT(worst, 0.3 + 2 * 0.45 + 0.05);  // lateral offset + both wanders (+ sampling)
+  // Same seed at full speed: the speed scale shortens the path by about its factor.
+  Revisit full = revisit;
+  full.speed_scale = 1.0;
+  const PlannedTrajectory unscaled = plan_trajectory(scene, duration, 22, cams, &full);
+  ASSERT_EQ(unscaled.attempts, second.attempts);  // the same draws: only the scale differs
+  const auto length = [&](const Trajectory& traj) {
+    double l = 0;
+    for (double t = 0.05; t <= duration; t += 0.05)
+      l += (traj.at(t).position - traj.at(t - 0.05).position).norm();
+    return l;
+  };
+  EXPECT_NEAR(length(second.trajectory) / length(unscaled.trajectory), 0.85, 0.05);
+  Revisit bad = revisit;
+  bad.speed_scale = 0.1;
+  EXPECT_THROW(plan_trajectory(scene, duration, 22, cams, &bad), std::runtime_error);
 }
 
 }  // namespace

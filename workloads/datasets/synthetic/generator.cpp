@@ -39,6 +39,16 @@ std::string_view to_string(Scenario scenario) {
   return "unknown";
 }
 
+RevisitMode parse_loc_route(std::string_view text) {
+  if (text == "retraverse") return RevisitMode::kRetraverse;
+  if (text == "diverge") return RevisitMode::kDiverge;
+  throw std::runtime_error("loc route '" + std::string(text) + "': expected retraverse or diverge");
+}
+
+std::string_view to_string(RevisitMode mode) {
+  return mode == RevisitMode::kRetraverse ? "retraverse" : "diverge";
+}
+
 bool is_outdoor(Scenario s) {
   return s == Scenario::kOutdoorUnknown || s == Scenario::kOutdoorKnown;
 }
@@ -109,6 +119,10 @@ void validate(const GenerateOptions& o) {
   if (o.image.noise_sigma < 0 || o.image.blur_sigma_px < 0) {
     throw std::runtime_error("image noise and blur must not be negative");
   }
+  if (!(std::abs(o.loc_lateral_offset_m) <= 2.0))
+    throw std::runtime_error("loc lateral offset: expected a value in [-2, 2] m");
+  if (!(o.loc_speed_scale >= 0.25 && o.loc_speed_scale <= 2.0))
+    throw std::runtime_error("loc speed scale: expected a value in [0.25, 2]");
   const double imu_period_ns = 1e9 / o.imu.rate_hz;
   if (!(o.imu.rate_hz > 0) ||
       std::abs(static_cast<double>(kCameraPeriodNs) / imu_period_ns -
@@ -137,6 +151,13 @@ std::string describe(const GenerateOptions& o, const StereoRig& rig,
         "gps_rate_hz: {}\ngps_sigma_m: {}\ngps_dropout_rate_per_min: {}\n"
         "gps_dropout_mean_s: {}\n",
         o.gps.rate_hz, o.gps.sigma_m, o.gps.dropout_rate_per_min, o.gps.dropout_mean_s);
+  }
+  if (has_map_run(o.scenario)) {
+    y += fmt::format("loc_route: {}\n", to_string(o.loc_route));
+    if (o.loc_route == RevisitMode::kRetraverse) {
+      y += fmt::format("loc_lateral_offset_m: {}\nloc_speed_scale: {}\n", o.loc_lateral_offset_m,
+                       o.loc_speed_scale);
+    }
   }
   y += "runs:\n";
   for (std::size_t i = 0; i < runs.size(); ++i) {
@@ -171,7 +192,8 @@ GenerateSummary generate_dataset(const GenerateOptions& options, const ProgressF
   const StereoRig& rig = summary.rig;
 
   const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
-  const fs::path tmp = parent / ("." + out.filename().string() + ".edx-gen-tmp");
+  // fmt rather than "." + string: GCC 12 reports a false -Wrestrict on the inlined operator+.
+  const fs::path tmp = parent / fmt::format(".{}.edx-gen-tmp", out.filename().string());
   std::error_code ec;
   fs::remove_all(tmp, ec);
   if (!fs::create_directories(tmp, ec) || ec) {
@@ -190,14 +212,17 @@ GenerateSummary generate_dataset(const GenerateOptions& options, const ProgressF
                                                  ? std::vector<std::string>{"map", "loc"}
                                                  : std::vector<std::string>{""};
 
-  std::vector<int> first_route;
+  Revisit revisit;
+  revisit.mode = options.loc_route;
+  revisit.lateral_offset_m = options.loc_lateral_offset_m;
+  revisit.speed_scale = options.loc_speed_scale;
   double render_seconds = 0;
   for (std::size_t r = 0; r < run_names.size(); ++r) {
     const std::string& name = run_names[r];
     const std::uint64_t run_seed = derive_seed(options.seed, "run", r);
     const PlannedTrajectory planned = plan_trajectory(scene, std::max(duration_s, 0.1), run_seed,
-                                                      body_points, r == 0 ? nullptr : &first_route);
-    if (r == 0) first_route = planned.route;
+                                                      body_points, r == 0 ? nullptr : &revisit);
+    if (r == 0) revisit.route = planned.route;
     const Trajectory& traj = planned.trajectory;
     const std::int64_t t0 = kStartTimeNs + static_cast<std::int64_t>(r) * kLocalizationDelayNs;
 

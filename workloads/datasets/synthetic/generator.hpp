@@ -4,7 +4,8 @@
 // Output layout under DIR:
 //   unknown scenarios:  DIR/mav0/...                       one traversal
 //   known scenarios:    DIR/map/mav0/...  DIR/loc/mav0/...  a mapping run, and a localization
-//                       run one hour later along a different route through the same world
+//                       run one hour later through the same world: by default re-traversing
+//                       the mapping route (offset sideways, slower), or diverging from it
 //   always:             DIR/edx_gen.yaml                   what was generated, with which options
 // Outdoor scenarios add mav0/gps0; indoor ones have no GPS. Everything is written into a
 // temporary sibling folder first and renamed to DIR at the end.
@@ -20,6 +21,7 @@
 #include "workloads/datasets/synthetic/rig.hpp"
 #include "workloads/datasets/synthetic/scenes.hpp"
 #include "workloads/datasets/synthetic/stereo_camera.hpp"
+#include "workloads/datasets/synthetic/trajectory.hpp"
 
 namespace edx::synthetic {
 
@@ -50,7 +52,16 @@ struct GenerateOptions {
   ImuModel imu;
   GpsModel gps;
   ImageSensorOptions image;
+  /// Known scenarios: how the loc run relates to the map run's route (trajectory.hpp). The
+  /// default re-traverses it, so a map built on the map run covers the loc run.
+  RevisitMode loc_route = RevisitMode::kRetraverse;
+  double loc_lateral_offset_m = 0.3;  ///< kRetraverse: sideways offset from the map lane
+  double loc_speed_scale = 0.85;      ///< kRetraverse: speed factor against the map run's draw
 };
+
+/// Parses retraverse | diverge.
+RevisitMode parse_loc_route(std::string_view text);
+std::string_view to_string(RevisitMode mode);
 
 /// The world of a scenario for a dataset seed (warehouse indoors, street outdoors); the same
 /// call as the generator makes, so tests can compare images with the world they show.

@@ -262,19 +262,27 @@ Wobble make_wobble(Rng& rng, double amplitude, double period_min, double period_
 
 /// One attempt: route, timed path, B-spline fit, attitude.
 PlannedTrajectory plan_once(const Scene& scene, double duration_s, Rng& rng,
-                            const std::vector<int>* revisit) {
-  const MotionLimits& limits = scene.motion;
+                            const Revisit* revisit) {
+  MotionLimits limits = scene.motion;
   const LaneGraph& g = scene.lanes;
   const bool drone = limits.style == MotionStyle::kDrone;
   const double knot_dt = drone ? 0.5 : 0.25;
   int start = uniform_int(rng, 0, static_cast<int>(g.nodes.size()) - 1);
   int first_next = -1;
-  if (revisit != nullptr && revisit->size() >= 2) {
+  const bool retraverse = revisit != nullptr && revisit->mode == RevisitMode::kRetraverse;
+  if (retraverse) {
+    // Same lanes in the same direction, offset sideways and at other speeds.
+    limits.lane_offset_m += revisit->lateral_offset_m;
+    limits.cruise_speed_min *= revisit->speed_scale;
+    limits.cruise_speed_max *= revisit->speed_scale;
+    limits.turn_speed *= revisit->speed_scale;
+  } else if (revisit != nullptr) {
     // Start where the earlier run passed and leave in a direction it did not take there.
-    const std::size_t idx = revisit->size() >= 3 ? revisit->size() / 3 : 0;
-    start = (*revisit)[idx];
-    const int earlier_prev = idx > 0 ? (*revisit)[idx - 1] : -1;
-    const int earlier_next = (*revisit)[idx + 1];
+    const std::vector<int>& earlier = revisit->route;
+    const std::size_t idx = earlier.size() >= 3 ? earlier.size() / 3 : 0;
+    start = earlier[idx];
+    const int earlier_prev = idx > 0 ? earlier[idx - 1] : -1;
+    const int earlier_next = earlier[idx + 1];
     std::vector<int> options;
     for (const int nb : g.neighbours[static_cast<std::size_t>(start)]) {
       if (nb != earlier_next && nb != earlier_prev) options.push_back(nb);
@@ -285,7 +293,31 @@ PlannedTrajectory plan_once(const Scene& scene, double duration_s, Rng& rng,
   }
   const double min_length =
       limits.cruise_speed_max * (duration_s + 6 * knot_dt) + 4 * limits.turn_radius_m + 10.0;
-  const std::vector<int> route = random_route(g, start, first_next, min_length, rng);
+  std::vector<int> route;
+  if (retraverse) {
+    // The earlier route, continued by a random walk (no U-turn) if it is too short here.
+    route = revisit->route;
+    double length = 0;
+    for (std::size_t i = 1; i < route.size(); ++i) {
+      length += (g.nodes[static_cast<std::size_t>(route[i])] -
+                 g.nodes[static_cast<std::size_t>(route[i - 1])])
+                    .norm();
+    }
+    if (length < min_length) {
+      const int prev = route[route.size() - 2];
+      std::vector<int> options;
+      for (const int nb : g.neighbours[static_cast<std::size_t>(route.back())]) {
+        if (nb != prev) options.push_back(nb);
+      }
+      if (options.empty()) options.push_back(prev);
+      const int next = options[static_cast<std::size_t>(
+          uniform_int(rng, 0, static_cast<int>(options.size()) - 1))];
+      const std::vector<int> tail = random_route(g, route.back(), next, min_length - length, rng);
+      route.insert(route.end(), tail.begin() + 1, tail.end());
+    }
+  } else {
+    route = random_route(g, start, first_next, min_length, rng);
+  }
   std::vector<PathPoint> path = route_path(g, route, limits, rng);
 
   // Speed profile: corridor limits, then |dv/ds| bounded by a_max (v dv = a ds), both ways.
@@ -369,9 +401,17 @@ bool keeps_clearance(const Scene& scene, const Trajectory& traj, double duration
 
 PlannedTrajectory plan_trajectory(const Scene& scene, double duration_s, std::uint64_t seed,
                                   const std::vector<Eigen::Vector3d>& body_points,
-                                  const std::vector<int>* revisit) {
+                                  const Revisit* revisit) {
   if (!(duration_s > 0))
     throw std::runtime_error("synthetic trajectory: duration must be positive");
+  if (revisit != nullptr) {
+    if (revisit->route.size() < 2)
+      throw std::runtime_error("synthetic trajectory: revisit route needs at least 2 nodes");
+    if (!(std::abs(revisit->lateral_offset_m) <= 2.0))
+      throw std::runtime_error("synthetic trajectory: revisit lateral offset must be in [-2, 2] m");
+    if (!(revisit->speed_scale >= 0.25 && revisit->speed_scale <= 2.0))
+      throw std::runtime_error("synthetic trajectory: revisit speed scale must be in [0.25, 2]");
+  }
   if (scene.lanes.nodes.size() < 2) throw std::runtime_error("synthetic trajectory: no lanes");
   constexpr int kAttempts = 20;
   for (int attempt = 0; attempt < kAttempts; ++attempt) {

@@ -88,14 +88,31 @@ struct PlannedTrajectory {
   int attempts = 1;        ///< routes tried until one kept its clearance
 };
 
+/// How a later run through the same world relates to an earlier run's route.
+enum class RevisitMode {
+  /// Re-traverse the earlier route from its start in the same direction (a localization run
+  /// through mapped space), lane offset by lateral_offset_m and cruise/turn speeds scaled by
+  /// speed_scale; height and wobbles are drawn afresh.
+  kRetraverse,
+  /// Start at the node one third along the earlier route and leave it in a direction the
+  /// earlier run did not take there (no viewpoint of the earlier run is passed again).
+  kDiverge,
+};
+
+struct Revisit {
+  std::vector<int> route;  ///< lane-graph nodes of the earlier run (at least 2)
+  RevisitMode mode = RevisitMode::kRetraverse;
+  double lateral_offset_m = 0.3;  ///< kRetraverse: extra offset right of the earlier lane
+  double speed_scale = 0.85;      ///< kRetraverse: factor on the cruise and turn speeds
+};
+
 /// Plans a trajectory of at least `duration_s` through the scene from seed `seed`.
 /// `body_points` are points rigidly attached to the body (e.g. camera centres) that must keep
-/// the scene's clearance along with the body origin. When `revisit` is given (the route of an
-/// earlier run through the same world) the route starts at one of its nodes and leaves it in a
-/// different direction than the earlier run did. Throws std::runtime_error when no collision-free
-/// route is found.
+/// the scene's clearance along with the body origin. When `revisit` is given the route follows
+/// or leaves an earlier run's route (RevisitMode). Throws std::runtime_error when no
+/// collision-free route is found or the revisit options are out of range.
 PlannedTrajectory plan_trajectory(const Scene& scene, double duration_s, std::uint64_t seed,
                                   const std::vector<Eigen::Vector3d>& body_points,
-                                  const std::vector<int>* revisit = nullptr);
+                                  const Revisit* revisit = nullptr);
 
 }  // namespace edx::synthetic

@@ -2,7 +2,8 @@
 // run through the same warehouse): a vocabulary trained through the real frontend on both runs,
 // a database of the map run's even frames, and queries judged against the ground truth.
 //
-// What the generator gives: its loc route leaves the map route in a different direction and
+// What the generator gives with --loc-route diverge (set below; the default loc route
+// re-traverses the map route): its loc route leaves the map route in a different direction and
 // never passes a map viewpoint again (no loc frame within 1.5 m and 30 degrees of a map frame
 // for seeds 1-4, 400 frames); at most about a quarter of what a loc frame sees is visible from
 // any map frame (ray-cast with occlusion below). So the same-place check uses revisits of the
@@ -68,6 +69,7 @@ World& world() {
     g.seed = kSeed;
     g.out = out.dir;
     g.force = true;
+    g.loc_route = synthetic::RevisitMode::kDiverge;  // the loc run of the comment above
     synthetic::generate_dataset(g);
     out.map = datasets::open_dataset(out.dir / "map", datasets::DatasetFormat::kEuroc);
     out.loc = datasets::open_dataset(out.dir / "loc", datasets::DatasetFormat::kEuroc);
