@@ -6,6 +6,9 @@
 #include <stdexcept>
 #include <utility>
 
+#include "workloads/backend/registration/bow/vocabulary.hpp"
+#include "workloads/backend/registration/registration_backend.hpp"
+#include "workloads/backend/slam/map.hpp"
 #include "workloads/backend/slam/slam_backend.hpp"
 #include "workloads/backend/vio/vio_backend.hpp"
 
@@ -26,7 +29,26 @@ std::vector<Entry> entries() {
   list.push_back({"slam", [](const datasets::Dataset& d) {
                     return backend::slam::make_slam_backend(d, backend::slam::SlamOptions{});
                   }});
+  list.push_back({"registration", BackendFactory{}});  // needs files: registration_factory
   return list;
+}
+
+BackendFactory registration_factory(const BackendSettings& settings) {
+  if (!settings.map) throw std::runtime_error("--map: the registration backend needs a map file");
+  if (!settings.vocabulary) {
+    throw std::runtime_error("--vocab: the registration backend needs a vocabulary file");
+  }
+  auto map = std::make_shared<const backend::slam::Map>(backend::slam::load_map(*settings.map));
+  if (map->keyframes.empty() || map->landmarks.empty()) {
+    throw std::runtime_error(
+        fmt::format("{}: expected a map with keyframes and landmarks", settings.map->string()));
+  }
+  auto vocabulary =
+      std::make_shared<const bow::Vocabulary>(bow::Vocabulary::load(*settings.vocabulary));
+  return [map, vocabulary](const datasets::Dataset& d) {
+    return backend::registration::make_registration_backend(
+        d, backend::registration::RegistrationOptions{}, map, vocabulary);
+  };
 }
 
 }  // namespace
@@ -37,9 +59,21 @@ std::vector<std::string> backend_names() {
   return names;
 }
 
-BackendFactory backend_factory(std::string_view name) {
+BackendFactory backend_factory(std::string_view name, const BackendSettings& settings) {
+  if (name == "registration") return registration_factory(settings);
   for (Entry& e : entries()) {
-    if (name == e.name) return std::move(e.factory);
+    if (name != e.name) continue;
+    if (settings.map) {
+      throw std::runtime_error(
+          fmt::format("--map {}: only the registration backend reads a map (got --backend {})",
+                      settings.map->string(), name));
+    }
+    if (settings.vocabulary) {
+      throw std::runtime_error(fmt::format(
+          "--vocab {}: only the registration backend reads a vocabulary (got --backend {})",
+          settings.vocabulary->string(), name));
+    }
+    return std::move(e.factory);
   }
   throw std::runtime_error(fmt::format("unknown backend '{}' (expected one of: {})", name,
                                        fmt::join(backend_names(), ", ")));

@@ -15,6 +15,7 @@
 #include "workloads/frontend/stereo_frontend.hpp"
 #include "workloads/frontend/task_timer.hpp"
 #include "workloads/frontend/trace_meta.hpp"
+#include "workloads/modes/pipeline.hpp"
 #include "workloads/trace/writer.hpp"
 
 namespace edx::modes {
@@ -25,44 +26,6 @@ using frontend::StereoFrontend;
 using frontend::summarize;
 
 namespace fs = std::filesystem;
-
-/// Ground truth is interpolated between samples at most this far apart.
-constexpr std::int64_t kMaxGroundTruthGapNs = 250'000'000;
-/// A frame "has GPS" when a fix lies within this time of it.
-constexpr std::int64_t kGpsWindowNs = 1'000'000'000;
-
-trace::PoseArray to_pose_array(const Eigen::Isometry3d& pose) {
-  Eigen::Quaterniond q(pose.rotation());
-  q.normalize();
-  if (q.w() < 0) q.coeffs() *= -1;  // one sign for the same rotation
-  const Eigen::Vector3d t = pose.translation();
-  return {t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z()};
-}
-
-bool gps_near(const std::vector<datasets::GpsFix>& gps, std::int64_t t_ns) {
-  const auto it =
-      std::lower_bound(gps.begin(), gps.end(), t_ns - kGpsWindowNs,
-                       [](const datasets::GpsFix& fix, std::int64_t t) { return fix.t_ns < t; });
-  return it != gps.end() && std::llabs(it->t_ns - t_ns) <= kGpsWindowNs;
-}
-
-/// Elements of a time-sorted stream with t_begin < t <= t_end.
-template <class Sample>
-std::span<const Sample> between(const std::vector<Sample>& samples, std::int64_t t_begin,
-                                std::int64_t t_end) {
-  const auto after = [](std::int64_t t, const Sample& s) { return t < s.t_ns; };
-  const auto first = std::upper_bound(samples.begin(), samples.end(), t_begin, after);
-  const auto last = std::upper_bound(first, samples.end(), t_end, after);
-  return {first, last};
-}
-
-eval::StampedPose stamped(std::int64_t t_ns, std::int64_t index, const Eigen::Isometry3d& pose) {
-  eval::StampedPose p;
-  p.time_s = static_cast<double>(t_ns) * 1e-9;
-  p.frame_index = index;
-  p.pose = eval::Pose(pose.matrix());
-  return p;
-}
 
 std::string task_key(trace::Task task, trace::Image image) {
   return fmt::format("{}/{}", trace::to_string(task), trace::to_string(image));
@@ -107,10 +70,14 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
   }
   const datasets::StereoCalibration& calibration = dataset->calibration();
   const datasets::CameraIntrinsics& k = calibration.rectified;
+  std::unique_ptr<backend::Backend> backend;
+  if (options.make_backend) backend = options.make_backend(*dataset);
+  // Registration localizes in a prebuilt map: the frames have a map (the known scenarios).
+  const bool map_available = backend && backend->mode() == trace::BackendMode::Registration;
+  const bool outdoor = options.format == datasets::DatasetFormat::kKitti || !dataset->gps().empty();
   const trace::Scenario scenario = options.scenario.value_or(
-      options.format == datasets::DatasetFormat::kKitti || !dataset->gps().empty()
-          ? trace::Scenario::OutdoorUnknown
-          : trace::Scenario::IndoorUnknown);
+      outdoor ? (map_available ? trace::Scenario::OutdoorKnown : trace::Scenario::OutdoorUnknown)
+              : (map_available ? trace::Scenario::IndoorKnown : trace::Scenario::IndoorUnknown));
 
   TraceRunSummary summary;
   summary.out = options.out;
@@ -126,8 +93,6 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
   meta["camera_model"] =
       fmt::format("pinhole-rectified fx={:.4f} fy={:.4f} cx={:.4f} cy={:.4f} b={:.6f}m", k.fx, k.fy,
                   k.cx, k.cy, calibration.baseline_m);
-  std::unique_ptr<backend::Backend> backend;
-  if (options.make_backend) backend = options.make_backend(*dataset);
   summary.backend_mode = trace::to_string(backend ? backend->mode() : trace::BackendMode::None);
   const auto* map_builder = dynamic_cast<const backend::slam::SlamBackend*>(backend.get());
   if (options.map_out && !map_builder) {
@@ -171,7 +136,7 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
     record.frame.scenario = scenario;
     record.frame.mode = backend ? backend->mode() : trace::BackendMode::None;
     record.frame.gps_available = gps_near(dataset->gps(), images.t_ns);
-    record.frame.map_available = false;
+    record.frame.map_available = map_available;
     if (const auto truth = datasets::interpolate_ground_truth(dataset->ground_truth(), images.t_ns,
                                                               kMaxGroundTruthGapNs)) {
       record.frame.ground_truth_pose = to_pose_array(truth->T_world_body);

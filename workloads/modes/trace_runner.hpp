@@ -39,7 +39,8 @@ struct TraceRunOptions {
   std::filesystem::path out;
   bool overwrite = false;  ///< replace an existing trace (--force)
   /// Scenario written on every frame; default: outdoor_unknown for KITTI and for EuRoC-layout
-  /// data with GPS, indoor_unknown otherwise.
+  /// data with GPS, indoor_unknown otherwise (the *_known variants with the registration
+  /// backend, whose frames are also marked map_available).
   std::optional<trace::Scenario> scenario;
   /// Frontend options. Traces run the tasks one after another by default, so that each task's
   /// host time is its own and not inflated by the other tasks of the frame competing for the

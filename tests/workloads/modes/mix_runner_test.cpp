@@ -1,0 +1,57 @@
+// The mixed-sequence runner end to end (workloads/modes/mix_runner.hpp): the paper mix on small
+// synthetic worlds, the modes the switch picks per segment, the map handed from SLAM to
+// registration, and the trace it writes.
+#include "workloads/modes/mix_runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "tests/support/temp_dir.hpp"
+#include "workloads/trace/reader.hpp"
+
+namespace edx::modes {
+namespace {
+
+TEST(MixRunner, PaperMixSwitchesModesByScenario) {
+  const edx::testing::TempDir dir;
+  MixRunOptions options;
+  options.plan = make_mix("paper", 64, {376, 240}, 1);
+  options.data_dir = dir.path() / "data";
+  options.out = dir.path() / "mix.db";
+  const MixRunSummary summary = run_mix(options);
+  std::cout << format_summary(summary);
+  ASSERT_EQ(summary.segments.size(), 3u);
+  EXPECT_EQ(summary.frames, 64u);
+  // Outdoors: VIO once the receiver has 5 fixes in a second (0.4 s: the first 8 frames run SLAM).
+  EXPECT_EQ(summary.segments[0].frames_by_mode.at("slam"), 8u);
+  EXPECT_EQ(summary.segments[0].frames_by_mode.at("vio"), 24u);
+  // The indoor mapping run has no GPS and no map yet: SLAM throughout, its map saved.
+  EXPECT_EQ(summary.segments[1].frames_by_mode.at("slam"), 16u);
+  ASSERT_TRUE(summary.segments[1].map_saved);
+  EXPECT_TRUE(std::filesystem::exists(*summary.segments[1].map_saved));
+  // The later run through the same warehouse registers in that map.
+  EXPECT_EQ(summary.segments[2].frames_by_mode.at("registration"), 16u);
+  EXPECT_LE(summary.segments[2].registration_failures, 2u);
+  for (const ModeRunSummary& m : summary.modes) {
+    EXPECT_GT(m.estimated_frames, 0u) << m.mode;  // VIO: after its 20 initialization frames
+    if (m.mode == "registration") {
+      ASSERT_TRUE(m.ate_rmse_m);
+      EXPECT_LT(*m.ate_rmse_m, 0.15);
+    }
+  }
+
+  const trace::TraceReader reader(options.out);
+  EXPECT_EQ(reader.frame_count(), 64u);
+  const std::vector<trace::FrameTrace> frames = reader.read_all();
+  EXPECT_EQ(frames[0].frame.scenario, trace::Scenario::OutdoorUnknown);
+  EXPECT_EQ(frames[10].frame.mode, trace::BackendMode::Vio);
+  EXPECT_EQ(frames[40].frame.mode, trace::BackendMode::Slam);
+  EXPECT_EQ(frames[63].frame.scenario, trace::Scenario::IndoorKnown);
+  EXPECT_EQ(frames[63].frame.mode, trace::BackendMode::Registration);
+  EXPECT_TRUE(frames[63].frame.map_available);
+  EXPECT_FALSE(frames[40].frame.map_available);
+}
+
+}  // namespace
+}  // namespace edx::modes

@@ -1,0 +1,57 @@
+// Mixed sequences (workloads/modes/mix.hpp): the paper's scenario shares and data generation.
+#include "workloads/modes/mix.hpp"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "tests/support/temp_dir.hpp"
+
+namespace edx::modes {
+namespace {
+
+TEST(PaperMix, HasThePapersScenarioShares) {
+  const MixPlan plan = make_mix("paper", 400, {640, 480}, 7);
+  ASSERT_EQ(plan.segments.size(), 3u);
+  EXPECT_EQ(plan.total_frames(), 400);
+  EXPECT_EQ(plan.segments[0].frames, 200);  // 50 % outdoor
+  EXPECT_EQ(plan.segments[0].scenario, trace::Scenario::OutdoorUnknown);
+  EXPECT_EQ(plan.segments[1].frames, 100);  // 25 % indoor without a map
+  EXPECT_EQ(plan.segments[1].scenario, trace::Scenario::IndoorUnknown);
+  EXPECT_EQ(plan.segments[2].frames, 100);  // 25 % indoor with a map
+  EXPECT_EQ(plan.segments[2].scenario, trace::Scenario::IndoorKnown);
+  // The mapped and the localized indoor runs are two runs of one world.
+  EXPECT_EQ(plan.segments[1].world, plan.segments[2].world);
+  EXPECT_EQ(plan.segments[1].run, "map");
+  EXPECT_EQ(plan.segments[2].run, "loc");
+  // Odd totals: indoor segments get the floor of a quarter, outdoor the rest.
+  const MixPlan odd = make_mix("paper", 10, {640, 480}, 7);
+  EXPECT_EQ(odd.segments[0].frames, 6);
+  EXPECT_EQ(odd.segments[1].frames, 2);
+  EXPECT_EQ(odd.total_frames(), 10);
+}
+
+TEST(PaperMix, RejectsUnknownNamesAndTooFewFrames) {
+  EXPECT_THROW(make_mix("lab", 100, {640, 480}, 1), std::runtime_error);
+  EXPECT_THROW(make_mix("paper", 7, {640, 480}, 1), std::runtime_error);
+}
+
+TEST(PaperMix, GeneratesEachWorldOnceAndReusesIt) {
+  const edx::testing::TempDir dir;
+  const MixPlan plan = make_mix("paper", 8, {160, 120}, 3);
+  generate_mix_data(plan, dir.path());
+  for (const MixSegment& s : plan.segments) {
+    const auto mav0 = segment_mav0(plan, s, dir.path());
+    EXPECT_TRUE(std::filesystem::exists(mav0 / "cam0" / "data.csv")) << mav0;
+    EXPECT_EQ(std::filesystem::exists(mav0 / "gps0"), s.name == "outdoor") << mav0;
+  }
+  const auto stamp = std::filesystem::last_write_time(
+      segment_mav0(plan, plan.segments[0], dir.path()) / "cam0" / "data.csv");
+  generate_mix_data(plan, dir.path());  // everything there: nothing rewritten
+  EXPECT_EQ(std::filesystem::last_write_time(segment_mav0(plan, plan.segments[0], dir.path()) /
+                                             "cam0" / "data.csv"),
+            stamp);
+}
+
+}  // namespace
+}  // namespace edx::modes

@@ -1,0 +1,87 @@
+#pragma once
+// `edx trace --mix NAME`: runs the localization pipeline over a mixed sequence (mix.hpp) and
+// writes one trace whose frames record their scenario and the mode the mode switch
+// (mode_switch.hpp) chose. Per segment: a fresh frontend (the images jump at a segment boundary)
+// and a mode switch for the segment's world; the backend of the chosen mode is created when the
+// mode first runs in the segment and kept while it stays; a SLAM segment's map is saved
+// (<data>/<world>-map.json) and loaded as the map of later segments in the same world.
+// Registration needs a vocabulary: given, or trained once on a separate synthetic world (another
+// seed, so that the vocabulary has not seen the mapped warehouse).
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "workloads/eval/evaluate.hpp"
+#include "workloads/frontend/frontend_options.hpp"
+#include "workloads/frontend/sample_stats.hpp"
+#include "workloads/modes/mix.hpp"
+#include "workloads/modes/mode_switch.hpp"
+
+namespace edx::modes {
+
+struct MixRunOptions {
+  MixPlan plan;
+  std::filesystem::path data_dir;  ///< generated worlds, saved maps, the trained vocabulary
+  std::filesystem::path out;
+  bool overwrite = false;
+  /// Tasks one after another so that each host time is its own (as in TraceRunOptions).
+  frontend::FrontendOptions frontend = [] {
+    frontend::FrontendOptions o;
+    o.parallel_images = false;
+    return o;
+  }();
+  ModeSwitchOptions mode_switch;
+  /// Vocabulary file for registration; empty: trained into data_dir (vocabulary-s<seed>.bin).
+  std::filesystem::path vocabulary;
+};
+
+/// Latency and accuracy of the frames one mode ran on.
+struct ModeRunSummary {
+  std::string mode;
+  std::size_t frames = 0;
+  std::size_t estimated_frames = 0;
+  frontend::SampleStats frontend_ms, backend_ms;
+  /// Per kernel: host ms per frame of this mode (0 where it did not run), and its share of the
+  /// mode's mean backend time.
+  std::vector<std::pair<std::string, frontend::SampleStats>> kernel_ms;
+  /// ATE RMSE pooled over the segments (each aligned on its own, position + yaw with the IMU):
+  /// sqrt(sum_s pairs_s rmse_s^2 / sum_s pairs_s).
+  std::optional<double> ate_rmse_m;
+  std::size_t ate_pairs = 0;
+};
+
+struct SegmentRunSummary {
+  std::string name;
+  std::string scenario;
+  std::size_t frames = 0;
+  std::map<std::string, std::size_t> frames_by_mode;
+  std::size_t registration_failures = 0;
+  std::optional<std::filesystem::path> map_saved;
+};
+
+struct MixRunSummary {
+  std::filesystem::path out;
+  std::string plan;  ///< MixPlan::to_string()
+  std::size_t frames = 0;
+  std::vector<SegmentRunSummary> segments;
+  std::vector<ModeRunSummary> modes;  ///< registration, vio, slam (those that ran)
+  double wall_seconds = 0;
+};
+
+/// Progress: stage ("data", "vocabulary", or the segment name), done, total.
+using MixProgress =
+    std::function<void(std::string_view stage, std::size_t done, std::size_t total)>;
+
+/// Generates the data, runs the segments and writes the trace (all or nothing: the trace file
+/// appears only when complete). Throws std::runtime_error naming the file or option on bad input.
+MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress = {});
+
+nlohmann::json to_json(const MixRunSummary& summary);
+std::string format_summary(const MixRunSummary& summary);
+
+}  // namespace edx::modes

@@ -1,0 +1,43 @@
+#include "workloads/modes/pipeline.hpp"
+
+#include <cstdlib>
+
+namespace edx::modes {
+
+namespace {
+/// A frame "has GPS" when a fix lies within this time of it.
+constexpr std::int64_t kGpsWindowNs = 1'000'000'000;
+}  // namespace
+
+trace::PoseArray to_pose_array(const Eigen::Isometry3d& pose) {
+  Eigen::Quaterniond q(pose.rotation());
+  q.normalize();
+  if (q.w() < 0) q.coeffs() *= -1;
+  const Eigen::Vector3d t = pose.translation();
+  return {t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z()};
+}
+
+bool gps_near(const std::vector<datasets::GpsFix>& gps, std::int64_t t_ns) {
+  const auto it =
+      std::lower_bound(gps.begin(), gps.end(), t_ns - kGpsWindowNs,
+                       [](const datasets::GpsFix& fix, std::int64_t t) { return fix.t_ns < t; });
+  return it != gps.end() && std::llabs(it->t_ns - t_ns) <= kGpsWindowNs;
+}
+
+eval::StampedPose stamped(std::int64_t t_ns, std::int64_t index, const Eigen::Isometry3d& pose) {
+  eval::StampedPose p;
+  p.time_s = static_cast<double>(t_ns) * 1e-9;
+  p.frame_index = index;
+  p.pose = eval::Pose(pose.matrix());
+  return p;
+}
+
+std::optional<Eigen::Isometry3d> ground_truth_at(const datasets::Dataset& dataset,
+                                                 std::int64_t t_ns) {
+  const auto truth =
+      datasets::interpolate_ground_truth(dataset.ground_truth(), t_ns, kMaxGroundTruthGapNs);
+  if (!truth) return std::nullopt;
+  return truth->T_world_body;
+}
+
+}  // namespace edx::modes

@@ -1,0 +1,43 @@
+#pragma once
+// Pieces of the per-frame pipeline shared by the single-dataset runner (trace_runner) and the
+// mixed-sequence runner (mix_runner): pose conversions, stream slicing, ground truth lookup.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "workloads/datasets/dataset.hpp"
+#include "workloads/eval/trajectory.hpp"
+#include "workloads/trace/records.hpp"
+
+namespace edx::modes {
+
+/// Ground truth is interpolated between samples at most this far apart.
+inline constexpr std::int64_t kMaxGroundTruthGapNs = 250'000'000;
+
+/// tx, ty, tz, qw, qx, qy, qz with qw >= 0 (one sign for one rotation).
+trace::PoseArray to_pose_array(const Eigen::Isometry3d& pose);
+
+/// Whether a GPS fix lies within 1 s of t_ns (the trace's `gps_available`).
+bool gps_near(const std::vector<datasets::GpsFix>& gps, std::int64_t t_ns);
+
+/// Elements of a time-sorted stream with t_begin < t <= t_end.
+template <class Sample>
+std::span<const Sample> between(const std::vector<Sample>& samples, std::int64_t t_begin,
+                                std::int64_t t_end) {
+  const auto after = [](std::int64_t t, const Sample& s) { return t < s.t_ns; };
+  const auto first = std::upper_bound(samples.begin(), samples.end(), t_begin, after);
+  const auto last = std::upper_bound(first, samples.end(), t_end, after);
+  return {first, last};
+}
+
+/// A pose stamped with its frame time (s) and index, for eval::evaluate.
+eval::StampedPose stamped(std::int64_t t_ns, std::int64_t index, const Eigen::Isometry3d& pose);
+
+/// The dataset's ground-truth body pose at t_ns, when its samples bracket t_ns closely enough.
+std::optional<Eigen::Isometry3d> ground_truth_at(const datasets::Dataset& dataset,
+                                                 std::int64_t t_ns);
+
+}  // namespace edx::modes
