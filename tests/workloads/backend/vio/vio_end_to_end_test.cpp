@@ -208,6 +208,8 @@ TEST(VioFullSize, DISABLED_OutdoorCar) {
   if (const char* ba = std::getenv("EDX_VIO_BA_SIGMA"))
     options.init_accel_bias_sigma = std::stod(ba);
   if (std::getenv("EDX_VIO_NO_EXT")) options.estimate_extrinsics = false;
+  if (const char* rms = std::getenv("EDX_VIO_MAX_TRI_RMS"))
+    options.max_triangulation_rms_px = std::stod(rms);
   options.use_gps = false;
   print("FULL outdoor 1280x720 400 frames, GPS ignored", run_vio(data, options, 0));
   options.use_gps = true;

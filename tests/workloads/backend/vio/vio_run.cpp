@@ -1,9 +1,12 @@
 #include "vio_run.hpp"
 
+#include <Eigen/Dense>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
+#include <random>
 
 #include "workloads/backend/vio/chi_square.hpp"
 #include "workloads/frontend/stereo_frontend.hpp"
@@ -30,6 +33,76 @@ std::span<const datasets::GpsFix> gps_between(const std::vector<datasets::GpsFix
 }
 
 double yaw_of(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
+
+/// Diagnostic ($EDX_VIO_IDEAL_FEATURES=sigma_px): every track of the frontend is replaced by the
+/// exact projections of one static point (its least-squares triangulation from the left
+/// observations at the ground-truth poses) plus white N(0, sigma^2) pixel noise, left and right.
+/// Separates the filter's consistency from the frontend's (temporally correlated) track errors.
+void idealize_tracks(std::vector<frontend::FrontendFrame>& frames,
+                     const std::vector<std::optional<Eigen::Isometry3d>>& T_world_left,
+                     const datasets::CameraIntrinsics& K, double baseline_m, double sigma_px) {
+  std::map<int, std::vector<std::pair<std::size_t, std::size_t>>> tracks;  // id -> (frame, index)
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    for (std::size_t j = 0; j < frames[i].features.size(); ++j)
+      if (T_world_left[i]) tracks[frames[i].features[j].id].push_back({i, j});
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> noise(0.0, sigma_px);
+  for (auto& [id, obs] : tracks) {
+    // Linear triangulation (x P3 - P1, y P3 - P2 rows), then Gauss-Newton on the pixels.
+    Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
+    for (const auto& [i, j] : obs) {
+      const auto& f = frames[i].features[j];
+      const Eigen::Matrix<double, 3, 4> P = T_world_left[i]->inverse().matrix().topRows<3>();
+      const double x = (f.left.x - K.cx) / K.fx, y = (f.left.y - K.cy) / K.fy;
+      const Eigen::RowVector4d r1 = x * P.row(2) - P.row(0), r2 = y * P.row(2) - P.row(1);
+      A += r1.transpose() * r1 + r2.transpose() * r2;
+    }
+    const Eigen::Vector4d X =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(A).eigenvectors().col(0);
+    Eigen::Vector3d pw = X.head<3>() / X(3);
+    bool ok = obs.size() >= 2 && std::abs(X(3)) > 1e-12;
+    for (int it = 0; ok && it < 10; ++it) {
+      Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d b = Eigen::Vector3d::Zero();
+      for (const auto& [i, j] : obs) {
+        const auto& f = frames[i].features[j];
+        const Eigen::Vector3d pc = T_world_left[i]->inverse() * pw;
+        if (pc.z() < 0.1) {
+          ok = false;
+          break;
+        }
+        const Eigen::Vector2d r(f.left.x - (K.fx * pc.x() / pc.z() + K.cx),
+                                f.left.y - (K.fy * pc.y() / pc.z() + K.cy));
+        Eigen::Matrix<double, 2, 3> J;
+        J << K.fx / pc.z(), 0, -K.fx * pc.x() / (pc.z() * pc.z()), 0, K.fy / pc.z(),
+            -K.fy * pc.y() / (pc.z() * pc.z());
+        J = (J * T_world_left[i]->linear().transpose()).eval();
+        H += J.transpose() * J;
+        b += J.transpose() * r;
+      }
+      if (ok) pw += H.ldlt().solve(b);
+    }
+    for (const auto& [i, j] : obs) {
+      auto& f = frames[i].features[j];
+      const Eigen::Vector3d pc = T_world_left[i]->inverse() * pw;
+      if (!ok || pc.z() < 0.1) {
+        f.id = -1;  // removed below
+        continue;
+      }
+      f.left = {static_cast<float>(K.fx * pc.x() / pc.z() + K.cx + noise(rng)),
+                static_cast<float>(K.fy * pc.y() / pc.z() + K.cy + noise(rng))};
+      if (f.stereo) {
+        f.right = {static_cast<float>(K.fx * (pc.x() - baseline_m) / pc.z() + K.cx + noise(rng)),
+                   f.left.y};
+        f.disparity = f.left.x - f.right.x;
+        f.stereo = f.disparity > 0;
+        f.depth_m = f.stereo ? K.fx * baseline_m / f.disparity : 0.0;
+      }
+    }
+  }
+  for (auto& frame : frames)
+    std::erase_if(frame.features, [](const frontend::Feature& f) { return f.id < 0; });
+}
 
 }  // namespace
 
@@ -65,9 +138,24 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
   long gamma_dof = 0;
   int nees_count = 0, nees_inside = 0;
   const double nees_lo = chi2_quantile(0.025, 6), nees_hi = chi2_quantile(0.975, 6);
+  std::vector<frontend::FrontendFrame> ideal;
+  if (const char* env = std::getenv("EDX_VIO_IDEAL_FEATURES")) {
+    std::vector<std::optional<Eigen::Isometry3d>> T_world_left;
+    for (std::size_t i = 0; i < run.frames; ++i) {
+      const datasets::StereoFrame images = dataset->load_frame(i);
+      ideal.push_back(frontend.process(images.left, images.right));
+      const auto truth = datasets::interpolate_ground_truth(dataset->ground_truth(), images.t_ns);
+      T_world_left.push_back(
+          truth ? std::optional<Eigen::Isometry3d>(truth->T_world_body * calibration.T_body_left)
+                : std::nullopt);
+    }
+    idealize_tracks(ideal, T_world_left, calibration.rectified, calibration.baseline_m,
+                    std::stod(env));
+  }
   for (std::size_t i = 0; i < run.frames; ++i) {
     const datasets::StereoFrame images = dataset->load_frame(i);
-    const frontend::FrontendFrame features = frontend.process(images.left, images.right);
+    const frontend::FrontendFrame features =
+        ideal.empty() ? frontend.process(images.left, images.right) : ideal[i];
     BackendInput input;
     input.t_ns = images.t_ns;
     input.frontend = &features;
