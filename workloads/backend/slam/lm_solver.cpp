@@ -2,7 +2,9 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -42,30 +44,38 @@ bool usable(const Window& window, const Landmark& l) {
   return l.inverse_depth > 0 && l.inlier_count() >= 2 && window.slot(l.anchor_id) >= 0;
 }
 
-/// Adds the prior r = r0 + J (x [-] x0) to (H, b) (when given) and returns its cost.
-double add_prior(const Window& window, Eigen::MatrixXd* H, Eigen::VectorXd* b) {
+/// Index of the disparity offset in the camera block (after the keyframes), or -1.
+int offset_index(const Window& window, const SlamOptions& options) {
+  return options.estimate_disparity_offset
+             ? static_cast<int>(window.keyframes.size()) * window.state_dim
+             : -1;
+}
+
+/// Adds the prior r = r0 + J (x [-] x0) to (H, b) (when given) and returns its cost. Its
+/// variables are the prior's keyframes (at slot * d) and, when it has one, the disparity offset.
+double add_prior(const Window& window, const SlamOptions& options, Eigen::MatrixXd* H,
+                 Eigen::VectorXd* b) {
   const Prior& prior = window.prior;
   if (prior.empty()) return 0;
-  const int d = window.state_dim;
-  const int n = static_cast<int>(prior.keyframe_ids.size()) * d;
-  Eigen::VectorXd dx(n);
-  std::vector<int> slots;
-  for (std::size_t k = 0; k < prior.keyframe_ids.size(); ++k) {
-    const int slot = window.slot(prior.keyframe_ids[k]);
-    slots.push_back(slot);
-    dx.segment(static_cast<int>(k) * d, d) =
-        window.keyframes[static_cast<std::size_t>(slot)].difference(prior.linearization_points[k],
-                                                                    d);
-  }
-  const Eigen::VectorXd r = prior.r0 + prior.J * dx;
+  const Eigen::VectorXd r = prior.r0 + prior.J * window.prior_difference();
   if (H != nullptr) {
+    const int d = window.state_dim;
+    // (start in the prior's vector, start in H, length) of each variable block.
+    std::vector<std::array<int, 3>> blocks;
+    for (std::size_t k = 0; k < prior.keyframe_ids.size(); ++k) {
+      blocks.push_back({static_cast<int>(k) * d, window.slot(prior.keyframe_ids[k]) * d, d});
+    }
+    if (prior.has_offset) {
+      const int off = offset_index(window, options);
+      if (off < 0) throw std::logic_error("slam prior: has the disparity offset, not estimated");
+      blocks.push_back({static_cast<int>(prior.keyframe_ids.size()) * d, off, 1});
+    }
     const Eigen::MatrixXd JtJ = prior.J.transpose() * prior.J;
     const Eigen::VectorXd Jtr = prior.J.transpose() * r;
-    for (std::size_t p = 0; p < slots.size(); ++p) {
-      b->segment(slots[p] * d, d) -= Jtr.segment(static_cast<int>(p) * d, d);
-      for (std::size_t q = 0; q < slots.size(); ++q) {
-        H->block(slots[p] * d, slots[q] * d, d, d) +=
-            JtJ.block(static_cast<int>(p) * d, static_cast<int>(q) * d, d, d);
+    for (const auto& [p0, h0, len0] : blocks) {
+      b->segment(h0, len0) -= Jtr.segment(p0, len0);
+      for (const auto& [p1, h1, len1] : blocks) {
+        H->block(h0, h1, len0, len1) += JtJ.block(p0, p1, len0, len1);
       }
     }
   }
@@ -101,13 +111,6 @@ double add_imu(const Window& window, Eigen::MatrixXd* H, Eigen::VectorXd* b) {
     b->segment<30>(a) -= JtWr;
   }
   return cost;
-}
-
-/// Index of the disparity offset in the camera block (after the keyframes), or -1.
-int offset_index(const Window& window, const SlamOptions& options) {
-  return options.estimate_disparity_offset
-             ? static_cast<int>(window.keyframes.size()) * window.state_dim
-             : -1;
 }
 
 /// Zero-mean prior on the disparity offset, r = delta / sigma; adds to (H, b) when given.
@@ -178,7 +181,7 @@ NormalEquations linearize(Window& window, const SlamOptions& options) {
     if (row.H_ll > 0) ne.rows.push_back(std::move(row));
   }
   ne.cost += add_imu(window, &ne.H_cc, &ne.b_c);
-  ne.cost += add_prior(window, &ne.H_cc, &ne.b_c);
+  ne.cost += add_prior(window, options, &ne.H_cc, &ne.b_c);
   ne.cost += add_offset_prior(window, options, &ne.H_cc, &ne.b_c);
   return ne;
 }
@@ -203,7 +206,7 @@ double window_cost(const Window& window, const SlamOptions& options) {
       cost += huber(t.r.norm(), options.huber_threshold).cost;
     }
   }
-  return cost + add_imu(window, nullptr, nullptr) + add_prior(window, nullptr, nullptr) +
+  return cost + add_imu(window, nullptr, nullptr) + add_prior(window, options, nullptr, nullptr) +
          add_offset_prior(window, options, nullptr, nullptr);
 }
 

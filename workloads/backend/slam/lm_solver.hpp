@@ -1,7 +1,8 @@
 #pragma once
 // Levenberg-Marquardt over the sliding window, every matrix operation written out:
 //   normal equations   H dx = b,  H = sum J^T W J,  b = -sum J^T W r  (Huber-reweighted)
-//   ordering           x = [rho (one per landmark) | keyframe states], so
+//   ordering           x = [rho (one per landmark) | keyframe states | delta (disparity
+//                      offset, when estimated)], so
 //                      H = [[H_ll (diagonal), H_lc], [H_cl, H_cc]]
 //   damping            H_ii <- H_ii (1 + lambda)   (Marquardt)
 //   Schur complement   S = H_cc - H_cl H_ll^-1 H_lc,  s = b_c - H_cl H_ll^-1 b_l
@@ -27,7 +28,8 @@ struct LmReport {
   int observations = 0;  ///< reprojection terms
 };
 
-/// Total cost of the window: robust reprojection + IMU + prior.
+/// Total cost of the window: robust reprojection + IMU + prior (on keyframes and delta) + the
+/// zero-mean prior on delta.
 double window_cost(const Window& window, const SlamOptions& options);
 
 /// Optimizes the window in place.

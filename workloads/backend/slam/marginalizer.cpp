@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 
 #include "workloads/backend/slam/factors.hpp"
@@ -67,10 +68,17 @@ MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& opti
     kept_slots.push_back(static_cast<int>(s));
   }
 
-  // Dense system over [rho_removed (m) | oldest (d) | kept (r)].
+  // Dense system over [rho_removed (m) | oldest (d) | kept keyframes | delta (when estimated)]:
+  // the disparity offset is a kept variable, so what the removed right-image residuals (and the
+  // previous prior) say about it stays in the new prior instead of being conditioned away.
   const int m = static_cast<int>(removed.size());
-  const int r = static_cast<int>(kept_slots.size()) * d;
+  const bool keep_offset = options.estimate_disparity_offset;
+  if (window.prior.has_offset && !keep_offset) {
+    throw std::logic_error("marginalize_oldest: prior has the disparity offset, not estimated");
+  }
+  const int r = static_cast<int>(kept_slots.size()) * d + (keep_offset ? 1 : 0);
   const int N = m + d + r;
+  const int offset_at = keep_offset ? N - 1 : -1;  // delta's row (the last)
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(N, N);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(N);
   auto pose_offset = [&](int slot) {
@@ -85,24 +93,27 @@ MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& opti
       if (!o.inlier || !linearize_reprojection(window, l, o, options.pixel_sigma, t)) continue;
       // Rows past t.dim are zero in the residual and every Jacobian.
       const double w = huber(t.r.norm(), options.huber_threshold).weight;
-      // Jacobian row block over [rho_li | oldest pose (6) | target pose (6)].
-      Eigen::Matrix<double, 4, 13> J = Eigen::Matrix<double, 4, 13>::Zero();
+      // Jacobian row block over [rho_li | oldest pose (6) | target pose (6) | delta].
+      Eigen::Matrix<double, 4, 14> J = Eigen::Matrix<double, 4, 14>::Zero();
       J.col(0) = t.J_rho;
       if (!t.same_frame) {
         J.block<4, 6>(0, 1) = t.J_anchor;
         J.block<4, 6>(0, 7) = t.J_target;
       }
-      const Eigen::Matrix<double, 13, 13> JtJ = w * J.transpose() * J;
-      const Eigen::Matrix<double, 13, 1> Jtr = w * J.transpose() * t.r;
+      J.col(13) = t.J_offset;
+      const Eigen::Matrix<double, 14, 14> JtJ = w * J.transpose() * J;
+      const Eigen::Matrix<double, 14, 1> Jtr = w * J.transpose() * t.r;
+      // In the anchor only rho (and delta, through the right residual) enter.
+      const int anchor = t.same_frame ? -1 : m;
       const int target = t.same_frame ? -1 : pose_offset(window.slot(o.keyframe_id));
-      const int idx[3] = {li, m, target};
-      const int len[3] = {1, 6, 6};
-      const int col[3] = {0, 1, 7};
-      for (int p = 0; p < 3; ++p) {
-        if (idx[p] < 0 || (t.same_frame && p > 0)) continue;
+      const int idx[4] = {li, anchor, target, offset_at};
+      const int len[4] = {1, 6, 6, 1};
+      const int col[4] = {0, 1, 7, 13};
+      for (int p = 0; p < 4; ++p) {
+        if (idx[p] < 0) continue;
         b.segment(idx[p], len[p]) -= Jtr.segment(col[p], len[p]);
-        for (int q = 0; q < 3; ++q) {
-          if (idx[q] < 0 || (t.same_frame && q > 0)) continue;
+        for (int q = 0; q < 4; ++q) {
+          if (idx[q] < 0) continue;
           H.block(idx[p], idx[q], len[p], len[q]) += JtJ.block(col[p], col[q], len[p], len[q]);
         }
       }
@@ -124,24 +135,22 @@ MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& opti
   }
   if (!window.prior.empty()) {
     const Prior& prior = window.prior;
-    const int n = static_cast<int>(prior.keyframe_ids.size()) * d;
-    Eigen::VectorXd dx(n);
-    std::vector<int> offsets;
+    // (start in the prior's vector, start in H, length) of each of its variable blocks.
+    std::vector<std::array<int, 3>> blocks;
     for (std::size_t k = 0; k < prior.keyframe_ids.size(); ++k) {
-      const int slot = window.slot(prior.keyframe_ids[k]);
-      offsets.push_back(pose_offset(slot));
-      dx.segment(static_cast<int>(k) * d, d) =
-          window.keyframes[static_cast<std::size_t>(slot)].difference(prior.linearization_points[k],
-                                                                      d);
+      blocks.push_back(
+          {static_cast<int>(k) * d, pose_offset(window.slot(prior.keyframe_ids[k])), d});
     }
-    const Eigen::VectorXd res = prior.r0 + prior.J * dx;
+    if (prior.has_offset) {
+      blocks.push_back({static_cast<int>(prior.keyframe_ids.size()) * d, offset_at, 1});
+    }
+    const Eigen::VectorXd res = prior.r0 + prior.J * window.prior_difference();
     const Eigen::MatrixXd JtJ = prior.J.transpose() * prior.J;
     const Eigen::VectorXd Jtr = prior.J.transpose() * res;
-    for (std::size_t p = 0; p < offsets.size(); ++p) {
-      b.segment(offsets[p], d) -= Jtr.segment(static_cast<int>(p) * d, d);
-      for (std::size_t q = 0; q < offsets.size(); ++q) {
-        H.block(offsets[p], offsets[q], d, d) +=
-            JtJ.block(static_cast<int>(p) * d, static_cast<int>(q) * d, d, d);
+    for (const auto& [p0, h0, len0] : blocks) {
+      b.segment(h0, len0) -= Jtr.segment(p0, len0);
+      for (const auto& [p1, h1, len1] : blocks) {
+        H.block(h0, h1, len0, len1) += JtJ.block(p0, p1, len0, len1);
       }
     }
   }
@@ -244,6 +253,8 @@ MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& opti
     prior.linearization_points.push_back(
         window.keyframes[static_cast<std::size_t>(slot)].navigation_state());
   }
+  prior.has_offset = keep_offset && r > 0;
+  prior.offset_linearization_px = window.disparity_offset_px;
   if (r == 0) prior.keyframe_ids.clear(), prior.linearization_points.clear();
   window.prior = std::move(prior);
   for (const Landmark& l : report.removed_landmarks) window.landmarks.erase(l.track_id);

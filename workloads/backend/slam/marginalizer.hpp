@@ -4,7 +4,10 @@
 // landmarks anchored in it (one inverse depth each); the factors touching them (their
 // reprojections, the IMU factor to the next keyframe, the previous prior) are linearized into
 //   [[A_mm, A_mr], [A_rm, A_rr]] [dx_m; dx_r] = [b_m; b_r],   A_mm = [[A, B], [C, D]]
-// with A diagonal (m x m: landmarks only couple through poses) and D the 6x6 pose block. With an
+// with A diagonal (m x m: landmarks only couple through poses) and D the 6x6 pose block. The kept
+// variables x_r are the linked kept keyframes and, when it is estimated, the disparity offset
+// delta (the removed landmarks' right residuals and the previous prior couple to it), so the new
+// prior is on [keyframes | delta] and delta's information accumulates over the run. With an
 // IMU, the removed keyframe's velocity and biases (which never couple to landmarks) are
 // eliminated first by a 9x9 LDLT (ops ldlt, trsm, trsv, gemm), so that A_mm keeps this
 // structure. The Schur complement gives the new prior on the kept states x_r:
@@ -14,8 +17,8 @@
 // stored as a residual r(dx) = r0 + J dx with J^T J = H*, J^T r0 = -b*: LDLT H* = P^T L D L^T P,
 // J = D^1/2 L^T P, r0 = -D^-1/2 L^-1 P b* (forward substitution).
 // Recorded as the accelerable kernel `marginalization` (m = landmarks removed, n = kept state
-// size, k = removed keyframe state size) with its ops: inverse (kDiagonalBlock | kBlock6x6 |
-// kSymmetric), transpose, gemm, ldlt, trsv.
+// size: kept keyframes times 6 or 15, plus 1 for delta, k = removed keyframe state size) with its
+// ops: inverse (kDiagonalBlock | kBlock6x6 | kSymmetric), transpose, gemm, ldlt, trsv.
 #include "workloads/backend/kernel_recorder.hpp"
 #include "workloads/backend/slam/slam_options.hpp"
 #include "workloads/backend/slam/window.hpp"

@@ -69,6 +69,18 @@ const KeyframeState& Window::keyframe(std::int64_t keyframe_id) const {
   return keyframes[static_cast<std::size_t>(s)];
 }
 
+Eigen::VectorXd Window::prior_difference() const {
+  const int d = state_dim;
+  const int n = static_cast<int>(prior.keyframe_ids.size()) * d;
+  Eigen::VectorXd dx(n + (prior.has_offset ? 1 : 0));
+  for (std::size_t k = 0; k < prior.keyframe_ids.size(); ++k) {
+    dx.segment(static_cast<int>(k) * d, d) =
+        keyframe(prior.keyframe_ids[k]).difference(prior.linearization_points[k], d);
+  }
+  if (prior.has_offset) dx(n) = disparity_offset_px - prior.offset_linearization_px;
+  return dx;
+}
+
 Eigen::Vector3d Window::landmark_world(const Landmark& landmark) const {
   const KeyframeState& a = keyframe(landmark.anchor_id);
   const Eigen::Vector3d p_body = camera.T_body_left * (landmark.bearing / landmark.inverse_depth);

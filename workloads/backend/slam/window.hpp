@@ -61,14 +61,18 @@ struct Landmark {
   int inlier_count() const;
 };
 
-/// Linear prior on some keyframe states from marginalization (or the initial gauge prior):
-///   r(x) = r0 + J (x [-] x0),  cost 1/2 |r|^2.
+/// Linear prior on some keyframe states, and on the disparity offset when has_offset, from
+/// marginalization (or the initial gauge prior):
+///   r(x) = r0 + J (x [-] x0),  x = [keyframe states in keyframe_ids order | delta],
+///   cost 1/2 |r|^2.
 struct Prior {
   std::vector<std::int64_t> keyframe_ids;
   std::vector<KeyframeState> linearization_points;  ///< x0, one per id
+  bool has_offset = false;             ///< the last column of J is the disparity offset delta
+  double offset_linearization_px = 0;  ///< delta0
   Eigen::MatrixXd J;
   Eigen::VectorXd r0;
-  bool empty() const { return keyframe_ids.empty(); }
+  bool empty() const { return keyframe_ids.empty() && !has_offset; }
 };
 
 struct Window {
@@ -85,6 +89,8 @@ struct Window {
   /// Position of a keyframe id in the deque, or -1.
   int slot(std::int64_t keyframe_id) const;
   const KeyframeState& keyframe(std::int64_t keyframe_id) const;
+  /// x [-] x0 of the prior's variables: [x_k [-] x0_k per prior keyframe | delta - delta0].
+  Eigen::VectorXd prior_difference() const;
   /// World position of a landmark: p_w = R_a (R_bc bearing / rho + t_bc) + p_a.
   Eigen::Vector3d landmark_world(const Landmark& landmark) const;
 };

@@ -57,7 +57,8 @@ class StatisticsKeeper : public Backend {
 /// Runs the pipeline with the SLAM backend; writes its map to map_file when not empty.
 RunFigures run(const fs::path& dataset, datasets::DatasetFormat format, const fs::path& out,
                std::optional<std::size_t> max_frames = std::nullopt, const fs::path& map_file = {},
-               std::optional<cv::Size> resize = std::nullopt) {
+               std::optional<cv::Size> resize = std::nullopt,
+               const SlamOptions& slam_options = SlamOptions{}) {
   modes::TraceRunOptions options;
   options.dataset.resize = resize;
   options.dataset_path = dataset;
@@ -67,7 +68,7 @@ RunFigures run(const fs::path& dataset, datasets::DatasetFormat format, const fs
   RunFigures f;
   SlamStatistics statistics;
   options.make_backend = [&](const datasets::Dataset& d) {
-    return std::make_unique<StatisticsKeeper>(make_slam_backend(d, SlamOptions{}), statistics,
+    return std::make_unique<StatisticsKeeper>(make_slam_backend(d, slam_options), statistics,
                                               map_file);
   };
   f.summary = modes::run_trace(options);
@@ -173,6 +174,7 @@ TEST(SlamEndToEnd, SyntheticIndoorUnknownSmall) {
       EXPECT_EQ(inverse.m, k.m + 6);
       EXPECT_EQ(inverse.flags, trace::op_flags::kDiagonalBlock | trace::op_flags::kBlock6x6 |
                                    trace::op_flags::kSymmetric);
+      EXPECT_EQ(k.n % 15, 1);  // kept keyframes (15 each) and the disparity offset
     }
   }
   EXPECT_EQ(marginalizations, f.marginalizations);
@@ -183,10 +185,11 @@ fs::path kitti_excerpt() {
   return fs::path(EDX_SHARED_DATA_DIR) / "kitti_odometry_excerpt" / "sequences" / "01";
 }
 
-// The target is <= 2 % translational drift over the 52 m; the backend reaches 2.6 %
-// (3.8 % before the disparity offset was estimated; docs/SLAM.md). KITTI's rectified disparities
-// measure ~1.1 px short of the calibration's geometry (checked against ground-truth motion in
-// docs/SLAM.md): the estimated offset must come out positive and about that size.
+// The target is <= 2 % translational drift over the 52 m; the backend reaches 1.7 %
+// (3.8 % before the disparity offset was estimated, 2.6 % with it conditioned away at each
+// marginalization; docs/SLAM.md). KITTI's rectified disparities measure ~1.1 px short of the
+// calibration's geometry (checked against ground-truth motion in docs/SLAM.md): the estimated
+// offset must come out positive and about that size.
 TEST(SlamEndToEnd, KittiExcerptVisualOnly) {
   const testing::TempDir dir;
   const RunFigures f = run(kitti_excerpt(), datasets::DatasetFormat::kKitti,
@@ -194,8 +197,8 @@ TEST(SlamEndToEnd, KittiExcerptVisualOnly) {
   print("KITTI 01 excerpt", f);
   EXPECT_EQ(f.summary.estimated_frames, f.summary.frames);
   EXPECT_EQ(f.tracking_failures, 0);
-  EXPECT_LT(f.final_drift_pct, 3.0);
-  EXPECT_LT(f.ate_rmse_m, 0.4);
+  EXPECT_LT(f.final_drift_pct, 2.0);
+  EXPECT_LT(f.ate_rmse_m, 0.3);
   EXPECT_GT(f.disparity_offset_px, 0.4);
   EXPECT_LT(f.disparity_offset_px, 1.6);
 
@@ -212,6 +215,7 @@ TEST(SlamEndToEnd, KittiExcerptVisualOnly) {
       EXPECT_EQ(k.ops.front().m, k.m + 6);
       EXPECT_EQ(k.ops.front().flags, trace::op_flags::kDiagonalBlock | trace::op_flags::kBlock6x6 |
                                          trace::op_flags::kSymmetric);
+      EXPECT_EQ(k.n % 6, 1);  // kept keyframes (6 each) and the disparity offset
     }
   }
   EXPECT_EQ(marginalizations, f.marginalizations);
@@ -240,6 +244,21 @@ TEST(SlamEndToEnd, DISABLED_KittiExcerpt1280x720) {
   print("KITTI 01 excerpt 1280x720", f);
   EXPECT_EQ(f.tracking_failures, 0);
   EXPECT_LT(f.final_drift_pct, 5.0);
+}
+
+// Sensitivity of the KITTI figures to the zero-mean prior on the disparity offset (default 2 px,
+// only there to keep it bounded). By hand.
+TEST(SlamEndToEnd, DISABLED_KittiOffsetPriorSensitivity) {
+  for (const double sigma : {0.5, 20.0}) {
+    const testing::TempDir dir;
+    SlamOptions options;
+    options.disparity_offset_sigma_px = sigma;
+    const RunFigures f = run(kitti_excerpt(), datasets::DatasetFormat::kKitti,
+                             dir.path() / "trace.db", std::nullopt, {}, std::nullopt, options);
+    std::printf("disparity_offset_sigma_px %.1f: ", sigma);
+    print("KITTI 01 excerpt", f);
+    EXPECT_LT(f.final_drift_pct, 5.0);
+  }
 }
 
 TEST(SlamEndToEnd, SameInputGivesTheSameEstimate) {
