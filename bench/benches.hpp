@@ -15,5 +15,7 @@ void add_render_bench(CLI::App& app);
 void add_frontend_bench(CLI::App& app);
 /// `edx-bench system`: the whole-system model of `edx simulate` (arch/system).
 void add_system_bench(CLI::App& app);
+/// `edx-bench sweep`: design points per second of `edx sweep` (arch/system/sweep).
+void add_sweep_bench(CLI::App& app);
 
 }  // namespace edx::bench

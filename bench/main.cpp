@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   edx::bench::add_render_bench(app);
   edx::bench::add_frontend_bench(app);
   edx::bench::add_system_bench(app);
+  edx::bench::add_sweep_bench(app);
 
   try {
     app.parse(argc, argv);

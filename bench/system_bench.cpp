@@ -15,6 +15,7 @@
 #include "arch/system/platform.hpp"
 #include "arch/system/system_model.hpp"
 #include "bench/benches.hpp"
+#include "bench/stretch.hpp"
 #include "workloads/trace/reader.hpp"
 
 namespace edx::bench {
@@ -45,17 +46,7 @@ void add_system_bench(CLI::App& app) {
     const trace::TraceReader reader(args->trace);
     const std::vector<trace::FrameTrace> source = reader.read_all();
     if (source.empty()) throw std::runtime_error(args->trace + ": no frames");
-    // Repeat the trace's frames, renumbered, with increasing time stamps.
-    std::vector<trace::FrameTrace> frames;
-    frames.reserve(args->frames);
-    const std::int64_t span =
-        source.back().frame.timestamp_ns - source.front().frame.timestamp_ns + 50'000'000;
-    for (std::size_t i = 0; i < args->frames; ++i) {
-      trace::FrameTrace f = source[i % source.size()];
-      f.frame.frame_id = static_cast<std::int64_t>(i);
-      f.frame.timestamp_ns += static_cast<std::int64_t>(i / source.size()) * span;
-      frames.push_back(std::move(f));
-    }
+    const std::vector<trace::FrameTrace> frames = stretch_trace(source, args->frames);
     std::vector<double> seconds;
     arch::SystemResult result;
     for (int r = 0; r < args->repeats; ++r) {

@@ -15,5 +15,13 @@ void add_trace_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
 /// `edx vocab`: bag-of-words vocabulary training.
 void add_vocab_command(CLI::App& app);
+/// `edx sweep`: a design-space sweep into a results database (docs/SWEEPS.md).
+void add_sweep_command(CLI::App& app);
+/// `edx export`: a results-database table or a sweep's points as CSV.
+void add_export_command(CLI::App& app);
+/// `edx report`: HTML report with gnuplot plots of a results database.
+void add_report_command(CLI::App& app);
+/// `edx check`: a run against the paper's Edx-Car figures (reports/paper_targets.yaml).
+void add_check_command(CLI::App& app);
 
 }  // namespace edx::cli

@@ -37,6 +37,10 @@ int main(int argc, char** argv) {
   edx::cli::add_trace_command(app);
   edx::cli::add_simulate_command(app);
   edx::cli::add_vocab_command(app);
+  edx::cli::add_sweep_command(app);
+  edx::cli::add_export_command(app);
+  edx::cli::add_report_command(app);
+  edx::cli::add_check_command(app);
 
   try {
     app.parse(argc, argv);

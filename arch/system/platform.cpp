@@ -1,8 +1,10 @@
 #include "arch/system/platform.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -38,7 +40,9 @@ nlohmann::json Platform::to_json() const {
           {"scheduler", scheduler.to_json()}};
 }
 
-Platform Platform::parse(const std::string& text, const std::string& where) {
+namespace {
+
+YAML::Node load_yaml(const std::string& text, const std::string& where) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -47,6 +51,80 @@ Platform Platform::parse(const std::string& text, const std::string& where) {
         fmt::format("{}:{}: not valid YAML: {}", where, e.mark.line + 1, e.msg));
   }
   if (!root.IsMap()) throw std::runtime_error(fmt::format("{}: expected a map of sections", where));
+  return root;
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in)
+    throw std::runtime_error(fmt::format("{}: cannot read the platform file", path.string()));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// Records `file` as the origin of every key under `node` (dotted from `prefix`).
+void note_origins(const YAML::Node& node, const std::string& prefix, const std::string& file,
+                  std::map<std::string, std::string>& origins) {
+  if (!node.IsMap()) return;
+  for (const auto& item : node) {
+    const std::string key =
+        prefix.empty() ? item.first.Scalar() : prefix + "." + item.first.Scalar();
+    origins[key] = file;
+    note_origins(item.second, key, file, origins);
+  }
+}
+
+/// child over parent, recursively by map; `parent` is modified in place (a clone).
+void merge_into(YAML::Node parent, const YAML::Node& child) {
+  for (const auto& item : child) {
+    const std::string key = item.first.Scalar();
+    // A const lookup: the non-const one would leave an empty entry behind for a new key.
+    YAML::Node existing = static_cast<const YAML::Node&>(parent)[key];
+    if (existing && existing.IsMap() && item.second.IsMap()) {
+      merge_into(existing, item.second);
+    } else {
+      // Insert the child's own key node: errors then still point at the child's line.
+      if (existing) parent.remove(key);
+      parent.force_insert(item.first, item.second);
+    }
+  }
+}
+
+PlatformSource load_chain(const std::filesystem::path& path, std::vector<std::string>& chain) {
+  YAML::Node root = load_yaml(read_text(path), path.string());
+  PlatformSource source;
+  source.file = path.string();
+  const YAML::Node extends = root["extends"];
+  if (extends) {
+    const std::string line = fmt::format("{}:{}", path.string(), extends.Mark().line + 1);
+    if (!extends.IsScalar() || extends.Scalar().empty()) {
+      throw std::runtime_error(fmt::format("{}: platform.extends: expected a file name", line));
+    }
+    const std::filesystem::path parent = path.parent_path() / extends.Scalar();
+    const std::string canonical = std::filesystem::weakly_canonical(parent).string();
+    if (std::find(chain.begin(), chain.end(), canonical) != chain.end()) {
+      throw std::runtime_error(fmt::format("{}: platform.extends: '{}' extends itself (cycle: {})",
+                                           line, extends.Scalar(), fmt::join(chain, " -> ")));
+    }
+    if (!std::filesystem::is_regular_file(parent)) {
+      throw std::runtime_error(
+          fmt::format("{}: platform.extends: no such file '{}'", line, parent.string()));
+    }
+    chain.push_back(canonical);
+    source = load_chain(parent, chain);
+    source.file = path.string();
+    root.remove("extends");
+    merge_into(source.root, root);
+  } else {
+    source.root = root;
+  }
+  note_origins(root, "", path.string(), source.origins);
+  return source;
+}
+
+/// Parses the merged `root`; `where` names it in errors.
+Platform parse_root(const YAML::Node& root, const std::string& where) {
   Platform p;
   YamlFields top(root, where, "platform");
   top.read("name", p.name);
@@ -96,13 +174,81 @@ Platform Platform::parse(const std::string& text, const std::string& where) {
   return p;
 }
 
+/// Marks a merged tree's errors so that they can be re-attributed to the file of their key.
+constexpr const char* kMerged = "\x01merged\x01";
+
+}  // namespace
+
+PlatformSource PlatformSource::load(const std::filesystem::path& path) {
+  std::vector<std::string> chain{std::filesystem::weakly_canonical(path).string()};
+  return load_chain(path, chain);
+}
+
+void PlatformSource::set(const std::string& key, const YAML::Node& value,
+                         const std::string& origin) {
+  std::vector<std::string> parts;
+  for (std::size_t start = 0;;) {
+    const std::size_t dot = key.find('.', start);
+    parts.push_back(key.substr(start, dot - start));
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  // Walk with owned nodes (operator= on a YAML::Node handle would rebind, not descend).
+  std::vector<YAML::Node> path{root};
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    YAML::Node next = path.back()[parts[i]];
+    if (!next || !next.IsMap()) {
+      path.back()[parts[i]] = YAML::Node(YAML::NodeType::Map);
+      next = path.back()[parts[i]];
+    }
+    path.push_back(next);
+  }
+  path.back()[parts.back()] = value;
+  origins[key] = origin;
+}
+
+Platform Platform::parse(const std::string& text, const std::string& where) {
+  const YAML::Node root = load_yaml(text, where);
+  if (root["extends"]) {
+    throw std::runtime_error(
+        fmt::format("{}:{}: platform.extends: only a platform file can extend "
+                    "another (load it with its path)",
+                    where, root["extends"].Mark().line + 1));
+  }
+  return parse_root(root, where);
+}
+
+Platform Platform::parse(const PlatformSource& source) {
+  try {
+    return parse_root(source.root, kMerged);
+  } catch (const std::runtime_error& e) {
+    // "<kMerged>[:line]: key.path: message": name the file that wrote the longest known prefix
+    // of key.path (a top-level key is reported as "platform.key").
+    std::string message = e.what();
+    const std::string marker = kMerged;
+    const std::size_t at = message.find(marker);
+    if (at == std::string::npos) throw;
+    std::string file = source.file;
+    const std::size_t colon = message.find(": ", at + marker.size());
+    if (colon != std::string::npos) {
+      const std::size_t start = colon + 2;
+      std::string key = message.substr(start, message.find(':', start) - start);
+      if (key.rfind("platform.", 0) == 0) key = key.substr(9);
+      for (; !key.empty(); key = key.substr(0, std::min(key.size(), key.rfind('.')))) {
+        if (const auto it = source.origins.find(key); it != source.origins.end()) {
+          file = it->second;
+          break;
+        }
+        if (key.find('.') == std::string::npos) break;
+      }
+    }
+    message.replace(at, marker.size(), file);
+    throw std::runtime_error(message);
+  }
+}
+
 Platform Platform::load(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in)
-    throw std::runtime_error(fmt::format("{}: cannot read the platform file", path.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse(text.str(), path.string());
+  return parse(PlatformSource::load(path));
 }
 
 }  // namespace edx::arch

@@ -14,7 +14,16 @@
 //   cost: {...}  power: {...}                   cost::CostConfig, cost::PowerConfig
 //   scheduler: {policy: regression, training_fraction: 0.25}
 // Every section is optional (defaults); unknown keys and wrong types are file:line:key errors.
+//
+// `extends: parent.yaml` (path relative to the file) starts from the parent's keys: the
+// child's keys override them, recursively by map (a map merges key by key, anything else
+// replaces). Chains are allowed; a cycle or a missing parent is an error naming the file and
+// line of the `extends:`. Errors in the merged config name the file and line where the key was
+// written (PlatformSource keeps, per dotted key, the file it came from).
+#include <yaml-cpp/yaml.h>
+
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -52,6 +61,19 @@ struct SchedulerConfig {
   nlohmann::json to_json() const;
 };
 
+/// A platform's YAML after `extends:` merging, before parsing: the merged tree (every node keeps
+/// the line it was written on) and, per dotted key ("backend.gemm_block", "backend"), the file
+/// it was written in.
+struct PlatformSource {
+  YAML::Node root;
+  std::string file;                            ///< the file loaded (the leaf of the chain)
+  std::map<std::string, std::string> origins;  ///< dotted key -> file that wrote it
+  /// Reads `path` and its `extends:` chain. Errors: file:line of the offending `extends:`.
+  static PlatformSource load(const std::filesystem::path& path);
+  /// Sets the dotted `key` to `value` (creating maps on the way), its origin being `origin`.
+  void set(const std::string& key, const YAML::Node& value, const std::string& origin);
+};
+
 struct Platform {
   std::string name;
   std::string description;
@@ -70,6 +92,8 @@ struct Platform {
   static Platform load(const std::filesystem::path& path);
   /// Parses YAML text; `where` names it in errors.
   static Platform parse(const std::string& text, const std::string& where);
+  /// Parses a merged tree; an error is reported against the file that wrote its key.
+  static Platform parse(const PlatformSource& source);
 };
 
 }  // namespace edx::arch

@@ -50,7 +50,8 @@ void bind_real(SQLite::Statement& s, int index, double v) {
   }
 }
 
-void write_run(SQLite::Database& db, const SystemResult& r, const std::string& run_id) {
+void write_run(SQLite::Database& db, const SystemResult& r, const std::string& run_id,
+               const ResultsWriteOptions& options) {
   for (const char* table : kTables) {
     SQLite::Statement del(db, fmt::format("DELETE FROM {} WHERE run_id = ?", table));
     del.bind(1, run_id);
@@ -74,6 +75,7 @@ void write_run(SQLite::Database& db, const SystemResult& r, const std::string& r
   SQLite::Statement energy(db, "INSERT INTO energy VALUES (?, ?, ?, ?, ?, ?, ?)");
   for (const VariantResult* v : {&r.baseline, &r.accelerated}) {
     for (const FrameResult& f : v->frames) {
+      if (!options.per_frame) break;
       frame.bind(1, run_id);
       frame.bind(2, v->variant);
       frame.bind(3, static_cast<std::int64_t>(f.frame_id));
@@ -126,6 +128,7 @@ void write_run(SQLite::Database& db, const SystemResult& r, const std::string& r
 
   SQLite::Statement offload(db, "INSERT INTO offload VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
   for (const KernelDecision& d : r.decisions) {
+    if (!options.per_frame) break;
     offload.bind(1, run_id);
     offload.bind(2, static_cast<std::int64_t>(d.frame_id));
     offload.bind(3, d.kernel_seq);
@@ -178,15 +181,26 @@ void write_run(SQLite::Database& db, const SystemResult& r, const std::string& r
 
 }  // namespace
 
+std::string run_id_of(const std::string& config_hash, const std::string& trace_hash) {
+  return config_hash + "-" + trace_hash;
+}
+
+void create_results_tables(SQLite::Database& db) { db.exec(kSchema); }
+
+void write_results(SQLite::Database& db, const SystemResult& result,
+                   const ResultsWriteOptions& options) {
+  write_run(db, result, run_id_of(result.config_hash, result.trace_hash), options);
+}
+
 void write_results(const std::filesystem::path& path, const SystemResult& result) {
   const bool existed = std::filesystem::exists(path);
-  const std::string run_id = result.config_hash + "-" + result.trace_hash;
+  const std::string run_id = run_id_of(result.config_hash, result.trace_hash);
   try {
     SQLite::Database db(path.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
     db.exec("PRAGMA busy_timeout = 5000");
     SQLite::Transaction transaction(db);  // rolled back by its destructor on an exception
     db.exec(kSchema);
-    write_run(db, result, run_id);
+    write_run(db, result, run_id, {});
     transaction.commit();
   } catch (const std::exception& e) {
     if (!existed) {

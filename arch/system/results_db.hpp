@@ -26,7 +26,25 @@
 
 #include "arch/system/system_model.hpp"
 
+namespace SQLite {
+class Database;
+}
+
 namespace edx::arch {
+
+/// What a run writes: per_frame = false leaves out the frames and offload rows (a sweep's
+/// points keep the summaries, latency, throughput, energy, schedule and resources).
+struct ResultsWriteOptions {
+  bool per_frame = true;
+};
+
+/// Creates the tables when needed (inside the caller's transaction, if any).
+void create_results_tables(SQLite::Database& db);
+/// Writes (or replaces) `result`'s run in an open database, inside the caller's transaction.
+void write_results(SQLite::Database& db, const SystemResult& result,
+                   const ResultsWriteOptions& options = {});
+/// "<config_hash>-<trace_hash>": the key of a run.
+std::string run_id_of(const std::string& config_hash, const std::string& trace_hash);
 
 /// Writes (or replaces) `result`'s run in `path`, creating the file and tables when needed.
 /// Errors: std::runtime_error naming the file.

@@ -234,6 +234,21 @@ cost::FrameActivity frontend_activity(const trace::FrameTrace& frame, const Fron
   return a;
 }
 
+std::string trace_hash(std::size_t frames, const trace::TraceMeta& trace_meta) {
+  std::string fingerprint = fmt::format("frames={}\n", frames);
+  for (const auto& [key, value] : trace_meta) fingerprint += key + "=" + value + "\n";
+  return fnv1a_hex(fingerprint);
+}
+
+std::string frontend_study_key(const Platform& platform) {
+  return nlohmann::json{{"host", platform.host.to_json()},
+                        {"frontend", platform.frontend.to_json()},
+                        {"link", platform.link.to_json()},
+                        {"transfers", platform.transfers.to_json()},
+                        {"device", platform.device}}
+      .dump();
+}
+
 SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
                              const trace::TraceMeta& trace_meta, const std::string& trace_path,
                              const FrontendSimOptions& timeline) {
@@ -241,15 +256,21 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   if (resolution == trace_meta.end()) {
     throw std::runtime_error(fmt::format("{}: trace meta has no resolution", trace_path));
   }
+  return simulate_system(platform, frames, trace_meta, trace_path,
+                         study_frontend(platform, frames, resolution->second, timeline));
+}
+
+SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
+                             const trace::TraceMeta& trace_meta, const std::string& trace_path,
+                             FrontendStudy frontend) {
   SystemResult r;
   r.platform = platform.name;
   r.config = platform;
   r.trace_path = trace_path;
   r.config_hash = fnv1a_hex(platform.to_json().dump());
-  std::string fingerprint = fmt::format("frames={}\n", frames.size());
-  for (const auto& [key, value] : trace_meta) fingerprint += key + "=" + value + "\n";
-  r.trace_hash = fnv1a_hex(fingerprint);
-  r.frontend = study_frontend(platform, frames, resolution->second, timeline);
+  r.trace_hash = trace_hash(frames.size(), trace_meta);
+  r.frontend = std::move(frontend);
+  r.frontend.platform = platform.name;
 
   // Every accelerable kernel: host time, accelerator time (units + link), SPM check.
   const double sb = platform.host.backend_time_scale;

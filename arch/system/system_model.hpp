@@ -103,11 +103,24 @@ std::string fnv1a_hex(const std::string& text);
 cost::FrameActivity frontend_activity(const trace::FrameTrace& frame, const FrontendConfig& fe,
                                       const cost::CostConfig& cost);
 
+/// The trace's key in results: FNV-1a of its frame count and meta table (SystemResult::trace_hash).
+std::string trace_hash(std::size_t frames, const trace::TraceMeta& trace_meta);
+
+/// The parts of a platform the frontend study reads (host, frontend, link, transfers, device) as
+/// text: platforms with equal keys have equal frontend studies (sweeps reuse one).
+std::string frontend_study_key(const Platform& platform);
+
 /// Runs the whole system. `resolution`: the trace's meta.resolution; `trace_meta` keys the run;
 /// `timeline`: the frontend timeline options of `edx simulate --timeline`.
 SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
                              const trace::TraceMeta& trace_meta, const std::string& trace_path,
                              const FrontendSimOptions& timeline = {});
+
+/// The same with the frontend study already made (study_frontend on this platform's
+/// frontend_study_key and these frames; its `platform` name is replaced by this one's).
+SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
+                             const trace::TraceMeta& trace_meta, const std::string& trace_path,
+                             FrontendStudy frontend);
 
 std::string format_system_result(const SystemResult& result);
 

@@ -1,0 +1,149 @@
+#pragma once
+// Design-space sweeps (`edx sweep`, docs/SWEEPS.md): a YAML spec names a base platform, a trace,
+// parameters (dotted platform keys with their values), a sampling, objectives and constraints.
+// Every design point is the base platform with one value per parameter; points run in parallel
+// through the whole-system model (simulate_system), each stored in the results database as it
+// finishes (one transaction per point, WAL), keyed by its run id (config hash + trace hash), so
+// a killed sweep resumes where it stopped. The Pareto front of the objectives over the points
+// that meet the constraints is printed and stored.
+//
+//   name: gemm_block                        # default: the spec's file stem
+//   base: ../configs/edx_car.yaml           # relative to the spec
+//   trace: ../build/sweep_vio.db            # relative to the spec; `--trace` overrides
+//   parameters:
+//     backend.gemm_block: {values: [1, 2, 4, 8]}
+//     backend.clock_mhz: {range: {from: 100, to: 250, step: 50}}      # from, from+step, ... <= to
+//     link.bandwidth_gb_per_s: {log_range: {from: 1.2, to: 7.9, points: 5}}  # geometric
+//   sampling: grid                          # or {random: {samples: 20, seed: 1}}
+//   objectives: [{minimize: e2e_latency_mean}, {minimize: dsp}, {maximize: fps}]
+//   constraints: [{metric: resources, max: 1.0}]    # max and/or min
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "arch/system/platform.hpp"
+#include "workloads/trace/records.hpp"
+
+namespace edx::arch {
+
+/// One swept platform key and its values, as YAML scalars (each keeps its spec line when it was
+/// written there; generated ones print integers without a decimal point).
+struct SweepParameter {
+  std::string key;  ///< dotted platform key, e.g. "backend.gemm_block"
+  std::vector<YAML::Node> values;
+  std::vector<std::string> texts;  ///< the values as text (tables, CSV)
+  int line = 0;                    ///< of the key in the spec
+};
+
+struct SweepObjective {
+  std::string metric;
+  bool maximize = false;
+};
+
+struct SweepConstraint {
+  std::string metric;
+  double min = -1e300, max = 1e300;
+};
+
+struct SweepSpec {
+  std::string file;  ///< the spec file ("" when parsed from text)
+  std::string name;
+  std::filesystem::path base, trace;
+  std::vector<SweepParameter> parameters;
+  bool random = false;
+  std::size_t samples = 0;
+  std::uint64_t seed = 1;
+  std::vector<SweepObjective> objectives;
+  std::vector<SweepConstraint> constraints;
+  nlohmann::json to_json() const;
+
+  /// Reads a spec; errors are one line "file:line: key: message".
+  static SweepSpec load(const std::filesystem::path& path);
+  /// Parses spec text; `where` names it in errors, relative paths resolve against `dir`.
+  static SweepSpec parse(const std::string& text, const std::string& where,
+                         const std::filesystem::path& dir);
+};
+
+/// One design point: the index of each parameter's value.
+struct SweepPoint {
+  std::size_t index = 0;  ///< position in the expansion
+  std::vector<std::size_t> choice;
+  /// {"backend.gemm_block": "4", ...}
+  nlohmann::json parameters(const SweepSpec& spec) const;
+};
+
+/// The design points: the full grid (last parameter fastest), or `samples` distinct grid points
+/// drawn with the spec's seed (a splitmix64 stream: the same seed gives the same points).
+std::vector<SweepPoint> expand_sweep(const SweepSpec& spec);
+
+/// The base platform with the point's values; errors name the spec (for a swept key) or the
+/// platform file that wrote the offending key.
+Platform sweep_platform(const SweepSpec& spec, const SweepPoint& point);
+
+/// Named metrics of a run's summary (SystemResult::to_json()), or a JSON pointer
+/// ("/accelerated/modes/all/e2e_ms/p99"). Names: e2e_latency_mean, e2e_latency_p99,
+/// frontend_latency_mean, backend_latency_mean, fps, fps_without_pipelining, energy_mean,
+/// e2e_speedup, lut, ff, dsp, bram (shared totals), lut_util, ff_util, dsp_util, bram_util,
+/// resources (the largest utilization, 1 = the whole device).
+double sweep_metric(const nlohmann::json& summary, const std::string& metric);
+/// Whether `metric` names a metric (a JSON pointer is checked when it is evaluated).
+bool is_sweep_metric(const std::string& metric);
+
+/// Indices of the non-dominated rows of `values` (each row: one value per objective; a row
+/// dominates another when it is no worse in every objective and better in one; `maximize[i]`
+/// flips objective i). Equal rows are all kept. Result in increasing index order.
+std::vector<std::size_t> pareto_front(const std::vector<std::vector<double>>& values,
+                                      const std::vector<bool>& maximize);
+
+/// One finished point of a sweep.
+struct SweepPointResult {
+  std::size_t index = 0;
+  std::string run_id;
+  nlohmann::json parameters;
+  std::vector<double> objectives;
+  nlohmann::json metrics;  ///< objectives and constraint metrics by name
+  bool feasible = true;
+  bool computed = false;  ///< simulated in this run (false: found in the database)
+  bool pareto = false;
+};
+
+struct SweepOptions {
+  std::filesystem::path db;
+  std::filesystem::path trace;  ///< overrides the spec's trace when not empty
+  int jobs = 1;
+  std::size_t limit = 0;   ///< stop after this many simulated points (0: no limit)
+  bool per_frame = false;  ///< also store frames and offload rows of every point
+  /// Called after each point (done, total, that point), from one thread at a time.
+  std::function<void(std::size_t, std::size_t, const SweepPointResult&)> progress;
+};
+
+struct SweepOutcome {
+  std::string sweep_id;
+  std::size_t total = 0, computed = 0, skipped = 0;
+  bool complete = true;                  ///< false: stopped by the limit
+  std::vector<SweepPointResult> points;  ///< finished points, by index
+  std::vector<std::size_t> front;        ///< indices into points (complete sweeps only)
+  double seconds = 0;                    ///< wall time
+  nlohmann::json to_json(const SweepSpec& spec) const;
+};
+
+/// Runs (or resumes) a sweep on the trace of the spec or the options. Tables: docs/SWEEPS.md.
+SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options);
+/// The same on frames in memory (benchmarks stretch a trace); `trace_name` is stored with runs.
+SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
+                       const std::vector<trace::FrameTrace>& frames,
+                       const trace::TraceMeta& trace_meta, const std::string& trace_name);
+
+std::string format_sweep(const SweepSpec& spec, const SweepOutcome& outcome);
+
+/// Writes a table of a results database to CSV (header row, RFC 4180 quoting), or with
+/// `sweep` not empty that sweep's points: point, run_id, a column per parameter and metric,
+/// feasible, pareto. Returns the rows written.
+std::size_t export_csv(const std::filesystem::path& db, const std::string& table,
+                       const std::string& sweep, const std::filesystem::path& out);
+
+}  // namespace edx::arch

@@ -1,0 +1,396 @@
+// Running a sweep: a thread pool over the design points, one results-database transaction per
+// finished point, resume by run id, the Pareto front; CSV export.
+#include <SQLiteCpp/SQLiteCpp.h>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <future>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <thread>
+
+#include "arch/system/results_db.hpp"
+#include "arch/system/sweep.hpp"
+#include "arch/system/system_model.hpp"
+#include "sim_core/atomic_file.hpp"
+#include "workloads/trace/reader.hpp"
+
+namespace edx::arch {
+namespace {
+
+constexpr const char* kSweepSchema = R"sql(
+CREATE TABLE IF NOT EXISTS sweeps (sweep_id TEXT PRIMARY KEY, spec TEXT NOT NULL,
+  base TEXT NOT NULL, trace TEXT NOT NULL, points INTEGER NOT NULL, spec_json TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS sweep_points (sweep_id TEXT NOT NULL, point INTEGER NOT NULL,
+  run_id TEXT NOT NULL, parameters_json TEXT NOT NULL, metrics_json TEXT NOT NULL,
+  feasible INTEGER NOT NULL, pareto INTEGER NOT NULL DEFAULT 0, PRIMARY KEY (sweep_id, point));
+)sql";
+
+/// Objectives and constraint metrics of a run summary; feasibility.
+void evaluate(const SweepSpec& spec, const nlohmann::json& summary, SweepPointResult& r) {
+  r.metrics = nlohmann::json::object();
+  r.objectives.clear();
+  for (const SweepObjective& o : spec.objectives) {
+    r.objectives.push_back(sweep_metric(summary, o.metric));
+    r.metrics[o.metric] = r.objectives.back();
+  }
+  r.feasible = true;
+  for (const SweepConstraint& c : spec.constraints) {
+    const double v = sweep_metric(summary, c.metric);
+    r.metrics[c.metric] = v;
+    r.feasible = r.feasible && v >= c.min && v <= c.max;
+  }
+}
+
+void put_point(SQLite::Database& db, const std::string& sweep_id, const SweepPointResult& r) {
+  SQLite::Statement s(db, "INSERT OR REPLACE INTO sweep_points VALUES (?, ?, ?, ?, ?, ?, ?)");
+  s.bind(1, sweep_id);
+  s.bind(2, static_cast<std::int64_t>(r.index));
+  s.bind(3, r.run_id);
+  s.bind(4, r.parameters.dump());
+  s.bind(5, r.metrics.dump());
+  s.bind(6, r.feasible ? 1 : 0);
+  s.bind(7, r.pareto ? 1 : 0);
+  s.exec();
+}
+
+std::string csv_field(const std::string& v) {
+  if (v.find_first_of(",\"\n\r") == std::string::npos) return v;
+  std::string q = "\"";
+  for (char c : v) {
+    q.push_back(c);
+    if (c == '"') q.push_back('"');
+  }
+  q.push_back('"');
+  return q;
+}
+
+std::string csv_value(const SQLite::Column& c) {
+  if (c.isNull()) return "";
+  if (c.isFloat()) return fmt::format("{}", c.getDouble());
+  return csv_field(c.getString());
+}
+
+}  // namespace
+
+nlohmann::json SweepOutcome::to_json(const SweepSpec& spec) const {
+  nlohmann::json pts = nlohmann::json::array(), front_json = nlohmann::json::array();
+  for (const SweepPointResult& p : points) {
+    pts.push_back({{"point", p.index},
+                   {"run_id", p.run_id},
+                   {"parameters", p.parameters},
+                   {"metrics", p.metrics},
+                   {"feasible", p.feasible},
+                   {"pareto", p.pareto}});
+  }
+  for (std::size_t i : front) front_json.push_back(points[i].index);
+  return {{"sweep", sweep_id},    {"spec", spec.to_json()}, {"total", total},
+          {"computed", computed}, {"skipped", skipped},     {"complete", complete},
+          {"seconds", seconds},   {"points", pts},          {"pareto_front", front_json}};
+}
+
+SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options) {
+  const std::filesystem::path trace_path = options.trace.empty() ? spec.trace : options.trace;
+  if (trace_path.empty()) {
+    throw std::runtime_error(
+        fmt::format("{}: trace: no trace (give trace: or --trace)", spec.file));
+  }
+  const trace::TraceReader reader(trace_path);
+  return run_sweep(spec, options, reader.read_all(), reader.meta(), trace_path.string());
+}
+
+SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
+                       const std::vector<trace::FrameTrace>& frames,
+                       const trace::TraceMeta& trace_meta, const std::string& trace_name) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto resolution = trace_meta.find("resolution");
+  if (resolution == trace_meta.end()) {
+    throw std::runtime_error(fmt::format("{}: trace meta has no resolution", trace_name));
+  }
+  const std::string thash = trace_hash(frames.size(), trace_meta);
+
+  // Platforms and run ids of every point (a bad value fails here, before any work).
+  const std::vector<SweepPoint> points = expand_sweep(spec);
+  std::vector<Platform> platforms;
+  SweepOutcome out;
+  out.sweep_id = spec.name;
+  out.total = points.size();
+  std::vector<SweepPointResult> results(points.size());
+  for (const SweepPoint& p : points) {
+    platforms.push_back(sweep_platform(spec, p));
+    results[p.index].index = p.index;
+    results[p.index].parameters = p.parameters(spec);
+    results[p.index].run_id = run_id_of(fnv1a_hex(platforms.back().to_json().dump()), thash);
+  }
+
+  std::unique_ptr<SQLite::Database> db_handle;
+  try {
+    db_handle = std::make_unique<SQLite::Database>(options.db.string(),
+                                                   SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(
+        fmt::format("{}: cannot open the results database: {}", options.db.string(), e.what()));
+  }
+  SQLite::Database& db = *db_handle;
+  // WAL with synchronous = NORMAL: a commit is not fsynced, but survives the process being
+  // killed (only a power cut can lose the last points; the file stays consistent).
+  db.exec("PRAGMA journal_mode = WAL");
+  db.exec("PRAGMA synchronous = NORMAL");
+  db.exec("PRAGMA busy_timeout = 5000");
+  {
+    SQLite::Transaction t(db);
+    create_results_tables(db);
+    db.exec(kSweepSchema);
+    SQLite::Statement sweep(db, "INSERT OR REPLACE INTO sweeps VALUES (?, ?, ?, ?, ?, ?)");
+    sweep.bind(1, out.sweep_id);
+    sweep.bind(2, spec.file);
+    sweep.bind(3, spec.base.string());
+    sweep.bind(4, trace_name);
+    sweep.bind(5, static_cast<std::int64_t>(points.size()));
+    sweep.bind(6, spec.to_json().dump());
+    sweep.exec();
+    // Points of an earlier version of the spec under this name are no longer part of it.
+    SQLite::Statement stale(db, "DELETE FROM sweep_points WHERE sweep_id = ? AND point >= ?");
+    stale.bind(1, out.sweep_id);
+    stale.bind(2, static_cast<std::int64_t>(points.size()));
+    stale.exec();
+    t.commit();
+  }
+  // Resume: points whose run is already in the database are evaluated from its summary.
+  std::vector<std::size_t> todo;
+  std::vector<bool> finished(points.size(), false);
+  {
+    SQLite::Statement q(db, "SELECT summary_json FROM runs WHERE run_id = ?");
+    for (SweepPointResult& r : results) {
+      q.bind(1, r.run_id);
+      if (q.executeStep()) {
+        evaluate(spec, nlohmann::json::parse(q.getColumn(0).getString()), r);
+        finished[r.index] = true;
+        ++out.skipped;
+      } else {
+        todo.push_back(r.index);
+      }
+      q.reset();
+    }
+    SQLite::Transaction t(db);
+    for (const SweepPointResult& r : results) {
+      if (finished[r.index]) put_point(db, out.sweep_id, r);
+    }
+    t.commit();
+  }
+  std::size_t done = out.skipped;
+  if (options.progress) {
+    for (const SweepPointResult& r : results) {
+      if (finished[r.index]) options.progress(done, points.size(), r);
+    }
+  }
+
+  // The pool: workers take the next point; frontend studies are shared between points with
+  // the same frontend_study_key (computed once, by the first worker asking).
+  std::mutex mutex;  // guards db, done, studies, the first error
+  std::map<std::string, std::shared_future<FrontendStudy>> studies;
+  std::atomic<std::size_t> next{0};
+  std::size_t computed = 0;
+  std::exception_ptr error;
+  const std::size_t limit = options.limit > 0 ? options.limit : todo.size();
+  std::atomic<std::size_t> started{0};
+  const auto worker = [&] {
+    for (;;) {
+      const std::size_t k = next++;
+      if (k >= todo.size() || started++ >= limit) return;
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (error) return;
+      }
+      SweepPointResult& r = results[todo[k]];
+      try {
+        const Platform& platform = platforms[r.index];
+        const std::string key = frontend_study_key(platform);
+        std::shared_future<FrontendStudy> study;
+        std::promise<FrontendStudy> mine;
+        bool owner = false;
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          auto it = studies.find(key);
+          if (it == studies.end()) {
+            it = studies.emplace(key, mine.get_future().share()).first;
+            owner = true;
+          }
+          study = it->second;
+        }
+        if (owner) {
+          try {
+            mine.set_value(study_frontend(platform, frames, resolution->second));
+          } catch (...) {
+            mine.set_exception(std::current_exception());
+          }
+        }
+        const SystemResult result =
+            simulate_system(platform, frames, trace_meta, trace_name, study.get());
+        evaluate(spec, result.to_json(), r);
+        r.computed = true;
+        std::lock_guard<std::mutex> lock(mutex);
+        SQLite::Transaction t(db);
+        write_results(db, result, ResultsWriteOptions{options.per_frame});
+        put_point(db, out.sweep_id, r);
+        t.commit();
+        finished[r.index] = true;
+        ++computed;
+        ++done;
+        if (options.progress) options.progress(done, points.size(), r);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!error) error = std::current_exception();
+        return;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  const int jobs =
+      std::max(1, std::min<int>(options.jobs, int(std::max<std::size_t>(1, todo.size()))));
+  for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+  out.computed = computed;
+
+  for (SweepPointResult& r : results) {
+    if (finished[r.index]) out.points.push_back(r);
+  }
+  out.complete = out.points.size() == points.size();
+  if (out.complete) {
+    // The front over the feasible points.
+    std::vector<std::size_t> feasible;
+    std::vector<std::vector<double>> values;
+    for (std::size_t i = 0; i < out.points.size(); ++i) {
+      if (!out.points[i].feasible) continue;
+      feasible.push_back(i);
+      values.push_back(out.points[i].objectives);
+    }
+    std::vector<bool> maximize;
+    for (const SweepObjective& o : spec.objectives) maximize.push_back(o.maximize);
+    for (std::size_t f : pareto_front(values, maximize)) {
+      out.front.push_back(feasible[f]);
+      out.points[feasible[f]].pareto = true;
+    }
+    SQLite::Transaction t(db);
+    for (const SweepPointResult& r : out.points) put_point(db, out.sweep_id, r);
+    t.commit();
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+std::string format_sweep(const SweepSpec& spec, const SweepOutcome& o) {
+  std::string text =
+      fmt::format("sweep      {}: {} points ({} simulated, {} from the database) in {:.2f} s{}\n",
+                  o.sweep_id, o.total, o.computed, o.skipped, o.seconds,
+                  o.complete ? ""
+                             : fmt::format("; stopped by the limit, {} left (re-run to resume)",
+                                           o.total - o.points.size()));
+  std::string header = fmt::format("{:>6}", "point");
+  for (const SweepParameter& p : spec.parameters)
+    header += fmt::format(" {:>14}", p.key.substr(p.key.rfind('.') + 1));
+  for (const SweepObjective& obj : spec.objectives) {
+    header += fmt::format(" {:>14}", (obj.maximize ? "max " : "min ") + obj.metric.substr(0, 10));
+  }
+  header += "  feasible pareto\n";
+  const auto row = [&](const SweepPointResult& r) {
+    std::string line = fmt::format("{:>6}", r.index);
+    for (const SweepParameter& p : spec.parameters) {
+      line += fmt::format(" {:>14}", r.parameters[p.key].get<std::string>());
+    }
+    for (double v : r.objectives) line += fmt::format(" {:>14.4g}", v);
+    return line + fmt::format("  {:<8} {}\n", r.feasible ? "yes" : "no", r.pareto ? "*" : "");
+  };
+  text += header;
+  for (const SweepPointResult& r : o.points) text += row(r);
+  if (o.complete) {
+    text += fmt::format("pareto     {} of {} feasible points non-dominated:\n", o.front.size(),
+                        std::count_if(o.points.begin(), o.points.end(),
+                                      [](const SweepPointResult& r) { return r.feasible; }));
+    text += header;
+    for (std::size_t i : o.front) text += row(o.points[i]);
+  }
+  return text;
+}
+
+std::size_t export_csv(const std::filesystem::path& db_path, const std::string& table,
+                       const std::string& sweep, const std::filesystem::path& out) {
+  if (!std::filesystem::is_regular_file(db_path)) {
+    throw std::runtime_error(fmt::format("{}: no such results database", db_path.string()));
+  }
+  SQLite::Database db(db_path.string(), SQLite::OPEN_READONLY);
+  std::string csv;
+  std::size_t rows = 0;
+  if (!sweep.empty()) {
+    if (!db.tableExists("sweep_points")) {
+      throw std::runtime_error(fmt::format("{}: no sweeps in this database", db_path.string()));
+    }
+    SQLite::Statement q(
+        db,
+        "SELECT point, run_id, parameters_json, metrics_json, feasible, pareto FROM "
+        "sweep_points WHERE sweep_id = ? ORDER BY point");
+    q.bind(1, sweep);
+    std::vector<std::string> params, metrics;
+    std::vector<std::string> lines;
+    while (q.executeStep()) {
+      const nlohmann::json p = nlohmann::json::parse(q.getColumn(2).getString());
+      const nlohmann::json m = nlohmann::json::parse(q.getColumn(3).getString());
+      if (rows == 0) {
+        for (const auto& [k, v] : p.items()) params.push_back(k);
+        for (const auto& [k, v] : m.items()) metrics.push_back(k);
+      }
+      std::string line =
+          fmt::format("{},{}", q.getColumn(0).getInt64(), q.getColumn(1).getString());
+      for (const std::string& k : params)
+        fmt::format_to(std::back_inserter(line), ",{}", csv_field(p.value(k, std::string())));
+      for (const std::string& k : metrics) {
+        fmt::format_to(std::back_inserter(line), ",{}",
+                       m.contains(k) ? fmt::format("{}", m[k].get<double>()) : std::string());
+      }
+      line += fmt::format(",{},{}", q.getColumn(4).getInt(), q.getColumn(5).getInt());
+      lines.push_back(line);
+      ++rows;
+    }
+    if (rows == 0) {
+      throw std::runtime_error(fmt::format("{}: no sweep named '{}'", db_path.string(), sweep));
+    }
+    std::string header = "point,run_id";
+    for (const std::string& k : params)
+      fmt::format_to(std::back_inserter(header), ",{}", csv_field(k));
+    for (const std::string& k : metrics)
+      fmt::format_to(std::back_inserter(header), ",{}", csv_field(k));
+    csv = header + ",feasible,pareto\n";
+    for (const std::string& l : lines) fmt::format_to(std::back_inserter(csv), "{}\n", l);
+  } else {
+    std::set<std::string> tables;
+    SQLite::Statement t(db, "SELECT name FROM sqlite_master WHERE type = 'table' ORDER BY name");
+    while (t.executeStep()) tables.insert(t.getColumn(0).getString());
+    if (!tables.contains(table)) {
+      throw std::runtime_error(fmt::format("{}: --table: no table '{}' (tables: {})",
+                                           db_path.string(), table, fmt::join(tables, ", ")));
+    }
+    SQLite::Statement q(db, fmt::format("SELECT * FROM \"{}\"", table));
+    for (int c = 0; c < q.getColumnCount(); ++c) {
+      fmt::format_to(std::back_inserter(csv), "{}{}", c ? "," : "", csv_field(q.getColumnName(c)));
+    }
+    csv += "\n";
+    while (q.executeStep()) {
+      for (int c = 0; c < q.getColumnCount(); ++c)
+        fmt::format_to(std::back_inserter(csv), "{}{}", c ? "," : "", csv_value(q.getColumn(c)));
+      csv += "\n";
+      ++rows;
+    }
+  }
+  sim::write_file_atomically(out, csv);
+  return rows;
+}
+
+}  // namespace edx::arch

@@ -1,0 +1,114 @@
+// `edx check`: the paper's Edx-Car figures (reports/paper_targets.yaml) against a simulated run,
+// read from a results database or simulated here from a config and a trace. Prints paper,
+// simulated, error and verdict per target; exits 1 when any target misses or is not found.
+// Logic: reports/paper_check (docs/REPORTS.md).
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+
+#include "arch/system/platform.hpp"
+#include "arch/system/results_db.hpp"
+#include "arch/system/system_model.hpp"
+#include "cli/commands.hpp"
+#include "reports/metrics.hpp"
+#include "reports/paper_check.hpp"
+#include "reports/results_reader.hpp"
+#include "workloads/trace/reader.hpp"
+
+namespace edx::cli {
+namespace {
+
+struct CheckArguments {
+  std::string results;
+  std::string config;
+  std::string trace;
+  std::string run_id;
+  std::string targets;
+  bool json = false;
+};
+
+/// The run of `data` to check: --run, else the only run.
+const reports::RunData& pick_run(const reports::ResultsData& data, const std::string& run_id) {
+  if (!run_id.empty()) {
+    if (const reports::RunData* r = data.find(run_id)) return *r;
+    throw std::runtime_error(fmt::format("{}: no run '{}' (--run)", data.path.string(), run_id));
+  }
+  if (data.runs.size() != 1) {
+    std::string ids;
+    for (const reports::RunData& r : data.runs) ids += (ids.empty() ? "" : ", ") + r.run_id;
+    throw std::runtime_error(fmt::format("{}: holds {} runs; choose one with --run ({})",
+                                         data.path.string(), data.runs.size(), ids));
+  }
+  return data.runs.front();
+}
+
+void run(const CheckArguments& args) {
+  const std::vector<reports::PaperTarget> targets = reports::load_targets(
+      args.targets.empty() ? reports::default_targets_path() : std::filesystem::path(args.targets));
+  nlohmann::json metrics;
+  std::string run_id;
+  if (!args.results.empty()) {
+    const reports::ResultsData data = reports::read_results(args.results);
+    const reports::RunData& r = pick_run(data, args.run_id);
+    metrics = reports::run_metrics(r);
+    run_id = r.run_id;
+  } else {
+    // Simulate, pass the run through a scratch results database (one reading path), and add the
+    // frontend study, which the results database does not hold.
+    const arch::Platform platform = arch::Platform::load(args.config);
+    const trace::TraceReader reader(args.trace);
+    const arch::SystemResult result =
+        arch::simulate_system(platform, reader.read_all(), reader.meta(), args.trace);
+    const std::filesystem::path scratch =
+        std::filesystem::temp_directory_path() / fmt::format("edx-check-{}.db", ::getpid());
+    std::filesystem::remove(scratch);
+    try {
+      arch::write_results(scratch, result);
+      const reports::ResultsData data = reports::read_results(scratch);
+      metrics = reports::run_metrics(data.runs.front());
+      run_id = data.runs.front().run_id;
+    } catch (...) {
+      std::filesystem::remove(scratch);
+      throw;
+    }
+    std::filesystem::remove(scratch);
+    metrics["frontend"] = result.frontend.to_json();
+  }
+  const reports::CheckResult check = reports::check_targets(targets, metrics, run_id);
+  if (args.json) {
+    fmt::print("{}\n", check.to_json().dump(2));
+  } else {
+    fmt::print("{}", reports::format_check(check));
+  }
+  if (!check.all_passed()) throw CLI::RuntimeError(1);
+}
+
+}  // namespace
+
+void add_check_command(CLI::App& app) {
+  auto args = std::make_shared<CheckArguments>();
+  CLI::App* cmd = app.add_subcommand(
+      "check", "Compare a run with the paper's Edx-Car figures (reports/paper_targets.yaml)");
+  auto* results =
+      cmd->add_option("--results", args->results, "Results database written by edx simulate");
+  auto* config = cmd->add_option("--config", args->config, "Platform description to simulate");
+  auto* trace = cmd->add_option("--trace", args->trace, "Trace database to simulate");
+  results->excludes(config)->excludes(trace);
+  config->needs(trace);
+  trace->needs(config);
+  cmd->add_option("--run", args->run_id, "Run of the results database (default: its only run)")
+      ->needs(results);
+  cmd->add_option("--targets", args->targets,
+                  "Targets file (default: reports/paper_targets.yaml of the sources)");
+  cmd->add_flag("--json", args->json, "Print the table as JSON");
+  cmd->callback([args] {
+    if (args->results.empty() && args->config.empty()) {
+      throw CLI::ValidationError("--results", "give --results or --config and --trace");
+    }
+    run(*args);
+  });
+}
+
+}  // namespace edx::cli

@@ -1,0 +1,42 @@
+// `edx export results.db --table T --out F.csv` (or --sweep NAME): a results-database table or
+// a sweep's points as CSV (docs/SWEEPS.md). Logic: arch/system/sweep.
+#include <fmt/core.h>
+
+#include <memory>
+#include <string>
+
+#include "arch/system/sweep.hpp"
+#include "cli/commands.hpp"
+
+namespace edx::cli {
+namespace {
+
+struct ExportArguments {
+  std::string db;
+  std::string table;
+  std::string sweep;
+  std::string out;
+};
+
+}  // namespace
+
+void add_export_command(CLI::App& app) {
+  auto args = std::make_shared<ExportArguments>();
+  CLI::App* cmd =
+      app.add_subcommand("export", "Write a results-database table or a sweep's points as CSV");
+  cmd->add_option("db", args->db, "Results database (SQLite)")->required();
+  auto* table = cmd->add_option("--table", args->table, "Table to export (e.g. runs, latency)");
+  auto* sweep = cmd->add_option("--sweep", args->sweep,
+                                "A sweep's points: parameters, metrics, feasible, pareto");
+  table->excludes(sweep);
+  cmd->add_option("--out", args->out, "CSV file to write")->required();
+  cmd->callback([args] {
+    if (args->table.empty() && args->sweep.empty()) {
+      throw CLI::ValidationError("--table or --sweep", "one of them is required");
+    }
+    const std::size_t rows = arch::export_csv(args->db, args->table, args->sweep, args->out);
+    fmt::print("exported   {} rows to {}\n", rows, args->out);
+  });
+}
+
+}  // namespace edx::cli

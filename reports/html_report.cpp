@@ -1,0 +1,715 @@
+#include "reports/html_report.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "reports/metrics.hpp"
+#include "sim_core/atomic_file.hpp"
+#include "workloads/trace/reader.hpp"
+
+extern char** environ;
+
+namespace edx::reports {
+namespace fs = std::filesystem;
+namespace {
+
+// One color per mode / part, the same in every plot (colour-blind safe Okabe-Ito palette).
+constexpr const char* kPalette[] = {"#0072B2", "#E69F00", "#009E73", "#CC79A7",
+                                    "#56B4E9", "#D55E00", "#F0E442", "#000000"};
+constexpr const char* kBaselineColor = "#999999";
+constexpr const char* kAcceleratedColor = "#0072B2";
+constexpr const char* kTerminal = "set terminal pngcairo size 960,540 noenhanced font 'Sans,11'\n";
+
+const char* mode_color(const std::string& mode) {
+  if (mode == "registration") return kPalette[0];
+  if (mode == "vio") return kPalette[1];
+  if (mode == "slam") return kPalette[2];
+  if (mode == "none") return kPalette[3];
+  return kPalette[7];
+}
+
+std::string html_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+/// A gnuplot single-quoted string ('' escapes a quote).
+std::string gp_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string num(double v, int digits = 2) {
+  if (!std::isfinite(v)) return "–";
+  return fmt::format("{:.{}f}", v, digits);
+}
+
+std::string pct(double fraction) {
+  return std::isfinite(fraction) ? fmt::format("{:.1f}%", 100 * fraction) : "–";
+}
+
+/// Runs `gnuplot script` without a shell; on failure throws with gnuplot's first error line.
+void run_gnuplot(const std::string& gnuplot, const fs::path& script, const std::string& what) {
+  const fs::path log = fs::path(script).replace_extension(".log");
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  std::string script_arg = script.string();
+  std::vector<char*> argv = {const_cast<char*>(gnuplot.c_str()), script_arg.data(), nullptr};
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, gnuplot.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) throw std::runtime_error(fmt::format("cannot run {} for the {}", gnuplot, what));
+  int status = 0;
+  waitpid(pid, &status, 0);
+  std::ifstream in(log);
+  std::string line, first_error;
+  while (std::getline(in, line)) {
+    if (first_error.empty() && line.find_first_not_of(" ^") != std::string::npos &&
+        line.find("\"") == std::string::npos) {
+      first_error = line;
+    }
+    if (line.find("error") != std::string::npos) {
+      first_error = line;
+      break;
+    }
+  }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    throw std::runtime_error(
+        fmt::format("gnuplot failed on the {} ({}): {}", what, script.string(), first_error));
+  }
+  fs::remove(log);
+}
+
+/// Empirical CDF points (sorted x, i/n).
+std::vector<std::pair<double, double>> cdf(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  std::vector<std::pair<double, double>> pts;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    pts.emplace_back(values[i], double(i + 1) / double(values.size()));
+  }
+  return pts;
+}
+
+class RunReport {
+ public:
+  RunReport(const RunData& run, std::size_t index, const fs::path& dir, const std::string& gnuplot,
+            bool plot)
+      : run_(run),
+        prefix_(fmt::format("run{}_", index + 1)),
+        dir_(dir),
+        gnuplot_(gnuplot),
+        plot_(plot),
+        modes_(run_modes(run)) {}
+
+  std::string html(std::vector<std::string>& images) {
+    std::string h =
+        fmt::format("<h2 id=\"{}\">Run {} — {} on {}</h2>\n", prefix_, html_escape(run_.run_id),
+                    html_escape(run_.platform), html_escape(run_.trace));
+    h += fmt::format(
+        "<p>{} frames, offload policy {}. Baseline: CPU only; accelerated: the "
+        "platform with its FPGA frontend and backend.</p>\n",
+        run_.frames, html_escape(run_.policy));
+    h += comparison_table();
+    h += section("Latency CDF per mode", latency_cdf(), images,
+                 "End-to-end latency per frame (frontend + backend); dashed: baseline (CPU), "
+                 "solid: accelerated.");
+    for (const std::string& mode : modes_) {
+      h += section(fmt::format("Per-frame latency, {} frames", mode), per_frame(mode), images,
+                   "Frames sorted by end-to-end latency, frontend (FE) and backend (BE) stacked "
+                   "(paper Fig. 6-8 style).");
+    }
+    h += latency_table();
+    h += section("Backend kernel breakdown", breakdown_plot(), images,
+                 "Mean backend time per frame split into the accelerable kernels and the rest "
+                 "(host only), baseline (B) and accelerated (A) per mode.");
+    h += breakdown_table();
+    h += section("Throughput", fps_plot(), images,
+                 "Frames per second back to back, without and with FE/BE pipelining.");
+    h += throughput_table();
+    h += section("Energy per frame", energy_plot(), images, "Mean energy per frame per mode.");
+    h += energy_table();
+    h += schedule_table();
+    h += resources_table();
+    return h;
+  }
+
+ private:
+  std::string section(const std::string& title, const std::string& image,
+                      std::vector<std::string>& images, const std::string& caption) {
+    std::string h = fmt::format("<h3>{}</h3>\n<p class=\"cap\">{}</p>\n", html_escape(title),
+                                html_escape(caption));
+    if (!image.empty()) {
+      images.push_back(image);
+      h += fmt::format("<img src=\"{0}\" alt=\"{1}\">\n", image, html_escape(title));
+    }
+    return h;
+  }
+
+  /// Writes `data` and `script` (with the terminal and output set) and runs gnuplot.
+  std::string plot(const std::string& name, const std::string& data, const std::string& script,
+                   const std::string& what) {
+    if (!plot_) return "";
+    const std::string png = prefix_ + name + ".png";
+    const fs::path dat = dir_ / (prefix_ + name + ".dat");
+    const fs::path gp = dir_ / (prefix_ + name + ".gp");
+    std::ofstream(dat) << data;
+    std::ofstream(gp) << kTerminal << "set output " << gp_quote((dir_ / png).string()) << "\n"
+                      << "datafile = " << gp_quote(dat.string()) << "\n"
+                      << script;
+    run_gnuplot(gnuplot_, gp, what);
+    return png;
+  }
+
+  std::vector<double> values(const std::string& variant, const std::string& mode,
+                             double FrameRow::*field) const {
+    std::vector<double> v;
+    for (const FrameRow& f : run_.frame_rows) {
+      if (f.variant == variant && (mode == "all" || f.mode == mode)) v.push_back(f.*field);
+    }
+    return v;
+  }
+
+  std::string latency_cdf() {
+    std::string data, plots;
+    int block = 0;
+    for (const std::string& mode : modes_) {
+      for (const char* variant : {"baseline", "accelerated"}) {
+        data += fmt::format("# {} {}\n", mode, variant);
+        for (const auto& [x, y] : cdf(values(variant, mode, &FrameRow::e2e_ms))) {
+          data += fmt::format("{:.6f} {:.6f}\n", x, y);
+        }
+        data += "\n\n";
+        const bool base = std::string(variant) == "baseline";
+        plots += fmt::format(
+            "{}datafile index {} using 1:2 with steps lw 2 dt {} lc rgb '{}' title '{} {}'",
+            plots.empty() ? "plot " : ", \\\n     ", block++, base ? 2 : 1, mode_color(mode), mode,
+            base ? "baseline (CPU)" : "accelerated");
+      }
+    }
+    const std::string script =
+        "set title 'End-to-end latency CDF per mode'\n"
+        "set xlabel 'End-to-end latency per frame (ms)'\n"
+        "set ylabel 'Fraction of frames'\nset yrange [0:1.02]\nset xrange [0:*]\n"
+        "set grid\nset key right bottom\n" +
+        plots + "\n";
+    return plot("latency_cdf", data, script, "latency CDF");
+  }
+
+  std::string per_frame(const std::string& mode) {
+    std::string data;
+    double ymax = 0;
+    std::size_t n = 0;
+    for (const char* variant : {"baseline", "accelerated"}) {
+      std::vector<const FrameRow*> rows;
+      for (const FrameRow& f : run_.frame_rows) {
+        if (f.variant == variant && f.mode == mode) rows.push_back(&f);
+      }
+      std::stable_sort(rows.begin(), rows.end(),
+                       [](const FrameRow* a, const FrameRow* b) { return a->e2e_ms < b->e2e_ms; });
+      n = std::max(n, rows.size());
+      data += fmt::format("# {}: rank frontend_ms backend_ms frame_id\n", variant);
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        data += fmt::format("{} {:.6f} {:.6f} {}\n", i + 1, rows[i]->frontend_ms,
+                            rows[i]->backend_ms, rows[i]->frame_id);
+        ymax = std::max(ymax, rows[i]->frontend_ms + rows[i]->backend_ms);
+      }
+      data += "\n\n";
+    }
+    std::string script = fmt::format(
+        "set multiplot layout 1,2 title 'Per-frame latency, {0} mode (frames sorted by "
+        "end-to-end latency)'\n"
+        "set style fill solid 0.9 noborder\nset boxwidth 1.0 absolute\nset grid ytics\n"
+        "set yrange [0:{1:.3f}]\nset xrange [0.5:{2:.1f}]\nset xlabel 'Frame rank'\n"
+        "set ylabel 'Latency (ms)'\nset key left top\n",
+        mode, 1.08 * ymax, double(n) + 0.5);
+    int block = 0;
+    for (const char* title : {"Baseline (CPU)", "Accelerated"}) {
+      script += fmt::format(
+          "set title '{0}'\n"
+          "plot datafile index {1} using 1:($2+$3) with boxes lc rgb '{2}' title 'Backend (BE)', "
+          "\\\n     '' index {1} using 1:2 with boxes lc rgb '{3}' title 'Frontend (FE)'\n",
+          title, block++, kPalette[1], kPalette[0]);
+    }
+    script += "unset multiplot\n";
+    return plot("frames_" + mode, data, script, "per-frame latency of " + mode);
+  }
+
+  std::string breakdown_plot() {
+    const std::vector<BackendBreakdown> bars = backend_breakdown(run_);
+    if (bars.empty()) return "";
+    const std::size_t parts = bars.front().parts.size();
+    std::string data = "# x label cumulative parts (ms per frame)\n";
+    double x = 0;
+    std::string xtics, mode_labels;
+    for (std::size_t i = 0; i < bars.size(); ++i) {
+      if (i > 0 && bars[i].mode != bars[i - 1].mode) x += 0.8;  // gap between modes
+      double sum = 0;
+      data += fmt::format("{:.2f}", x);
+      for (const auto& [name, ms] : bars[i].parts) {
+        sum += std::max(0.0, ms);
+        data += fmt::format(" {:.6f}", sum);
+      }
+      data += "\n";
+      const bool base = bars[i].variant == "baseline";
+      xtics += fmt::format("{}'{}' {:.2f}", xtics.empty() ? "" : ", ", base ? "B" : "A", x);
+      // The mode's name centred under its two bars.
+      if (!base) {
+        mode_labels += fmt::format("set label {} at {:.2f}, graph -0.09 center\n",
+                                   gp_quote(bars[i].mode), x - 0.5);
+      }
+      x += 1;
+    }
+    std::string script =
+        "set title 'Backend time per frame by kernel: B = baseline (CPU), A = accelerated'\n"
+        "set ylabel 'Mean backend time per frame (ms)'\nset style fill solid 0.9 border -1\n"
+        "set boxwidth 0.8 absolute\nset grid ytics\nset yrange [0:*]\nset key outside right top\n"
+        "set bmargin 4\nset xtics (" +
+        xtics + ") nomirror\nset xrange [-0.7:" + fmt::format("{:.2f}", x - 0.3) + "]\n" +
+        mode_labels;
+    // Tallest (cumulative) first so each smaller stack is drawn on top of it.
+    for (std::size_t p = parts; p-- > 0;) {
+      script += fmt::format(
+          "{}datafile using 1:{} with boxes lc rgb '{}' title {}",
+          p + 1 == parts ? "plot " : ", \\\n     ", p + 2,
+          p + 1 == parts ? "#BBBBBB" : kPalette[p % 7],
+          gp_quote(bars.front().parts[p].first == "other" ? "other backend (host)"
+                                                          : bars.front().parts[p].first));
+    }
+    return plot("backend_breakdown", data, script + "\n", "backend breakdown");
+  }
+
+  /// Two bars (baseline, accelerated) per group with their values above them.
+  std::string bars(const std::string& name, const std::string& title, const std::string& ylabel,
+                   const std::vector<std::tuple<std::string, double, double>>& groups, int digits) {
+    std::string data = "# group baseline accelerated\n";
+    double ymax = 0;
+    for (const auto& [label, base, acc] : groups) {
+      data += fmt::format("\"{}\" {:.6f} {:.6f}\n", label, base, acc);
+      ymax = std::max({ymax, base, acc});
+    }
+    const std::string script = fmt::format(
+        "set title '{0}'\nset ylabel '{1}'\nset style data histograms\n"
+        "set style histogram cluster gap 1\nset style fill solid 0.9 border -1\n"
+        "set boxwidth 1.0 relative\nset grid ytics\nset yrange [0:{2:.4f}]\nset key left top\n"
+        "set xtics nomirror\nset xrange [-0.6:{6:.1f}]\n"
+        "plot datafile using 2:xtic(1) lc rgb '{3}' title 'Baseline (CPU)', \\\n"
+        "     '' using 3 lc rgb '{4}' title 'Accelerated', \\\n"
+        "     '' using ($0-1.0/6):2:(sprintf('%.{5}f', $2)) with labels offset 0,0.8 notitle, \\\n"
+        "     '' using ($0+1.0/6):3:(sprintf('%.{5}f', $3)) with labels offset 0,0.8 notitle\n",
+        title, ylabel, 1.18 * std::max(ymax, 1e-9), kBaselineColor, kAcceleratedColor, digits,
+        double(groups.size()) - 0.4);
+    return plot(name, data, script, title);
+  }
+
+  std::string fps_plot() {
+    const ThroughputRow* base = nullptr;
+    const ThroughputRow* acc = nullptr;
+    for (const ThroughputRow& t : run_.throughput) {
+      if (t.variant == "baseline") base = &t;
+      if (t.variant == "accelerated") acc = &t;
+    }
+    if (!base || !acc) return "";
+    return bars(
+        "fps", "Throughput", "Frames per second (FPS)",
+        {{"without FE/BE pipelining", base->fps_without_pipelining, acc->fps_without_pipelining},
+         {"with FE/BE pipelining", base->fps_with_pipelining, acc->fps_with_pipelining}},
+        1);
+  }
+
+  std::string energy_plot() {
+    std::vector<std::tuple<std::string, double, double>> groups;
+    std::vector<std::string> modes = modes_;
+    modes.push_back("all");
+    for (const std::string& mode : modes) {
+      double base = NAN, acc = NAN;
+      for (const EnergyRow& e : run_.energy) {
+        if (e.mode != mode) continue;
+        (e.variant == "baseline" ? base : acc) = e.mean_j;
+      }
+      if (std::isfinite(base) && std::isfinite(acc)) groups.emplace_back(mode, base, acc);
+    }
+    if (groups.empty()) return "";
+    return bars("energy", "Energy per frame", "Mean energy per frame (J)", groups, 3);
+  }
+
+  std::string comparison_table() const {
+    if (!run_.summary.contains("comparison")) return "";
+    std::string h =
+        "<h3>Baseline vs accelerated</h3>\n<table><tr><th>mode</th><th>e2e speedup</th>"
+        "<th>frontend speedup</th><th>backend speedup</th><th>backend latency reduction</th>"
+        "<th>e2e SD reduction</th><th>backend SD reduction</th><th>energy reduction</th></tr>\n";
+    std::vector<std::string> modes = modes_;
+    modes.push_back("all");
+    for (const std::string& mode : modes) {
+      if (!run_.summary["comparison"].contains(mode)) continue;
+      const nlohmann::json& c = run_.summary["comparison"][mode];
+      const auto get = [&](const char* k) { return c.value(k, NAN); };
+      h += fmt::format(
+          "<tr><td>{}</td><td>{}×</td><td>{}×</td><td>{}×</td><td>{}</td><td>{}</td><td>{}</td>"
+          "<td>{}</td></tr>\n",
+          mode, num(get("e2e_speedup")), num(get("frontend_speedup")), num(get("backend_speedup")),
+          pct(get("backend_latency_reduction")), pct(get("e2e_sd_reduction")),
+          pct(get("backend_sd_reduction")), pct(get("energy_reduction")));
+    }
+    return h + "</table>\n";
+  }
+
+  std::string latency_table() const {
+    std::string h =
+        "<h3>Latency statistics (ms)</h3>\n<table><tr><th>variant</th><th>mode</th>"
+        "<th>stage</th><th>frames</th><th>mean</th><th>SD</th><th>RSD</th><th>p50</th>"
+        "<th>p90</th><th>p99</th><th>max</th></tr>\n";
+    for (const LatencyRow& l : run_.latency) {
+      h += fmt::format(
+          "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+          "<td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+          l.variant, l.mode, l.stage, l.count, num(l.mean), num(l.sd), pct(l.rsd), num(l.p50),
+          num(l.p90), num(l.p99), num(l.max));
+    }
+    return h + "</table>\n";
+  }
+
+  std::string breakdown_table() const {
+    const std::vector<BackendBreakdown> rows = backend_breakdown(run_);
+    if (rows.empty()) return "";
+    std::string h = "<table><tr><th>mode</th><th>variant</th><th>frames</th>";
+    for (const auto& [name, ms] : rows.front().parts)
+      h += "<th>" + html_escape(name) + " (ms)</th>";
+    h += "<th>backend total (ms)</th></tr>\n";
+    for (const BackendBreakdown& b : rows) {
+      h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td>", b.mode, b.variant, b.frames);
+      double total = 0;
+      for (const auto& [name, ms] : b.parts) {
+        h += "<td>" + num(ms, 3) + "</td>";
+        total += ms;
+      }
+      h += "<td>" + num(total, 3) + "</td></tr>\n";
+    }
+    return h + "</table>\n";
+  }
+
+  std::string throughput_table() const {
+    std::string h =
+        "<table><tr><th>variant</th><th>FPS without FE/BE pipelining</th>"
+        "<th>FPS with FE/BE pipelining</th></tr>\n";
+    for (const ThroughputRow& t : run_.throughput) {
+      h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td></tr>\n", t.variant,
+                       num(t.fps_without_pipelining, 1), num(t.fps_with_pipelining, 1));
+    }
+    return h + "</table>\n";
+  }
+
+  std::string energy_table() const {
+    std::string h =
+        "<table><tr><th>variant</th><th>mode</th><th>mean (J)</th><th>SD (J)</th>"
+        "<th>p99 (J)</th><th>max (J)</th></tr>\n";
+    for (const EnergyRow& e : run_.energy) {
+      h += fmt::format(
+          "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+          e.variant, e.mode, num(e.mean_j, 3), num(e.sd_j, 3), num(e.p99_j, 3), num(e.max_j, 3));
+    }
+    return h + "</table>\n";
+  }
+
+  std::string schedule_table() const {
+    if (run_.schedule.empty()) return "";
+    const nlohmann::json derived = run_metrics(run_)["derived"];
+    std::string h =
+        "<h3>Offload scheduler (evaluation frames)</h3>\n<table><tr><th>kernel</th>"
+        "<th>invocations</th><th>offloaded</th><th>host only (s)</th><th>always offload (s)</th>"
+        "<th>policy (s)</th><th>oracle (s)</th><th>R² train</th><th>R² eval</th>"
+        "<th>gap to oracle</th><th>kernel speedup (fitting invocations)</th></tr>\n";
+    for (const ScheduleRow& s : run_.schedule) {
+      const auto speedup = metric_at(derived, "kernels." + s.kernel + ".speedup");
+      h += fmt::format(
+          "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+          "<td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+          s.kernel, s.invocations, s.offloaded, num(s.host_only_s, 4),
+          std::isfinite(s.always_s) ? num(s.always_s, 4) : "does not fit", num(s.policy_s, 4),
+          num(s.oracle_s, 4), num(s.r_squared_train, 3), num(s.r_squared_eval, 3),
+          pct(s.gap_to_oracle), speedup ? num(*speedup) + "×" : "–");
+    }
+    return h + "</table>\n";
+  }
+
+  std::string resources_table() const {
+    if (run_.resources.empty()) return "";
+    std::string h =
+        "<h3>FPGA resources</h3>\n<table><tr><th>entry</th><th>group</th><th>kind</th>"
+        "<th>LUT</th><th>FF</th><th>DSP</th><th>BRAM36</th><th>N.S. LUT</th><th>N.S. FF</th>"
+        "<th>N.S. DSP</th><th>N.S. BRAM36</th></tr>\n";
+    for (const ResourceRow& r : run_.resources) {
+      h += fmt::format(
+          "<tr{}><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+          "<td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+          r.entry == "total" ? " class=\"total\"" : "", html_escape(r.entry), html_escape(r.group),
+          html_escape(r.kind), num(r.lut, 0), num(r.ff, 0), num(r.dsp, 0), num(r.bram, 1),
+          num(r.ns_lut, 0), num(r.ns_ff, 0), num(r.ns_dsp, 0), num(r.ns_bram, 1));
+    }
+    h += "</table>\n";
+    // The model's own comparison with the paper's Table III (summary_json, resources).
+    const nlohmann::json& res = run_.summary.value("resources", nlohmann::json::object());
+    if (res.contains("utilization") && res["utilization"].is_object()) {
+      h += "<p>Utilization of " + html_escape(res.value("device", std::string("the device"))) + ":";
+      for (const auto& [k, v] : res["utilization"].items()) {
+        if (v.is_number()) h += " " + html_escape(k) + " " + pct(v.get<double>());
+      }
+      h += fmt::format("; BRAM {} MiB (N.S. {} MiB).</p>\n", num(res.value("bram_mib", NAN)),
+                       num(res.value("ns_bram_mib", NAN)));
+    }
+    if (res.contains("edx_car_table_iii") && res["edx_car_table_iii"].is_array()) {
+      h += "<table><tr><th>Table III figure (Edx-Car)</th><th>paper</th><th>simulated</th>"
+           "<th>error</th></tr>\n";
+      for (const nlohmann::json& c : res["edx_car_table_iii"]) {
+        h += fmt::format("<tr><td>{}</td><td>{:.4g}</td><td>{:.4g}</td><td>{:+.1f}%</td></tr>\n",
+                         html_escape(c.value("figure", std::string())), c.value("paper", NAN),
+                         c.value("simulated", NAN), 100 * c.value("relative_error", NAN));
+      }
+      h += "</table>\n";
+    }
+    return h;
+  }
+
+  const RunData& run_;
+  std::string prefix_;
+  fs::path dir_;
+  std::string gnuplot_;
+  bool plot_;
+  std::vector<std::string> modes_;
+};
+
+std::optional<double> sweep_value(const SweepPoint& p, const std::string& metric) {
+  if (!p.metrics.is_object() || !p.metrics.contains(metric) || !p.metrics[metric].is_number()) {
+    return std::nullopt;
+  }
+  return p.metrics[metric].get<double>();
+}
+
+/// The points of a sweep and their Pareto front (sweep_points.pareto, as `edx sweep` stored it):
+/// one plot per pair (first objective, each other objective); one objective: value per point.
+std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std::string& gnuplot,
+                        bool plot, std::vector<std::string>& images) {
+  std::string h = "<h2 id=\"sweeps\">Sweeps</h2>\n";
+  if (data.sweeps.empty()) return h + "<p>The sweeps table is empty.</p>\n";
+  int index = 0;
+  for (const SweepData& sweep : data.sweeps) {
+    ++index;
+    std::vector<std::string> metrics;
+    for (const SweepObjectiveInfo& o : sweep.objectives) metrics.push_back(o.metric);
+    const auto label = [&](std::size_t i) {
+      return fmt::format("{} ({})", sweep.objectives[i].metric,
+                         sweep.objectives[i].maximize ? "maximize" : "minimize");
+    };
+    std::size_t pareto = 0, feasible = 0;
+    for (const SweepPoint& p : sweep.points) {
+      pareto += p.pareto ? 1 : 0;
+      feasible += p.feasible ? 1 : 0;
+    }
+    h += fmt::format(
+        "<h3>Sweep {} ({})</h3>\n<p class=\"cap\">{} points, {} meet the "
+        "constraints, {} on the Pareto front of the objectives (as stored by edx "
+        "sweep). Grey: infeasible; blue: feasible; orange, joined: Pareto front.</p>\n",
+        html_escape(sweep.sweep_id), html_escape(sweep.spec), sweep.points.size(), feasible,
+        pareto);
+    for (std::size_t j = metrics.size() > 1 ? 1 : 0;
+         plot && j < std::max<std::size_t>(metrics.size(), 1); ++j) {
+      if (metrics.empty()) break;
+      const bool single = metrics.size() == 1;
+      // Blocks: 0 infeasible, 1 feasible, 2 Pareto (sorted by x).
+      std::string blocks[3];
+      std::vector<std::pair<double, double>> front;
+      for (const SweepPoint& p : sweep.points) {
+        const auto x = single ? std::optional<double>(double(p.point)) : sweep_value(p, metrics[0]);
+        const auto y = sweep_value(p, metrics[single ? 0 : j]);
+        if (!x || !y) continue;
+        blocks[p.feasible ? 1 : 0] += fmt::format("{:.9g} {:.9g}\n", *x, *y);
+        if (p.pareto) front.emplace_back(*x, *y);
+      }
+      std::sort(front.begin(), front.end());
+      for (const auto& [x, y] : front) blocks[2] += fmt::format("{:.9g} {:.9g}\n", x, y);
+      std::string dat;
+      for (const std::string& b : blocks)
+        dat += "# block\n" + (b.empty() ? "nan nan\n" : b) + "\n\n";
+      const std::string stem = fmt::format("sweep{}_{}", index, j);
+      const std::string png = stem + ".png";
+      std::ofstream(dir / (stem + ".dat")) << dat;
+      std::ofstream(dir / (stem + ".gp"))
+          << kTerminal << "set output " << gp_quote((dir / png).string()) << "\n"
+          << "set title "
+          << gp_quote("Sweep " + sweep.sweep_id + ": design points and Pareto front")
+          << "\nset xlabel " << gp_quote(single ? std::string("Design point") : label(0))
+          << "\nset ylabel " << gp_quote(label(single ? 0 : j))
+          << "\nset offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05"
+          << "\nset grid\nset key outside right top\n"
+          << "plot " << gp_quote((dir / (stem + ".dat")).string())
+          << " index 0 using 1:2 with points pt 7 ps 1 lc rgb '#BBBBBB' title 'infeasible', "
+             "'' index 1 using 1:2 with points pt 7 ps 1 lc rgb '#0072B2' title 'feasible', "
+             "'' index 2 using 1:2 with linespoints pt 7 ps 1.5 lw 2 lc rgb '#D55E00' title "
+             "'Pareto front'\n";
+      run_gnuplot(gnuplot, dir / (stem + ".gp"), "sweep " + sweep.sweep_id + " plot");
+      images.push_back(png);
+      h += fmt::format("<img src=\"{}\" alt=\"Pareto front\">\n", png);
+    }
+    h += "<table><tr><th>point</th><th>run</th><th>parameters</th>";
+    std::vector<std::string> columns = metrics;
+    for (const SweepPoint& p : sweep.points) {
+      if (!p.metrics.is_object()) continue;
+      for (const auto& [k, v] : p.metrics.items()) {
+        if (std::find(columns.begin(), columns.end(), k) == columns.end()) columns.push_back(k);
+      }
+    }
+    for (const std::string& c : columns) h += "<th>" + html_escape(c) + "</th>";
+    h += "<th>feasible</th><th>Pareto</th></tr>\n";
+    for (const SweepPoint& p : sweep.points) {
+      std::string params;
+      if (p.parameters.is_object()) {
+        for (const auto& [k, v] : p.parameters.items()) {
+          params += (params.empty() ? "" : ", ") + k + " = " +
+                    (v.is_string() ? v.get<std::string>() : v.dump());
+        }
+      }
+      h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td>", p.point, html_escape(p.run_id),
+                       html_escape(params));
+      for (const std::string& c : columns) {
+        const auto v = sweep_value(p, c);
+        h += "<td>" + (v ? fmt::format("{:.4g}", *v) : std::string("–")) + "</td>";
+      }
+      h += fmt::format("<td>{}</td><td>{}</td></tr>\n", p.feasible ? "yes" : "no",
+                       p.pareto ? "yes" : "");
+    }
+    h += "</table>\n";
+  }
+  return h;
+}
+
+constexpr const char* kStyle = R"css(
+body { font-family: sans-serif; max-width: 1100px; margin: 2em auto; color: #222; }
+table { border-collapse: collapse; margin: 0.5em 0 1.5em; font-size: 0.9em; }
+th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
+th { background: #f0f0f0; } td:first-child, th:first-child { text-align: left; }
+tr.total td { font-weight: bold; }
+img { max-width: 100%; border: 1px solid #eee; }
+p.cap { color: #555; font-size: 0.9em; }
+)css";
+
+}  // namespace
+
+bool gnuplot_available(const std::string& gnuplot) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  std::string version = "--version";
+  std::vector<char*> argv = {const_cast<char*>(gnuplot.c_str()), version.data(), nullptr};
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, gnuplot.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) return false;
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+ReportResult write_report(const ResultsData& data, const ReportOptions& options) {
+  const fs::path out = fs::absolute(options.out_dir).lexically_normal();
+  if (fs::exists(out) && !fs::is_directory(out)) {
+    throw std::runtime_error(fmt::format("{}: exists and is not a directory", out.string()));
+  }
+  const fs::path parent = out.parent_path();
+  fs::create_directories(parent);
+  const fs::path stage = parent / fmt::format(".{}.tmp-{}", out.filename().string(), ::getpid());
+  fs::remove_all(stage);
+  fs::create_directories(stage);
+  ReportResult result;
+  try {
+    result.plotted = gnuplot_available(options.gnuplot);
+    std::string body;
+    if (!result.plotted) {
+      body += fmt::format("<p><b>Plots skipped: {} was not found.</b></p>\n",
+                          html_escape(options.gnuplot));
+    }
+    body +=
+        "<h2>Runs</h2>\n<table><tr><th>run</th><th>platform</th><th>trace</th>"
+        "<th>frames</th><th>policy</th></tr>\n";
+    for (std::size_t i = 0; i < data.runs.size(); ++i) {
+      const RunData& r = data.runs[i];
+      body += fmt::format(
+          "<tr><td><a href=\"#run{}_\">{}</a></td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+          "</tr>\n",
+          i + 1, html_escape(r.run_id), html_escape(r.platform), html_escape(r.trace), r.frames,
+          html_escape(r.policy));
+    }
+    body += "</table>\n";
+    if (!options.trace.empty()) {
+      const trace::TraceReader reader(options.trace);
+      body += fmt::format("<h2>Trace {}</h2>\n<table><tr><th>key</th><th>value</th></tr>\n",
+                          html_escape(options.trace.string()));
+      for (const auto& [k, v] : reader.meta()) {
+        body += fmt::format("<tr><td>{}</td><td>{}</td></tr>\n", html_escape(k), html_escape(v));
+      }
+      body += "</table>\n";
+    }
+    for (std::size_t i = 0; i < data.runs.size(); ++i) {
+      RunReport run(data.runs[i], i, stage, options.gnuplot, result.plotted);
+      body += run.html(result.images);
+    }
+    if (data.has_sweeps)
+      body += sweeps_html(data, stage, options.gnuplot, result.plotted, result.images);
+    const std::string html = fmt::format(
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>edx report: {0}</title>"
+        "<style>{1}</style></head>\n<body>\n<h1>edx report</h1>\n<p>Results database: "
+        "<code>{0}</code> ({2} run{3}). Generated by <code>edx report</code>; plots by "
+        "gnuplot (scripts and data beside them: *.gp, *.dat).</p>\n{4}</body></html>\n",
+        html_escape(data.path.string()), kStyle, data.runs.size(), data.runs.size() == 1 ? "" : "s",
+        body);
+    sim::write_file_atomically(stage / "index.html", html);
+    // Swap the finished directory into place.
+    const fs::path old = parent / fmt::format(".{}.old-{}", out.filename().string(), ::getpid());
+    const bool existed = fs::exists(out);
+    if (existed) fs::rename(out, old);
+    fs::rename(stage, out);
+    if (existed) fs::remove_all(old);
+  } catch (const std::exception& e) {
+    std::error_code ignored;
+    fs::remove_all(stage, ignored);
+    throw std::runtime_error(fmt::format("{}: report not written: {}", out.string(), e.what()));
+  }
+  result.index = out / "index.html";
+  return result;
+}
+
+}  // namespace edx::reports

@@ -1,0 +1,128 @@
+#include "reports/metrics.hpp"
+
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace edx::reports {
+namespace {
+
+nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
+
+}  // namespace
+
+std::vector<std::string> run_modes(const RunData& run) {
+  std::set<std::string> present;
+  for (const FrameRow& f : run.frame_rows) present.insert(f.mode);
+  std::vector<std::string> modes;
+  for (const char* m : {"registration", "vio", "slam", "none"}) {
+    if (present.erase(m)) modes.push_back(m);
+  }
+  for (const std::string& m : present) modes.push_back(m);  // unknown modes last
+  return modes;
+}
+
+std::vector<BackendBreakdown> backend_breakdown(const RunData& run) {
+  std::set<std::string> kernel_names;
+  for (const OffloadRow& o : run.offload) kernel_names.insert(o.kernel);
+  std::map<std::int64_t, std::string> mode_of;  // frame_id -> mode
+  for (const FrameRow& f : run.frame_rows) mode_of[f.frame_id] = f.mode;
+  std::vector<std::string> modes = run_modes(run);
+  modes.push_back("all");
+
+  std::vector<BackendBreakdown> out;
+  for (const std::string& mode : modes) {
+    const auto in_mode = [&](std::int64_t frame_id) {
+      return mode == "all" || mode_of[frame_id] == mode;
+    };
+    std::size_t frames = 0;
+    double backend_base = 0;
+    for (const FrameRow& f : run.frame_rows) {
+      if (f.variant == "baseline" && in_mode(f.frame_id)) {
+        ++frames;
+        backend_base += f.backend_ms;
+      }
+    }
+    if (frames == 0) continue;
+    std::map<std::string, double> host, accel;
+    for (const OffloadRow& o : run.offload) {
+      if (!in_mode(o.frame_id)) continue;
+      host[o.kernel] += o.host_ms;
+      accel[o.kernel] += o.offloaded ? o.accel_ms : o.host_ms;
+    }
+    double kernels_host = 0;
+    for (const auto& [k, v] : host) kernels_host += v;
+    for (const char* variant : {"baseline", "accelerated"}) {
+      BackendBreakdown b{mode, variant, frames, {}};
+      const bool base = std::string(variant) == "baseline";
+      for (const std::string& k : kernel_names) {
+        b.parts.emplace_back(k, (base ? host[k] : accel[k]) / double(frames));
+      }
+      b.parts.emplace_back("other", (backend_base - kernels_host) / double(frames));
+      out.push_back(std::move(b));
+    }
+  }
+  return out;
+}
+
+nlohmann::json run_metrics(const RunData& run) {
+  nlohmann::json derived = {{"kernels", nlohmann::json::object()},
+                            {"schedule", nlohmann::json::object()},
+                            {"backend", nlohmann::json::object()}};
+  std::map<std::string, std::pair<double, double>> sums;  // kernel -> (Σ host, Σ accel), fitting
+  std::map<std::string, std::pair<int, int>> counts;      // kernel -> (invocations, fitting)
+  for (const OffloadRow& o : run.offload) {
+    ++counts[o.kernel].first;
+    if (!o.fits_spm || !std::isfinite(o.accel_ms)) continue;
+    ++counts[o.kernel].second;
+    sums[o.kernel].first += o.host_ms;
+    sums[o.kernel].second += o.accel_ms;
+  }
+  for (const auto& [k, c] : counts) {
+    const auto [host, accel] = sums[k];
+    derived["kernels"][k] = {
+        {"invocations", c.first},
+        {"fitting", c.second},
+        {"host_ms", host},
+        {"accel_ms", accel},
+        {"speedup", c.second > 0 && accel > 0 ? nlohmann::json(host / accel) : nullptr},
+        {"latency_reduction",
+         c.second > 0 && host > 0 ? nlohmann::json(1 - accel / host) : nullptr}};
+  }
+  for (const ScheduleRow& s : run.schedule) {
+    derived["schedule"][s.kernel] = {
+        {"invocations", s.invocations},
+        {"offloaded", s.offloaded},
+        {"offloaded_fraction", s.invocations > 0 ? double(s.offloaded) / double(s.invocations) : 0},
+        {"always_vs_policy", std::isfinite(s.always_s) && s.policy_s > 0
+                                 ? finite_or_null(s.always_s / s.policy_s - 1)
+                                 : nullptr},
+        {"r_squared_train", finite_or_null(s.r_squared_train)},
+        {"r_squared_eval", finite_or_null(s.r_squared_eval)},
+        {"gap_to_oracle", finite_or_null(s.gap_to_oracle)}};
+  }
+  for (const BackendBreakdown& b : backend_breakdown(run)) {
+    nlohmann::json parts = nlohmann::json::object();
+    for (const auto& [name, ms] : b.parts) parts[name] = ms;
+    derived["backend"][b.mode][b.variant] = parts;
+  }
+  return {{"system", run.summary}, {"derived", derived}};
+}
+
+std::optional<double> metric_at(const nlohmann::json& tree, const std::string& path) {
+  const nlohmann::json* node = &tree;
+  std::size_t start = 0;
+  while (start <= path.size()) {
+    const std::size_t dot = path.find('.', start);
+    const std::string key =
+        path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    if (!node->is_object() || !node->contains(key)) return std::nullopt;
+    node = &(*node)[key];
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  if (!node->is_number()) return std::nullopt;
+  return node->get<double>();
+}
+
+}  // namespace edx::reports

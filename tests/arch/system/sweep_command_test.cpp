@@ -1,0 +1,74 @@
+// `edx sweep` and `edx export` end to end: a sweep stopped by --limit and resumed, its JSON and
+// CSV, and bad input as one line with exit code 1 (2 for a bad command line).
+#include <fmt/format.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "tests/arch/system/sweep_fixture.hpp"
+#include "tests/support/run_command.hpp"
+#include "tests/support/temp_dir.hpp"
+
+namespace edx::arch {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+const std::string kEdx = edx::testing::built_binary("edx");
+
+TEST(SweepCommand, LimitResumeJsonAndCsv) {
+  edx::testing::TempDir dir;
+  write_sweep_trace(dir.path() / "t.db");
+  std::ofstream(dir.path() / "base.yaml")
+      << "name: cmd\nbackend: {clock_mhz: 100, gemm_block: 2, spm_bytes: 67108864}\n"
+         "scheduler: {policy: always, training_fraction: 0}\n";
+  std::ofstream(dir.path() / "s.yaml")
+      << "base: base.yaml\ntrace: t.db\nparameters:\n  backend.gemm_block: {values: [1, 2, 4]}\n"
+         "objectives: [{minimize: e2e_latency_mean}, {minimize: dsp}]\n";
+  const std::string db = (dir.path() / "r.db").string();
+  const std::string spec = (dir.path() / "s.yaml").string();
+  auto r =
+      edx::testing::run_command(fmt::format("{} sweep {} --db {} -j 2 --limit 1", kEdx, spec, db));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("3 points (1 simulated, 0 from the database)"));
+  EXPECT_THAT(r.out, HasSubstr("stopped by the limit, 2 left"));
+  r = edx::testing::run_command(fmt::format("{} sweep {} --db {} --json", kEdx, spec, db));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["computed"], 2);
+  EXPECT_EQ(j["skipped"], 1);
+  EXPECT_EQ(j["points"].size(), 3u);
+  EXPECT_FALSE(j["pareto_front"].empty());
+  r = edx::testing::run_command(
+      fmt::format("{} export {} --sweep s --out {}/p.csv", kEdx, db, dir.path().string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(edx::testing::read_file(dir.path() / "p.csv"),
+              StartsWith("point,run_id,backend.gemm_block,dsp,e2e_latency_mean,feasible,pareto\n"));
+}
+
+TEST(SweepCommand, BadInputIsOneLine) {
+  edx::testing::TempDir dir;
+  std::ofstream(dir.path() / "base.yaml") << "name: cmd\n";
+  std::ofstream(dir.path() / "s.yaml")
+      << "base: base.yaml\nparameters:\n  backend.gemm_block: {values: [0]}\n"
+         "objectives: [{minimize: dsp}]\n";
+  auto r = edx::testing::run_command(fmt::format("{} sweep {}/s.yaml --db {}/r.db", kEdx,
+                                                 dir.path().string(), dir.path().string()));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err, fmt::format("edx: error: {}/s.yaml:3: backend.gemm_block: expected an integer "
+                               ">= 1, got '0'\n",
+                               dir.path().string()));
+  r = edx::testing::run_command(fmt::format("{} export {}/none.db --table runs --out {}/x.csv",
+                                            kEdx, dir.path().string(), dir.path().string()));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.err, HasSubstr("no such results database"));
+  r = edx::testing::run_command(fmt::format("{} export x.db --out y.csv", kEdx));
+  EXPECT_EQ(r.exit_code, 2);
+}
+
+}  // namespace
+}  // namespace edx::arch

@@ -1,0 +1,295 @@
+// Platform `extends:` merging and its errors; sweep specs (expansion, errors), the Pareto front,
+// running a sweep with resume, and CSV export — on hand-written YAML and a hand-built trace.
+#include "arch/system/sweep.hpp"
+
+#include <SQLiteCpp/SQLiteCpp.h>
+#include <fmt/format.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "bench/stretch.hpp"
+#include "tests/arch/system/sweep_fixture.hpp"
+#include "tests/support/temp_dir.hpp"
+#include "workloads/trace/reader.hpp"
+#include "workloads/trace/writer.hpp"
+
+namespace edx::arch {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+void write(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+template <typename F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+// ---- extends ----
+
+TEST(Extends, ChildOverridesParentRecursivelyByMap) {
+  testing::TempDir dir;
+  write(dir.path() / "base.yaml",
+        "name: base\ndescription: the parent\nfrontend:\n  clock_mhz: 100\n  mo_comparators: 8\n"
+        "backend: {gemm_block: 2, clock_mhz: 120}\n");
+  write(dir.path() / "mid.yaml", "extends: base.yaml\nname: mid\nbackend: {gemm_block: 8}\n");
+  write(dir.path() / "leaf.yaml", "extends: mid.yaml\nfrontend: {clock_mhz: 200}\n");
+  const Platform p = Platform::load(dir.path() / "leaf.yaml");
+  EXPECT_EQ(p.name, "mid");                     // from mid
+  EXPECT_EQ(p.description, "the parent");       // from base
+  EXPECT_DOUBLE_EQ(p.frontend.clock_mhz, 200);  // leaf over base
+  EXPECT_EQ(p.frontend.mo_comparators, 8);      // base, beside the leaf's key in the same map
+  EXPECT_EQ(p.backend.gemm_block, 8);           // mid over base
+  EXPECT_DOUBLE_EQ(p.backend.clock_mhz, 120);   // base
+}
+
+TEST(Extends, MissingParentAndCyclesAreFileLineErrors) {
+  testing::TempDir dir;
+  write(dir.path() / "a.yaml", "name: a\nextends: nowhere.yaml\n");
+  EXPECT_THAT(error_of([&] { Platform::load(dir.path() / "a.yaml"); }),
+              AllOf(StartsWith((dir.path() / "a.yaml").string() + ":2: platform.extends: "),
+                    HasSubstr("no such file")));
+  write(dir.path() / "b.yaml", "extends: c.yaml\nname: b\n");
+  write(dir.path() / "c.yaml", "name: c\n\nextends: b.yaml\n");
+  EXPECT_THAT(error_of([&] { Platform::load(dir.path() / "b.yaml"); }),
+              AllOf(StartsWith((dir.path() / "c.yaml").string() + ":3: platform.extends: "),
+                    HasSubstr("cycle")));
+  write(dir.path() / "self.yaml", "extends: self.yaml\n");
+  EXPECT_THAT(error_of([&] { Platform::load(dir.path() / "self.yaml"); }), HasSubstr("cycle"));
+}
+
+TEST(Extends, ErrorsNameTheFileAndLineThatWroteTheKey) {
+  testing::TempDir dir;
+  write(dir.path() / "base.yaml", "name: base\nbackend:\n  clock_mhz: 100\n  gemm_block: zero\n");
+  write(dir.path() / "ok.yaml", "extends: base.yaml\nbackend: {gemm_block: 4}\n");
+  EXPECT_EQ(Platform::load(dir.path() / "ok.yaml").backend.gemm_block, 4);  // overridden: fine
+  write(dir.path() / "child.yaml", "extends: base.yaml\nfrontend:\n  clock_mhz: 10\n");
+  EXPECT_THAT(error_of([&] { Platform::load(dir.path() / "child.yaml"); }),
+              StartsWith((dir.path() / "base.yaml").string() + ":4: backend.gemm_block: "));
+  write(dir.path() / "bad.yaml", "extends: ok.yaml\n\nfrontend:\n  clock_mhz: fast\n");
+  EXPECT_EQ(error_of([&] { Platform::load(dir.path() / "bad.yaml"); }),
+            (dir.path() / "bad.yaml").string() +
+                ":4: frontend.clock_mhz: expected a number > 0, got 'fast'");
+  write(dir.path() / "unknown.yaml", "extends: ok.yaml\nbackend:\n  gemm_blok: 4\n");
+  EXPECT_EQ(error_of([&] { Platform::load(dir.path() / "unknown.yaml"); }),
+            (dir.path() / "unknown.yaml").string() + ":3: backend.gemm_blok: unknown key");
+}
+
+// ---- specs ----
+
+/// A platform on which the hand-built trace below runs (round numbers, regression scheduler).
+constexpr const char* kBase =
+    "name: sweep_test\n"
+    "host: {frontend_time_scale: 1.0, backend_time_scale: 1.0}\n"
+    "backend: {clock_mhz: 100, gemm_block: 2, spm_bytes: 67108864}\n"
+    "scheduler: {policy: oracle, training_fraction: 0}\n";
+
+SweepSpec spec_of(const testing::TempDir& dir, const std::string& body) {
+  write(dir.path() / "base.yaml", kBase);
+  return SweepSpec::parse("base: base.yaml\n" + body, "s.yaml", dir.path());
+}
+
+TEST(SweepSpec, GridRangesAndLogRanges) {
+  testing::TempDir dir;
+  const SweepSpec s = spec_of(dir,
+                              "parameters:\n"
+                              "  backend.gemm_block: {values: [1, 2, 4]}\n"
+                              "  backend.clock_mhz: {range: {from: 100, to: 200, step: 25}}\n"
+                              "  link.bandwidth_gb_per_s: {log_range: {from: 1, to: 100, "
+                              "points: 3}}\n"
+                              "objectives: [{minimize: e2e_latency_mean}]\n");
+  EXPECT_EQ(s.name, "s");
+  ASSERT_EQ(s.parameters.size(), 3u);
+  EXPECT_THAT(s.parameters[1].texts, ::testing::ElementsAre("100", "125", "150", "175", "200"));
+  EXPECT_THAT(s.parameters[2].texts, ::testing::ElementsAre("1", "10", "100"));
+  const std::vector<SweepPoint> grid = expand_sweep(s);
+  ASSERT_EQ(grid.size(), 3u * 5u * 3u);
+  // Last parameter fastest: point 4 = (0, 1, 1).
+  EXPECT_EQ(grid[4].choice, (std::vector<std::size_t>{0, 1, 1}));
+  const Platform p = sweep_platform(s, grid[4]);
+  EXPECT_EQ(p.backend.gemm_block, 1);
+  EXPECT_DOUBLE_EQ(p.backend.clock_mhz, 125);
+  EXPECT_DOUBLE_EQ(p.link.link.bandwidth_gb_per_s, 10);
+  EXPECT_EQ(p.backend.spm_bytes, 67108864);  // the base's other keys stay
+
+  const SweepSpec frac = spec_of(dir,
+                                 "parameters:\n  link.bandwidth_gb_per_s: {range: {from: 1.2, to: "
+                                 "2.0, step: 0.2}}\nobjectives: [{maximize: fps}]\n");
+  EXPECT_THAT(frac.parameters[0].texts, ::testing::ElementsAre("1.2", "1.4", "1.6", "1.8", "2"));
+}
+
+TEST(SweepSpec, RandomSamplingIsDistinctAndReproducible) {
+  testing::TempDir dir;
+  const std::string params =
+      "parameters:\n  backend.gemm_block: {values: [1, 2, 4, 8]}\n"
+      "  backend.clock_mhz: {range: {from: 100, to: 300, step: 10}}\n"
+      "objectives: [{minimize: dsp}]\n";
+  const auto choices = [&](int seed, int samples) {
+    const SweepSpec s = spec_of(dir, params + fmt::format("sampling: {{random: {{samples: {}, "
+                                                          "seed: {}}}}}\n",
+                                                          samples, seed));
+    std::vector<std::vector<std::size_t>> out;
+    for (const SweepPoint& p : expand_sweep(s)) out.push_back(p.choice);
+    return out;
+  };
+  const auto a = choices(7, 10), b = choices(7, 10), c = choices(8, 10);
+  ASSERT_EQ(a.size(), 10u);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+  EXPECT_EQ(std::set<std::vector<std::size_t>>(a.begin(), a.end()).size(), 10u);
+  EXPECT_EQ(choices(1, 1000).size(), 4u * 21u);  // capped at the grid, all distinct
+}
+
+TEST(SweepSpec, BadInputIsOneLineWithFileLineAndKey) {
+  testing::TempDir dir;
+  const auto err = [&](const std::string& body) { return error_of([&] { spec_of(dir, body); }); };
+  const std::string obj = "objectives: [{minimize: dsp}]\n";
+  EXPECT_EQ(err("parameters:\n  backend.gemm_block: {values: []}\n" + obj),
+            "s.yaml:3: parameters.backend.gemm_block.values: expected a non-empty list");
+  EXPECT_EQ(err("parameters:\n  backend.gemm_block: {range: {from: 4, to: 1, step: 1}}\n" + obj),
+            "s.yaml:3: parameters.backend.gemm_block.range: expected step > 0 and to >= from");
+  EXPECT_EQ(err("parameters:\n  backend.gemm_block: {values: [1]}\nobjectives: [{minimize: "
+                "speed}]\n"),
+            "s.yaml:4: objectives[0]: unknown metric 'speed' (docs/SWEEPS.md lists them)");
+  EXPECT_THAT(err("paramters: {}\n" + obj), StartsWith("s.yaml:2: sweep.paramters: unknown key"));
+  // A value the platform rejects names the spec's line of that value.
+  EXPECT_EQ(err("parameters:\n  backend.gemm_block:\n    values: [2, fast]\n" + obj),
+            "s.yaml:4: backend.gemm_block: expected an integer >= 1, got 'fast'");
+  EXPECT_THAT(err("parameters:\n  backend.gemm_blok: {values: [2]}\n" + obj),
+              AllOf(StartsWith("s.yaml"), HasSubstr("backend.gemm_blok: unknown key")));
+  EXPECT_THAT(err("parameters:\n  x: {values: [1]}\n" + obj + "sampling: {random: {samples: 0}}\n"),
+              StartsWith("s.yaml:5: sampling.random.samples: expected an integer >= 1"));
+  for (const std::string& e : {err("parameters: {}\n" + obj), err("base: nowhere.yaml\n")}) {
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+}
+
+// ---- Pareto ----
+
+TEST(Pareto, NonDominatedPointsOfHandMadeSets) {
+  // Minimize both: (1,5) (2,2) (5,1) are the front; (3,3) is dominated by (2,2), (6,6) by all.
+  const std::vector<std::vector<double>> v = {{3, 3}, {1, 5}, {2, 2}, {6, 6}, {5, 1}, {2, 2}};
+  EXPECT_THAT(pareto_front(v, {false, false}), ::testing::ElementsAre(1, 2, 4, 5));
+  // Maximize the second: (6,6) now is only beaten in the first by points with a lower second.
+  EXPECT_THAT(pareto_front(v, {false, true}), ::testing::ElementsAre(1, 3));
+  EXPECT_THAT(pareto_front({{1}, {0.5}, {2}}, {false}), ::testing::ElementsAre(1));
+  EXPECT_TRUE(pareto_front({}, {false}).empty());
+}
+
+// ---- running, resume, export ----
+
+TEST(Sweep, RunsStoresResumesAndExports) {
+  testing::TempDir dir;
+  const std::filesystem::path trace = write_sweep_trace(dir.path() / "t.db");
+  const SweepSpec spec = spec_of(dir,
+                                 "name: blocks\ntrace: t.db\n"
+                                 "parameters:\n  backend.gemm_block: {values: [1, 2, 4, 8]}\n"
+                                 "objectives: [{minimize: e2e_latency_mean}, {minimize: dsp}]\n"
+                                 "constraints: [{metric: dsp, max: 1e9}]\n");
+  SweepOptions options;
+  options.db = dir.path() / "r.db";
+  options.jobs = 2;
+  options.limit = 2;  // "killed" after two points
+  std::size_t calls = 0;
+  options.progress = [&](std::size_t, std::size_t total, const SweepPointResult&) {
+    ++calls;
+    EXPECT_EQ(total, 4u);
+  };
+  const SweepOutcome first = run_sweep(spec, options);
+  EXPECT_EQ(first.computed, 2u);
+  EXPECT_FALSE(first.complete);
+  EXPECT_EQ(calls, 2u);
+  options.limit = 0;
+  const SweepOutcome second = run_sweep(spec, options);
+  EXPECT_EQ(second.skipped, 2u);
+  EXPECT_EQ(second.computed, 2u);
+  ASSERT_TRUE(second.complete);
+  const SweepOutcome third = run_sweep(spec, options);
+  EXPECT_EQ(third.computed, 0u);
+  EXPECT_EQ(third.skipped, 4u);
+  ASSERT_EQ(third.points.size(), 4u);
+  // Larger arrays: more DSP, less latency (the projection kernel is offloaded): every point is
+  // on the front, and the DSP count grows with the block.
+  for (std::size_t i = 0; i + 1 < 4; ++i) {
+    EXPECT_LT(third.points[i].objectives[1], third.points[i + 1].objectives[1]);
+    EXPECT_GE(third.points[i].objectives[0], third.points[i + 1].objectives[0]);
+  }
+  EXPECT_EQ(third.points[0].objectives, second.points[0].objectives);  // from the database
+  {
+    SQLite::Database db((dir.path() / "r.db").string());
+    EXPECT_EQ(db.execAndGet("SELECT count(*) FROM runs").getInt(), 4);
+    EXPECT_EQ(db.execAndGet("SELECT count(*) FROM sweep_points WHERE sweep_id = 'blocks'").getInt(),
+              4);
+    EXPECT_EQ(db.execAndGet("SELECT count(*) FROM frames").getInt(), 0);  // summaries only
+    EXPECT_EQ(db.execAndGet("PRAGMA journal_mode").getString(), "wal");
+  }
+  // CSV of the sweep's points and of a table.
+  EXPECT_EQ(export_csv(dir.path() / "r.db", "", "blocks", dir.path() / "p.csv"), 4u);
+  const std::string csv = testing::read_file(dir.path() / "p.csv");
+  EXPECT_THAT(csv, StartsWith("point,run_id,backend.gemm_block,dsp,e2e_latency_mean,feasible,"
+                              "pareto\n0," +
+                              third.points[0].run_id + ",1,"));
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);
+  EXPECT_EQ(export_csv(dir.path() / "r.db", "throughput", "", dir.path() / "t.csv"), 8u);
+  EXPECT_THAT(testing::read_file(dir.path() / "t.csv"),
+              StartsWith("run_id,variant,fps_without_pipelining,fps_with_pipelining\n"));
+  EXPECT_THAT(error_of([&] { export_csv(dir.path() / "r.db", "nope", "", dir.path() / "x.csv"); }),
+              HasSubstr("--table: no table 'nope'"));
+}
+
+// ---- the example sweeps (not run by default: EDX_SWEEP_TRACE=vio.db, ~1 min) ----
+
+TEST(Sweep, DISABLED_ExamplesAndThroughput) {
+  const char* trace_env = std::getenv("EDX_SWEEP_TRACE");
+  if (trace_env == nullptr) GTEST_SKIP() << "set EDX_SWEEP_TRACE to a trace database";
+  const std::filesystem::path out =
+      std::getenv("EDX_SWEEP_DB") ? std::getenv("EDX_SWEEP_DB") : "/tmp/edx_example_sweeps.db";
+  for (const char* name : {"gemm_block", "frontend_lanes", "link_bandwidth"}) {
+    const SweepSpec spec = SweepSpec::load(std::filesystem::path(EDX_SOURCE_DIR) / "sweeps" /
+                                           (name + std::string(".yaml")));
+    SweepOptions options;
+    options.db = out;
+    options.trace = trace_env;
+    options.jobs = 2;
+    const SweepOutcome o = run_sweep(spec, options);
+    std::printf("%s", format_sweep(spec, o).c_str());
+  }
+  // Throughput on the trace stretched to 2000 frames (as edx-bench sweep).
+  const trace::TraceReader reader(trace_env);
+  const std::vector<trace::FrameTrace> frames = bench::stretch_trace(reader.read_all(), 2000);
+  for (const char* name : {"gemm_block", "frontend_lanes", "link_bandwidth"}) {
+    const SweepSpec spec = SweepSpec::load(std::filesystem::path(EDX_SOURCE_DIR) / "sweeps" /
+                                           (name + std::string(".yaml")));
+    testing::TempDir dir;
+    SweepOptions options;
+    options.db = dir.path() / "b.db";
+    options.jobs = 2;
+    const std::clock_t cpu0 = std::clock();
+    const SweepOutcome o = run_sweep(spec, options, frames, reader.meta(), trace_env);
+    const double cpu_s = double(std::clock() - cpu0) / CLOCKS_PER_SEC;
+    std::printf(
+        "throughput %s: %zu points on 2000 frames in %.2f s wall = %.1f points/s (2 jobs); %.2f "
+        "CPU s = %.1f points per CPU second\n",
+        name, o.computed, o.seconds, double(o.computed) / o.seconds, cpu_s,
+        double(o.computed) / cpu_s);
+  }
+}
+
+}  // namespace
+}  // namespace edx::arch

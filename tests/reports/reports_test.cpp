@@ -1,0 +1,290 @@
+// edx report / edx check on a small hand-made results database written through the results_db
+// writer (arch/system/results_db.hpp), with figures computed by hand.
+#include <SQLiteCpp/SQLiteCpp.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+#include "arch/system/platform.hpp"
+#include "arch/system/results_db.hpp"
+#include "arch/system/system_model.hpp"
+#include "reports/html_report.hpp"
+#include "reports/metrics.hpp"
+#include "reports/paper_check.hpp"
+#include "reports/results_reader.hpp"
+#include "tests/support/run_command.hpp"
+#include "tests/support/temp_dir.hpp"
+
+namespace edx::reports {
+namespace {
+
+using edx::testing::TempDir;
+
+arch::Distribution dist(double mean, double sd) {
+  arch::Distribution d;
+  d.count = 2;
+  d.mean = d.p50 = mean;
+  d.sd = sd;
+  d.rsd = sd / mean;
+  d.p90 = d.p99 = d.max = mean + sd;
+  return d;
+}
+
+arch::FrameResult frame(std::int64_t id, const std::string& mode, double fe, double be,
+                        double energy) {
+  arch::FrameResult f;
+  f.frame_id = id;
+  f.mode = mode;
+  f.frontend_ms = fe;
+  f.backend_ms = be;
+  f.e2e_ms = fe + be;
+  f.host_busy_ms = fe + be;
+  f.energy.total_j = energy;
+  return f;
+}
+
+/// Two VIO frames and two SLAM frames. Baseline e2e means 100 ms, accelerated 50 ms (speedup
+/// 2.0); kalman_gain: host 4 + 2 ms, accelerator 1 + 1 ms (speedup 3.0); marginalization offloaded
+/// 3 of 4 evaluated invocations (0.75); always-offload 0.33 s against a policy 0.30 s (+10%).
+arch::SystemResult hand_made() {
+  arch::SystemResult r;
+  r.config = arch::Platform::load(std::string(EDX_SOURCE_DIR) + "/configs/edx_car.yaml");
+  r.platform = "hand_made";
+  r.config_hash = "00000000000000aa";
+  r.trace_hash = "00000000000000bb";
+  r.trace_path = "hand_made.db";
+  r.baseline.variant = "baseline";
+  r.accelerated.variant = "accelerated";
+  r.baseline.frames = {frame(0, "vio", 60, 20, 1.5), frame(1, "vio", 60, 30, 1.6),
+                       frame(2, "slam", 70, 40, 2.0), frame(3, "slam", 70, 50, 2.1)};
+  r.accelerated.frames = {frame(0, "vio", 30, 10, 0.4), frame(1, "vio", 30, 15, 0.5),
+                          frame(2, "slam", 30, 20, 0.6), frame(3, "slam", 30, 45, 0.7)};
+  for (auto* v : {&r.baseline, &r.accelerated}) {
+    const bool base = v == &r.baseline;
+    arch::ModeSummary all;
+    all.frames = 4;
+    all.e2e_ms = dist(base ? 100 : 50, base ? 20 : 10);
+    all.frontend_ms = dist(base ? 65 : 30, 5);
+    all.backend_ms = dist(base ? 35 : 20, 10);
+    all.energy_j = dist(base ? 1.8 : 0.55, 0.1);
+    v->modes["all"] = all;
+    v->modes["vio"] = all;
+    v->modes["slam"] = all;
+    v->fps_without_pipelining = base ? 10 : 20;
+    v->fps_with_pipelining = base ? 12 : 30;
+  }
+  const auto decision = [](std::int64_t frame_id, int seq, const char* kernel, double host,
+                           double accel, bool offloaded) {
+    arch::KernelDecision d;
+    d.frame_id = frame_id;
+    d.kernel_seq = seq;
+    d.kernel = kernel;
+    d.size = 10;
+    d.host_ms = host;
+    d.accel_ms = accel;
+    d.compute_ms = accel;
+    d.offloaded = offloaded;
+    return d;
+  };
+  r.decisions = {decision(0, 0, "kalman_gain", 4, 1, true),
+                 decision(1, 0, "kalman_gain", 2, 1, true),
+                 decision(2, 0, "marginalization", 8, 4, true),
+                 decision(3, 0, "marginalization", 8, 4, false)};
+  arch::KernelScheduleSummary s;
+  s.kernel = "marginalization";
+  s.invocations = 4;
+  s.offloaded = 3;
+  s.host_only_s = 0.4;
+  s.always_s = 0.33;
+  s.policy_s = 0.30;
+  s.oracle_s = 0.29;
+  s.r_squared_eval = 0.9;
+  r.schedule = {s};
+  return r;
+}
+
+std::filesystem::path write_targets(const std::filesystem::path& dir, const std::string& text) {
+  const std::filesystem::path path = dir / "targets.yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(ResultsReader, ReadsTheRunWrittenByTheWriter) {
+  TempDir dir;
+  arch::write_results(dir.path() / "r.db", hand_made());
+  const ResultsData data = read_results(dir.path() / "r.db");
+  ASSERT_EQ(data.runs.size(), 1u);
+  const RunData& run = data.runs[0];
+  EXPECT_EQ(run.run_id, "00000000000000aa-00000000000000bb");
+  EXPECT_EQ(run.frame_rows.size(), 8u);
+  EXPECT_EQ(run.offload.size(), 4u);
+  EXPECT_FALSE(data.has_sweeps);
+  const nlohmann::json m = run_metrics(run);
+  EXPECT_DOUBLE_EQ(*metric_at(m, "system.comparison.all.e2e_speedup"), 2.0);
+  EXPECT_DOUBLE_EQ(*metric_at(m, "derived.kernels.kalman_gain.speedup"), 3.0);
+  EXPECT_DOUBLE_EQ(*metric_at(m, "derived.kernels.marginalization.latency_reduction"), 0.5);
+  EXPECT_DOUBLE_EQ(*metric_at(m, "derived.schedule.marginalization.offloaded_fraction"), 0.75);
+  EXPECT_NEAR(*metric_at(m, "derived.schedule.marginalization.always_vs_policy"), 0.1, 1e-12);
+  EXPECT_FALSE(metric_at(m, "frontend.fps_without_pipelining"));
+  EXPECT_FALSE(metric_at(m, "system.comparison"));  // an object, not a number
+  // Backend breakdown of the VIO frames: baseline kalman 3 ms/frame, other (20+30)/2 − 3 = 22;
+  // accelerated kalman 1 ms/frame (both offloaded).
+  for (const BackendBreakdown& b : backend_breakdown(run)) {
+    if (b.mode != "vio") continue;
+    std::map<std::string, double> parts(b.parts.begin(), b.parts.end());
+    EXPECT_DOUBLE_EQ(parts["kalman_gain"], b.variant == "baseline" ? 3.0 : 1.0);
+    EXPECT_DOUBLE_EQ(parts["other"], 22.0);
+    EXPECT_DOUBLE_EQ(parts["marginalization"], 0.0);
+  }
+}
+
+TEST(PaperCheck, VerdictsOnKnownValues) {
+  TempDir dir;
+  arch::write_results(dir.path() / "r.db", hand_made());
+  const std::filesystem::path yaml = write_targets(dir.path(), R"(tolerance: 0.10
+targets:
+  - {name: speedup near, metric: system.comparison.all.e2e_speedup, paper: 2.1}
+  - {name: speedup far, metric: system.comparison.all.e2e_speedup, paper: 2.5}
+  - {name: kernel, metric: derived.kernels.kalman_gain.speedup, paper: 3.0, tolerance: 0.01}
+  - {name: offloaded, metric: derived.schedule.marginalization.offloaded_fraction, paper: 0.8}
+  - {name: frontend fps, metric: frontend.fps_without_pipelining, paper: 26.1}
+)");
+  const std::vector<PaperTarget> targets = load_targets(yaml);
+  ASSERT_EQ(targets.size(), 5u);
+  EXPECT_EQ(targets[2].line, 5);
+  const ResultsData data = read_results(dir.path() / "r.db");
+  const CheckResult c = check_targets(targets, run_metrics(data.runs[0]), data.runs[0].run_id);
+  ASSERT_EQ(c.rows.size(), 5u);
+  EXPECT_EQ(c.rows[0].verdict, Verdict::kPass);  // 2.0 vs 2.1: −4.8%
+  EXPECT_NEAR(c.rows[0].error, -0.1 / 2.1, 1e-12);
+  EXPECT_EQ(c.rows[1].verdict, Verdict::kMiss);  // 2.0 vs 2.5: −20%
+  EXPECT_NEAR(c.rows[1].error, -0.2, 1e-12);
+  EXPECT_EQ(c.rows[2].verdict, Verdict::kPass);      // 3.0 exactly
+  EXPECT_EQ(c.rows[3].verdict, Verdict::kPass);      // 0.75 vs 0.8: −6.25%
+  EXPECT_EQ(c.rows[4].verdict, Verdict::kNotFound);  // not in a results database
+  EXPECT_EQ(c.passed(), 3u);
+  EXPECT_FALSE(c.all_passed());
+  const std::string text = format_check(c);
+  EXPECT_NE(text.find("not found in the results: frontend.fps_without_pipelining"),
+            std::string::npos);
+}
+
+TEST(PaperCheck, CommandExitCodes) {
+  TempDir dir;
+  arch::write_results(dir.path() / "r.db", hand_made());
+  const std::string edx = edx::testing::built_binary("edx");
+  const std::string db = (dir.path() / "r.db").string();
+  const std::filesystem::path pass = write_targets(
+      dir.path(), "targets:\n  - {name: s, metric: system.comparison.all.e2e_speedup, paper: 2}\n");
+  auto ok = edx::testing::run_command(edx + " check --results " + db + " --targets " +
+                                      pass.string() + " --json");
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_EQ(nlohmann::json::parse(ok.out)["rows"][0]["verdict"], "pass");
+  // The shipped paper targets on this toy run: misses, exit 1, the table on stdout.
+  auto miss = edx::testing::run_command(edx + " check --results " + db);
+  EXPECT_EQ(miss.exit_code, 1);
+  EXPECT_NE(miss.out.find("MISS"), std::string::npos);
+  EXPECT_NE(miss.out.find("e2e speedup registration"), std::string::npos);
+  auto bad =
+      edx::testing::run_command(edx + " check --results " + dir.path().string() + "/missing.db");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("missing.db: no such results database"), std::string::npos);
+}
+
+TEST(PaperCheck, ShippedTargetsAreValid) {
+  const std::vector<PaperTarget> targets = load_targets(default_targets_path());
+  EXPECT_GE(targets.size(), 30u);
+  for (const PaperTarget& t : targets) EXPECT_DOUBLE_EQ(t.tolerance, 0.10) << t.name;
+}
+
+TEST(PaperCheck, BadYamlNamesFileLineAndKey) {
+  TempDir dir;
+  const auto error_of = [&](const std::string& text) {
+    const std::filesystem::path yaml = write_targets(dir.path(), text);
+    try {
+      load_targets(yaml);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string file = (dir.path() / "targets.yaml").string();
+  EXPECT_EQ(error_of("targets:\n  - name: a\n    metric: x.y\n    paper: big\n"),
+            file + ":4: paper: expected a number, got 'big'");
+  EXPECT_EQ(error_of("targets:\n  - {name: a, metric: x, paper: 1, colour: red}\n"),
+            file +
+                ":2: colour: unknown key (expected name, metric, paper, unit, tolerance, "
+                "source)");
+  EXPECT_EQ(error_of("targets:\n  - {name: a, paper: 1}\n"),
+            file + ":2: metric: missing (expected a dotted metric path)");
+  EXPECT_EQ(error_of("tolerance: 2\ntargets: []\n"),
+            file + ":1: tolerance: expected a relative tolerance in (0, 1)");
+  EXPECT_NE(error_of("targets: [\n").find(file + ":"), std::string::npos);
+  EXPECT_EQ(error_of("target:\n  - {name: a, metric: x, paper: 1}\n"),
+            file + ":1: target: unknown key (expected 'targets' or 'tolerance')");
+}
+
+TEST(Report, WritesIndexAndPlots) {
+  TempDir dir;
+  arch::write_results(dir.path() / "r.db", hand_made());
+  const ResultsData data = read_results(dir.path() / "r.db");
+  ReportOptions options;
+  options.out_dir = dir.path() / "report";
+  const ReportResult result = write_report(data, options);
+  const std::string html = edx::testing::read_file(dir.path() / "report" / "index.html");
+  EXPECT_NE(html.find("Latency statistics"), std::string::npos);
+  EXPECT_NE(html.find("Backend kernel breakdown"), std::string::npos);
+  EXPECT_NE(html.find("kalman_gain"), std::string::npos);
+  EXPECT_NE(html.find("2.00×"), std::string::npos);  // e2e speedup 100 / 50
+  // Nothing left beside the report (no staging directory).
+  EXPECT_EQ(edx::testing::entries(dir.path()).size(), 2u);  // r.db and report
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed: plots not checked";
+  ASSERT_TRUE(result.plotted);
+  // CDF, per-frame (vio, slam), backend breakdown, FPS, energy.
+  EXPECT_EQ(result.images.size(), 6u);
+  for (const std::string& image : result.images) {
+    const std::string png = edx::testing::read_file(dir.path() / "report" / image);
+    ASSERT_GT(png.size(), 1000u) << image;
+    EXPECT_EQ(png.substr(1, 3), "PNG") << image;
+    EXPECT_NE(html.find("src=\"" + image + "\""), std::string::npos) << image;
+  }
+}
+
+TEST(Report, BadDatabaseIsOneLineError) {
+  TempDir dir;
+  std::ofstream(dir.path() / "text.db") << "not a database at all, just some text\n";
+  EXPECT_THROW(
+      {
+        try {
+          read_results(dir.path() / "text.db");
+        } catch (const std::runtime_error& e) {
+          const std::string what = e.what();
+          EXPECT_EQ(what.find('\n'), std::string::npos);
+          EXPECT_EQ(what.rfind((dir.path() / "text.db").string(), 0), 0u) << what;
+          throw;
+        }
+      },
+      std::runtime_error);
+  {
+    SQLite::Database empty((dir.path() / "empty.db").string(),
+                           SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+    empty.exec("CREATE TABLE other (x INTEGER)");
+  }
+  try {
+    read_results(dir.path() / "empty.db");
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no table 'runs'"), std::string::npos) << e.what();
+  }
+  // The command: one line on stderr, exit 1, no report directory.
+  auto bad = edx::testing::run_command(edx::testing::built_binary("edx") + " report " +
+                                       (dir.path() / "text.db").string() + " --out " +
+                                       (dir.path() / "out").string());
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "out"));
+}
+
+}  // namespace
+}  // namespace edx::reports
