@@ -662,16 +662,28 @@ ReportResult write_report(const ResultsData& data, const ReportOptions& options)
       body += fmt::format("<p><b>Plots skipped: {} was not found.</b></p>\n",
                           html_escape(options.gnuplot));
     }
+    // A run that only a sweep wrote (no per-frame rows) is a row of its sweep's table, not a
+    // section of its own: a sweep of hundreds of points would otherwise bury the runs an
+    // architect simulated by hand.
+    std::map<std::string, std::string> sweep_of_run;
+    for (const SweepData& sweep : data.sweeps) {
+      for (const SweepPoint& p : sweep.points) sweep_of_run.emplace(p.run_id, sweep.sweep_id);
+    }
+    const auto has_section = [&](const RunData& r) {
+      return !r.frame_rows.empty() || !sweep_of_run.contains(r.run_id);
+    };
     body +=
         "<h2>Runs</h2>\n<table><tr><th>run</th><th>platform</th><th>trace</th>"
         "<th>frames</th><th>policy</th></tr>\n";
     for (std::size_t i = 0; i < data.runs.size(); ++i) {
       const RunData& r = data.runs[i];
-      body += fmt::format(
-          "<tr><td><a href=\"#run{}_\">{}</a></td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
-          "</tr>\n",
-          i + 1, html_escape(r.run_id), html_escape(r.platform), html_escape(r.trace), r.frames,
-          html_escape(r.policy));
+      const std::string link =
+          has_section(r) ? fmt::format("<a href=\"#run{}_\">{}</a>", i + 1, html_escape(r.run_id))
+                         : fmt::format("{} (point of sweep <a href=\"#sweeps\">{}</a>)",
+                                       html_escape(r.run_id), html_escape(sweep_of_run[r.run_id]));
+      body += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                          link, html_escape(r.platform), html_escape(r.trace), r.frames,
+                          html_escape(r.policy));
     }
     body += "</table>\n";
     if (!options.trace.empty()) {
@@ -684,6 +696,7 @@ ReportResult write_report(const ResultsData& data, const ReportOptions& options)
       body += "</table>\n";
     }
     for (std::size_t i = 0; i < data.runs.size(); ++i) {
+      if (!has_section(data.runs[i])) continue;
       RunReport run(data.runs[i], i, stage, options.gnuplot, result.plotted);
       body += run.html(result.images);
     }

@@ -1,0 +1,121 @@
+// End-to-end test of the demo (cli/demo.sh, what `./edx demo` runs) in its reduced size: the
+// whole chain on small generated data and the real excerpts — mixed traces, simulation of both
+// platforms into one results database, a sweep with its CSV, the HTML report with its plots, and
+// the paper check table — and its handling of bad arguments.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+
+#include "tests/support/run_command.hpp"
+#include "tests/support/temp_dir.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using edx::testing::built_binary;
+using edx::testing::read_file;
+using edx::testing::run_command;
+using edx::testing::TempDir;
+using ::testing::HasSubstr;
+
+std::string demo_command(const fs::path& out) {
+  return "bash " EDX_SOURCE_DIR "/cli/demo.sh --quick --jobs 2 --edx " + built_binary("edx") +
+         " --shared " EDX_SHARED_DATA_DIR " --out " + out.string();
+}
+
+/// The single integer a query returns (-1 on any error).
+long long query_integer(const fs::path& db, const std::string& sql) {
+  sqlite3* handle = nullptr;
+  long long value = -1;
+  if (sqlite3_open_v2(db.c_str(), &handle, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
+    sqlite3_stmt* statement = nullptr;
+    if (sqlite3_prepare_v2(handle, sql.c_str(), -1, &statement, nullptr) == SQLITE_OK &&
+        sqlite3_step(statement) == SQLITE_ROW) {
+      value = sqlite3_column_int64(statement, 0);
+    }
+    sqlite3_finalize(statement);
+  }
+  sqlite3_close(handle);
+  return value;
+}
+
+TEST(Demo, ReducedDemoRunsTheWholeChain) {
+  const TempDir dir;
+  const fs::path out = dir.path() / "demo";
+  const auto result = run_command(demo_command(out));
+  ASSERT_EQ(result.exit_code, 0) << result.err.substr(
+      result.err.size() > 4000 ? result.err.size() - 4000 : 0);
+
+  // Every step announced itself, in order, and the check table was printed.
+  for (int step = 1; step <= 7; ++step) {
+    EXPECT_THAT(result.err, HasSubstr("== [" + std::to_string(step) + "/7]"));
+  }
+  EXPECT_THAT(result.out, HasSubstr("targets within tolerance"));
+  EXPECT_THAT(result.out, HasSubstr("e2e speedup overall"));
+  EXPECT_THAT(result.out, HasSubstr((out / "report" / "index.html").string()));
+
+  // Four traces: the two mixes and the two real excerpts.
+  for (const char* name : {"car_mix", "drone_mix", "euroc_vio", "kitti_slam"}) {
+    const fs::path trace = out / "traces" / (std::string(name) + ".db");
+    ASSERT_TRUE(fs::exists(trace)) << trace;
+    EXPECT_GT(query_integer(trace, "SELECT COUNT(*) FROM frames"), 10) << name;
+  }
+  // The mixes run all three backend modes.
+  EXPECT_EQ(query_integer(out / "traces" / "car_mix.db",
+                          "SELECT COUNT(DISTINCT backend_mode) FROM frames WHERE backend_mode IN "
+                          "('registration', 'vio', 'slam')"),
+            3);
+
+  // Four simulated runs plus the sweep's points (7 block sizes x 2 policies), both platforms.
+  const fs::path results = out / "results.db";
+  EXPECT_GE(query_integer(results, "SELECT COUNT(*) FROM runs"), 4 + 1);
+  EXPECT_EQ(query_integer(results,
+                          "SELECT COUNT(*) FROM sweep_points WHERE sweep_id = "
+                          "'gemm_block'"),
+            14);
+  EXPECT_GE(query_integer(results, "SELECT COUNT(*) FROM sweep_points WHERE pareto = 1"), 1);
+  EXPECT_EQ(query_integer(results,
+                          "SELECT COUNT(DISTINCT platform) FROM runs WHERE platform "
+                          "IN ('edx_car', 'edx_drone')"),
+            2);
+
+  // The sweep's CSV: a header and one row per point.
+  const std::string csv = read_file(out / "gemm_block.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 15) << csv.substr(0, 400);
+
+  // The report: a page referencing plots that exist, and a frontend timeline.
+  const std::string page = read_file(out / "report" / "index.html");
+  EXPECT_THAT(page, HasSubstr("<img"));
+  int pngs = 0;
+  for (const auto& entry : fs::directory_iterator(out / "report")) {
+    if (entry.path().extension() == ".png") {
+      ++pngs;
+      EXPECT_GT(fs::file_size(entry.path()), 1000u) << entry.path();
+    }
+  }
+  EXPECT_GE(pngs, 5);
+  EXPECT_GT(fs::file_size(out / "car_frontend_timeline.json"), 1000u);
+}
+
+TEST(Demo, BadArgumentsAreOneLineErrorsWithExitTwo) {
+  const auto unknown = run_command("bash " EDX_SOURCE_DIR "/cli/demo.sh --edx " +
+                                   built_binary("edx") + " --frobnicate");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_THAT(unknown.err, HasSubstr("--frobnicate"));
+  EXPECT_EQ(std::count(unknown.err.begin(), unknown.err.end(), '\n'), 1);
+
+  const auto no_binary = run_command("bash " EDX_SOURCE_DIR "/cli/demo.sh --edx /no/such/edx");
+  EXPECT_EQ(no_binary.exit_code, 2);
+  EXPECT_THAT(no_binary.err, HasSubstr("/no/such/edx"));
+
+  const auto bad_jobs = run_command("bash " EDX_SOURCE_DIR "/cli/demo.sh --edx " +
+                                    built_binary("edx") + " --jobs zero");
+  EXPECT_EQ(bad_jobs.exit_code, 2);
+  EXPECT_THAT(bad_jobs.err, HasSubstr("--jobs"));
+}
+
+}  // namespace
