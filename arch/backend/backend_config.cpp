@@ -45,6 +45,8 @@ nlohmann::json BackendConfig::to_json() const {
           {"spm_bytes", spm_bytes},
           {"symmetric_optimization", symmetric_optimization},
           {"structured_inverse", structured_inverse},
+          {"gemm_overlap_tiles", gemm_overlap_tiles},
+          {"blocked_solvers", blocked_solvers},
           {"pose_dim", pose_dim},
           {"landmark_dim", landmark_dim}};
 }
@@ -69,6 +71,8 @@ BackendConfig BackendConfig::from_yaml(const YAML::Node& node, const std::string
   c.spm_bytes = spm_bytes;
   f.read("symmetric_optimization", c.symmetric_optimization);
   f.read("structured_inverse", c.structured_inverse);
+  f.read("gemm_overlap_tiles", c.gemm_overlap_tiles);
+  f.read("blocked_solvers", c.blocked_solvers);
   f.read("pose_dim", c.pose_dim, 1);
   f.read("landmark_dim", c.landmark_dim, 1);
   f.finish();

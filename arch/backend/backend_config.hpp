@@ -53,6 +53,15 @@ struct BackendConfig {
   bool symmetric_optimization = true;
   /// A_mm = [A B; B^T D], A diagonal, D 6x6: reciprocals + a 6x6 inverse (Sec. VI-A).
   bool structured_inverse = true;
+  /// Output-stationary array with double-buffered accumulators: the next tile's operands stream
+  /// in while the previous tile's results shift out, so back-to-back tiles cost max(k, b) cycles
+  /// each and the 2b fill/drain is paid once per op (else once per tile). Assumed.
+  bool gemm_overlap_tiles = false;
+  /// Blocked factorizations and substitutions ("the inherent blocking nature of matrix
+  /// operations", Sec. VI-A): in b x b blocks (b = gemm_block), the decomposition and
+  /// substitution units handle the diagonal blocks and the O(n^3) trailing updates run as gemm /
+  /// syrk on the multiplication array (else the whole op runs on its own unit). Assumed.
+  bool blocked_solvers = false;
   // Sizes used only to derive the ops of a marginalization kernel the trace recorded without
   // ops (kernel_ops()): A_mm is (m * landmark_dim + pose_dim) square.
   int pose_dim = 6;      ///< pose degrees of freedom of the marginalized keyframe

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace edx::arch {
@@ -91,6 +92,48 @@ std::int64_t structured_inverse_cycles(std::int64_t m, const BackendConfig& conf
   return reciprocals + pose_inverse + ceil_div(products, lanes);
 }
 
+std::int64_t array_cycles(std::int64_t tiles, std::int64_t k, const BackendConfig& config) {
+  if (tiles == 0 || k == 0) return 0;
+  const std::int64_t b = config.gemm_block;
+  if (config.gemm_overlap_tiles) return tiles * std::max(k, b) + 2 * b;
+  return tiles * (k + 2 * b);
+}
+
+std::int64_t blocked_substitution_cycles(std::int64_t m, std::int64_t rhs,
+                                         const BackendConfig& config) {
+  if (m == 0 || rhs == 0) return 0;
+  const std::int64_t b = config.gemm_block;
+  std::int64_t cycles = config.divide_latency_cycles + (m - 1);  // all reciprocals, pipelined
+  for (std::int64_t done = 0; done < m; done += b) {
+    const std::int64_t s = std::min(b, m - done);
+    // B_i -= L_i,<i X_<i on the array (s x rhs result, k = done), then the s x s solve.
+    if (done > 0) {
+      cycles += array_cycles(gemm_tiles(s, rhs, config.gemm_block, false), done, config);
+    }
+    cycles += s + ceil_div(rhs * s * (s + 1) / 2, config.trsv_lanes);
+  }
+  return cycles;
+}
+
+std::int64_t blocked_factorization_cycles(std::int64_t m, std::int64_t per_column,
+                                          const BackendConfig& config) {
+  const std::int64_t b = config.gemm_block;
+  std::int64_t cycles = 0;
+  for (std::int64_t done = 0; done < m; done += b) {
+    const std::int64_t s = std::min(b, m - done);
+    const std::int64_t rest = m - done - s;
+    // The diagonal block on the decomposition unit.
+    cycles += ceil_div(factorization_macs(s), config.decomp_lanes()) + s * per_column;
+    if (rest == 0) break;
+    // The panel below it on the substitution unit (reciprocals known from the diagonal block),
+    // then the trailing update A_22 -= L_21 L_21^T on the array (a syrk, k = s).
+    cycles += s + ceil_div(rest * s * (s + 1) / 2, config.trsv_lanes);
+    cycles += array_cycles(gemm_tiles(rest, rest, config.gemm_block, config.symmetric_optimization),
+                           s, config);
+  }
+  return cycles;
+}
+
 bool uses_structured_inverse(const OpRecord& op, const BackendConfig& config) {
   return config.structured_inverse && op.op == Op::Inverse && has(op, flags::kDiagonalBlock) &&
          has(op, flags::kBlock6x6) && op.m > kPoseBlock;
@@ -104,24 +147,25 @@ std::int64_t op_cycles(const OpRecord& op, const BackendConfig& config) {
     case Op::Gemm: {
       if (m == 0 || n == 0 || k == 0) return 0;
       const bool symmetric = config.symmetric_optimization && symmetric_gemm_result(op);
-      return gemm_tiles(m, n, config.gemm_block, symmetric) * (k + 2 * config.gemm_block);
+      return array_cycles(gemm_tiles(m, n, config.gemm_block, symmetric), k, config);
     }
     case Op::Syrk:
       if (m == 0 || k == 0) return 0;
-      return gemm_tiles(m, m, config.gemm_block, config.symmetric_optimization) *
-             (k + 2 * config.gemm_block);
+      return array_cycles(gemm_tiles(m, m, config.gemm_block, config.symmetric_optimization), k,
+                          config);
     case Op::Potrf:
     case Op::Ldlt: {
       if (m == 0) return 0;
-      const std::int64_t lanes = std::int64_t{config.decomp_block} * config.decomp_block;
       const std::int64_t per_column =
           op.op == Op::Potrf ? config.sqrt_latency_cycles + t_div : t_div;
-      return ceil_div(factorization_macs(m), lanes) + m * per_column;
+      if (config.blocked_solvers) return blocked_factorization_cycles(m, per_column, config);
+      return ceil_div(factorization_macs(m), config.decomp_lanes()) + m * per_column;
     }
     case Op::Trsm:
     case Op::Trsv: {
       const std::int64_t rhs = op.op == Op::Trsv ? 1 : n;
       if (m == 0 || rhs == 0) return 0;
+      if (config.blocked_solvers) return blocked_substitution_cycles(m, rhs, config);
       return t_div + (m - 1) + m + ceil_div(rhs * m * (m + 1) / 2, config.trsv_lanes);
     }
     case Op::Transpose:

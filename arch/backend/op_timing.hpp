@@ -68,23 +68,50 @@ std::int64_t general_inverse_cycles(std::int64_t n, const BackendConfig& config)
 ///   optimization, else 6 d^2)                                     ⌈(78d + 6 sym(d)) / L⌉
 std::int64_t structured_inverse_cycles(std::int64_t m, const BackendConfig& config);
 
+/// Cycles of `tiles` output tiles of a b x b array accumulating k products each: tiles (k + 2b)
+/// (fill and drain per tile), or with gemm_overlap_tiles tiles max(k, b) + 2b (the next tile
+/// streams in while the previous one drains; a tile cannot drain faster than its b results a
+/// column take to shift out). 0 when tiles or k is 0.
+std::int64_t array_cycles(std::int64_t tiles, std::int64_t k, const BackendConfig& config);
+
+/// blocked_solvers: an m x m triangle against `rhs` right-hand sides in blocks of b rows
+/// (b = gemm_block, s_i = min(b, m - i b)): the reciprocals of the whole diagonal once
+/// (t_div + m - 1, pipelined), then per block row the update B_i -= L_i,<i X_<i on the array
+/// (array_cycles(tiles(s_i, rhs), i b), none for the first) and the s_i x s_i solve on the
+/// substitution unit (s_i + ⌈rhs s_i (s_i+1)/2 / L_s⌉). With m <= b it equals the unblocked
+/// formula of op_cycles.
+std::int64_t blocked_substitution_cycles(std::int64_t m, std::int64_t rhs,
+                                         const BackendConfig& config);
+
+/// blocked_solvers: right-looking blocked Cholesky / LDL^T of m in blocks of b = gemm_block; per
+/// diagonal block j (size s, `rest` rows below it): the block on the decomposition unit
+/// (⌈factorization_macs(s) / b_d^2⌉ + s per_column), the panel on the substitution unit
+/// (s + ⌈rest s (s+1)/2 / L_s⌉) and the trailing syrk on the array (array_cycles of the
+/// rest x rest result's tiles, symmetric with symmetric_optimization, k = s). per_column: t_sqrt
+/// + t_div (potrf) or t_div (ldlt). With m <= b it equals the unblocked formula.
+std::int64_t blocked_factorization_cycles(std::int64_t m, std::int64_t per_column,
+                                          const BackendConfig& config);
+
 /// True when `op` is an inverse the structured unit serves: flags kDiagonalBlock and kBlock6x6,
 /// m > 6, and structured_inverse on.
 bool uses_structured_inverse(const trace::OpRecord& op, const BackendConfig& config);
 
 /// Cycles of one op on its unit (0 for an op with a zero dimension):
-///   gemm  m x n x k on the b x b array: tiles(m, n) * (k + 2b), the 2b being the array's fill
-///         and drain per tile (operands skewed into b rows and columns, results shifted out);
+///   gemm  m x n x k on the b x b array: array_cycles(tiles(m, n), k) = tiles(m, n) * (k + 2b),
+///         the 2b being the array's fill and drain per tile (operands skewed into b rows and
+///         columns, results shifted out), or tiles max(k, b) + 2b with gemm_overlap_tiles;
 ///         transposed operands (flags kTransposeA/B) cost nothing (the address generator reads
 ///         them transposed); a symmetric result counts only the upper tiles (see above)
 ///   syrk  m x m result of k: the same with n = m, the result always symmetric
 ///   potrf ⌈factorization_macs(m) / b_d^2⌉ + m (t_sqrt + t_div)    (a root and a reciprocal
 ///         per column on the critical path)
 ///   ldlt  ⌈factorization_macs(m) / b_d^2⌉ + m t_div               (a reciprocal per column)
+///         (with blocked_solvers: blocked_factorization_cycles)
 ///   trsm, trsv  column-oriented substitution of an m x m triangle against n right-hand sides:
 ///         reciprocals of the diagonal (t_div + m - 1, pipelined), one broadcast cycle per
 ///         column, and the n m(m+1)/2 products on the lanes:
 ///         t_div + (m - 1) + m + ⌈n m (m+1)/2 / L_s⌉   (trsv: n = 1)
+///         (with blocked_solvers: blocked_substitution_cycles)
 ///   transpose  ⌈m n / w⌉
 ///   inverse  structured_inverse_cycles(m) when uses_structured_inverse, else
 ///         general_inverse_cycles(m)

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -38,19 +39,35 @@ int model_degree(const std::string& kernel) {
       kernel));
 }
 
-OffloadScheduler::OffloadScheduler(OffloadPolicy policy, double training_fraction,
-                                   std::size_t frames)
-    : policy_(policy) {
+OffloadScheduler::OffloadScheduler(OffloadPolicy policy, double training_fraction)
+    : policy_(policy), training_fraction_(training_fraction) {
   if (!(training_fraction >= 0 && training_fraction < 1)) {
     throw std::runtime_error(fmt::format(
         "scheduler.training_fraction: expected a fraction in [0, 1), got {}", training_fraction));
   }
-  training_frames_ =
-      static_cast<std::size_t>(std::ceil(training_fraction * static_cast<double>(frames)));
+}
+
+bool OffloadScheduler::in_training(const KernelInvocation& invocation) const {
+  return invocation.frame_index < training_end_frame(invocation.kernel);
+}
+
+std::size_t OffloadScheduler::training_end_frame(const std::string& kernel) const {
+  const auto it = training_end_.find(kernel);
+  return it == training_end_.end() ? 0 : it->second;
 }
 
 void OffloadScheduler::train(const std::vector<KernelInvocation>& invocations) {
   models_.clear();
+  training_end_.clear();
+  std::map<std::string, std::vector<std::size_t>> frames_of;
+  for (const KernelInvocation& k : invocations) frames_of[k.kernel].push_back(k.frame_index);
+  for (auto& [kernel, frames] : frames_of) {
+    std::sort(frames.begin(), frames.end());
+    // ⌈f·N⌉, immune to f·N landing a rounding error above an integer (0.14 x 50).
+    const auto n_train = static_cast<std::size_t>(
+        std::ceil(training_fraction_ * static_cast<double>(frames.size()) - 1e-9));
+    training_end_[kernel] = n_train == 0 ? 0 : frames[n_train - 1] + 1;
+  }
   if (policy_ != OffloadPolicy::kRegression) return;
   std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> samples;
   for (const KernelInvocation& k : invocations) {

@@ -7,9 +7,10 @@
 //   always      always offloaded
 //   regression  offload when the host time predicted by a model of the kernel's size exceeds the
 //               accelerator time estimated from the units' latency profiles plus the transfers;
-//               models fit on the invocations of the first `training_fraction` of the frames
-//               (linear for projection in map points, quadratic for kalman_gain in H's rows and
-//               for marginalization in landmarks); the training frames themselves run on the host
+//               each kernel's model is fit on the frames holding the first `training_fraction`
+//               of that kernel's own invocations (linear for projection in map points, quadratic
+//               for kalman_gain in H's rows and for marginalization in landmarks); those training
+//               invocations themselves run on the host
 //   oracle      offload exactly when the accelerator (with transfers) is faster
 #include <cstdint>
 #include <map>
@@ -44,28 +45,34 @@ struct KernelInvocation {
 
 class OffloadScheduler {
  public:
-  /// `training_fraction` in [0, 1): the leading share of `frames` the models are fitted on.
-  OffloadScheduler(OffloadPolicy policy, double training_fraction, std::size_t frames);
+  /// `training_fraction` in [0, 1): the leading share of each kernel's invocations the models
+  /// are fitted on (paper Sec. VII-A: 25 % of the frames of the datasets).
+  OffloadScheduler(OffloadPolicy policy, double training_fraction);
 
-  /// Fits one model per kernel on the invocations of the training frames (regression policy
-  /// only; a kernel with too few training samples for its degree keeps no model and is then
-  /// never offloaded).
+  /// Splits every kernel's invocations (any policy): with N invocations of a kernel in frame
+  /// order, its training frames are those up to and including the frame of its ⌈f·N⌉-th
+  /// invocation, so that each kernel is profiled on the first share of its own invocations (of
+  /// its own mode's frames) whatever the order of the modes in the trace. Then, for the
+  /// regression policy, fits one model per kernel on its training invocations (a kernel with
+  /// too few training samples for its degree keeps no model and is then never offloaded).
   void train(const std::vector<KernelInvocation>& invocations);
 
   /// The decision for one invocation.
   bool offload(const KernelInvocation& invocation) const;
 
-  /// True for the invocations the models were trained on.
-  bool in_training(const KernelInvocation& invocation) const {
-    return invocation.frame_index < training_frames_;
-  }
+  /// True for the invocations the models were trained on (after `train`; a kernel `train` has
+  /// not seen has no training invocations).
+  bool in_training(const KernelInvocation& invocation) const;
   OffloadPolicy policy() const { return policy_; }
-  std::size_t training_frames() const { return training_frames_; }
+  /// The first frame index after a kernel's training frames (0 for a kernel `train` has not
+  /// seen).
+  std::size_t training_end_frame(const std::string& kernel) const;
   const std::map<std::string, PolynomialModel>& models() const { return models_; }
 
  private:
   OffloadPolicy policy_;
-  std::size_t training_frames_ = 0;
+  double training_fraction_ = 0;
+  std::map<std::string, std::size_t> training_end_;  ///< per kernel: first evaluation frame
   std::map<std::string, PolynomialModel> models_;
 };
 

@@ -55,8 +55,8 @@ struct HostConfig {
 /// `scheduler:` section: the offload policy of Sec. VI-B (arch/scheduler).
 struct SchedulerConfig {
   OffloadPolicy policy = OffloadPolicy::kRegression;
-  /// Leading share of the trace's frames the regression models are fitted on (paper Sec. VII-A:
-  /// 25 %); those frames run their kernels on the host.
+  /// Leading share of each accelerable kernel's invocations its regression model is fitted on
+  /// (paper Sec. VII-A: 25 % of the frames); those invocations run on the host.
   double training_fraction = 0.25;
   nlohmann::json to_json() const;
 };

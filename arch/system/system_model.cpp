@@ -308,8 +308,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       transfers.push_back(std::move(t));
     }
   }
-  OffloadScheduler scheduler(platform.scheduler.policy, platform.scheduler.training_fraction,
-                             frames.size());
+  OffloadScheduler scheduler(platform.scheduler.policy, platform.scheduler.training_fraction);
   r.schedule = evaluate_schedule(scheduler, invocations);  // trains the models
   for (std::size_t i = 0; i < invocations.size(); ++i) {
     r.decisions[i].training = scheduler.in_training(invocations[i]);

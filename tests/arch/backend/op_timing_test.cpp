@@ -115,6 +115,73 @@ TEST(BackendOpCycles, Substitution) {
   EXPECT_EQ(op_cycles(op(Op::Trsm, 5, 0, 0), c), 0);
 }
 
+TEST(BackendOpCycles, OverlappedTilesPayFillAndDrainOnce) {
+  BackendConfig c = small_config();
+  c.gemm_overlap_tiles = true;
+  // 10x6x7: 6 tiles of max(7, 4) = 7 cycles + one fill/drain of 8.
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 10, 6, 7), c), 6 * 7 + 8);
+  // k = 2 < b: a tile cannot drain its 4 results a column faster than 4 cycles: 3 x 4 + 8
+  // (30 = 3 x (2 + 8) without the overlap).
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 3, 9, 2), c), 3 * 4 + 8);
+  EXPECT_EQ(op_cycles(op(Op::Syrk, 9, 9, 3), c), 6 * 4 + 8);  // 6 upper tiles
+  EXPECT_EQ(array_cycles(0, 5, c), 0);
+  c.gemm_overlap_tiles = false;
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 3, 9, 2), c), 30);
+}
+
+TEST(BackendOpCycles, BlockedSubstitutionUpdatesOnTheArray) {
+  BackendConfig c = small_config();
+  c.blocked_solvers = true;
+  // 10x10 triangle, 3 right-hand sides, b = 4: reciprocals 10 + 9 = 19; block 0 (4 rows): solve
+  // 4 + ⌈3 x 4 x 5 / 2 / 2⌉ = 19; block 1: update 4x3 of k = 4 (1 tile, 4 + 8) = 12, solve 19;
+  // block 2 (2 rows): update 2x3 of k = 8 (1 tile, 16), solve 2 + ⌈9 / 2⌉ = 7.
+  EXPECT_EQ(op_cycles(op(Op::Trsm, 10, 3, 0, flags::kLower), c), 19 + 19 + 31 + 23);
+  EXPECT_EQ(blocked_substitution_cycles(10, 3, c), 92);
+  // A triangle within one block costs what the unblocked unit takes: 10 + 3 + 4 + 15.
+  EXPECT_EQ(op_cycles(op(Op::Trsm, 4, 3, 0), c), 32);
+  c.blocked_solvers = false;
+  EXPECT_EQ(op_cycles(op(Op::Trsm, 4, 3, 0), c), 32);
+  EXPECT_EQ(op_cycles(op(Op::Trsm, 10, 3, 0), c), 10 + 9 + 10 + 83);  // ⌈165 / 2⌉
+}
+
+TEST(BackendOpCycles, BlockedFactorizationUpdatesOnTheArray) {
+  BackendConfig c = small_config();
+  c.blocked_solvers = true;
+  // potrf 10, b = 4 (per column: root 5 + divide 10):
+  //   block 0 (4, 6 below): diagonal ⌈16 / 4⌉ + 4 x 15 = 64; panel 4 + ⌈6 x 10 / 2⌉ = 34;
+  //            syrk 6x6 of k = 4: 3 upper tiles x 12 = 36
+  //   block 1 (4, 2 below): 64; panel 4 + ⌈2 x 10 / 2⌉ = 14; syrk 2x2: 1 tile, 12
+  //   block 2 (2): ⌈2 / 4⌉ + 2 x 15 = 31
+  EXPECT_EQ(op_cycles(op(Op::Potrf, 10, 10, 0, flags::kSymmetric), c),
+            (64 + 34 + 36) + (64 + 14 + 12) + 31);
+  // LDL^T: 10 a column: diagonals 4 + 40 and 1 + 20.
+  EXPECT_EQ(op_cycles(op(Op::Ldlt, 10, 10, 0, flags::kSymmetric), c),
+            (44 + 34 + 36) + (44 + 14 + 12) + 21);
+  EXPECT_EQ(blocked_factorization_cycles(10, 10, c), 205);
+  // Overlapped tiles: the syrks take 3 x 4 + 8 and 1 x 4 + 8.
+  c.gemm_overlap_tiles = true;
+  EXPECT_EQ(op_cycles(op(Op::Potrf, 10, 10, 0), c), (64 + 34 + 20) + (64 + 14 + 12) + 31);
+  // One block: the unblocked formula (13 + 90, Factorizations above).
+  EXPECT_EQ(op_cycles(op(Op::Potrf, 4, 4, 0), c), 4 + 60);
+  c.blocked_solvers = false;
+  EXPECT_EQ(op_cycles(op(Op::Potrf, 4, 4, 0), c), 4 + 60);
+}
+
+TEST(BackendOpCycles, CarKalmanGainSolveBlocked) {
+  // The Car's units (the defaults: b = 4, one substitution lane, divider 30) with overlapped
+  // tiles, on the typical Kalman gain's trsm (66-row triangle, 211 right-hand sides):
+  //   reciprocals 30 + 65 = 95; block 0: 4 + 211 x 10 = 2114;
+  //   blocks 1..15: update 53 tiles x 4i + 8 and the solve 2114: Σ = 212 x 120 + 15 x 2122;
+  //   block 16 (2 rows): update 53 x 64 + 8 = 3400, solve 2 + 211 x 3 = 635.
+  BackendConfig c;
+  c.gemm_overlap_tiles = c.blocked_solvers = true;
+  EXPECT_EQ(op_cycles(op(Op::Trsm, 66, 211, 0, flags::kLower), c),
+            95 + 2114 + 212 * 120 + 15 * 2122 + 3400 + 635);
+  // Unblocked: 30 + 65 + 66 + 211 x 66 x 67 / 2 on one lane.
+  c.blocked_solvers = false;
+  EXPECT_EQ(op_cycles(op(Op::Trsm, 66, 211, 0, flags::kLower), c), 161 + 466521);
+}
+
 TEST(BackendOpCycles, Transpose) {
   const BackendConfig c = small_config();
   EXPECT_EQ(op_cycles(op(Op::Transpose, 7, 5, 0), c), 18);  // ⌈35 / 2⌉
@@ -177,8 +244,12 @@ TEST(BackendOpSpm, OperandBytes) {
 TEST(BackendConfigYaml, ReadsFieldsAndNamesFileLineKey) {
   const BackendConfig c = BackendConfig::from_yaml(
       YAML::Load("clock_mhz: 200\ngemm_block: 32\nsymmetric_optimization: false\n"
-                 "spm_bytes: 4194304\n"),
+                 "spm_bytes: 4194304\ngemm_overlap_tiles: true\nblocked_solvers: true\n"),
       "car.yaml");
+  EXPECT_TRUE(c.gemm_overlap_tiles);
+  EXPECT_TRUE(c.blocked_solvers);
+  EXPECT_FALSE(BackendConfig{}.gemm_overlap_tiles);
+  EXPECT_FALSE(BackendConfig{}.blocked_solvers);
   EXPECT_DOUBLE_EQ(c.clock_mhz, 200.0);
   EXPECT_EQ(c.gemm_block, 32);
   EXPECT_FALSE(c.symmetric_optimization);

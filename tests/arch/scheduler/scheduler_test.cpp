@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <stdexcept>
+#include <string>
 
 namespace edx::arch {
 namespace {
@@ -59,11 +61,13 @@ std::vector<KernelInvocation> invocations(std::size_t frames) {
 
 TEST(OffloadScheduler, RegressionMatchesTheOracleWhenTheModelIsExact) {
   const auto all = invocations(400);
-  OffloadScheduler regression(OffloadPolicy::kRegression, 0.25, 400);
+  OffloadScheduler regression(OffloadPolicy::kRegression, 0.25);
   const auto summary = evaluate_schedule(regression, all);
   ASSERT_EQ(summary.size(), 1u);
   const KernelScheduleSummary& s = summary[0];
-  EXPECT_EQ(regression.training_frames(), 100u);
+  // One invocation a frame: the first ⌈0.25 · 400⌉ = 100 invocations are frames 0..99.
+  EXPECT_EQ(regression.training_end_frame("marginalization"), 100u);
+  EXPECT_EQ(s.training_samples, 100u);
   EXPECT_EQ(s.invocations, 300u);
   EXPECT_NEAR(s.r_squared_train, 1.0, 1e-9);
   EXPECT_NEAR(s.gap_to_oracle, 0.0, 1e-9);
@@ -78,21 +82,87 @@ TEST(OffloadScheduler, RegressionMatchesTheOracleWhenTheModelIsExact) {
 
 TEST(OffloadScheduler, FixedPoliciesAndTrainingFrames) {
   const auto all = invocations(100);
-  OffloadScheduler never(OffloadPolicy::kNever, 0.25, 100);
+  OffloadScheduler never(OffloadPolicy::kNever, 0.25);
   const auto n = evaluate_schedule(never, all)[0];
   EXPECT_EQ(n.offloaded, 0u);
   EXPECT_DOUBLE_EQ(n.policy_s, n.host_only_s);
-  OffloadScheduler always(OffloadPolicy::kAlways, 0.25, 100);
+  OffloadScheduler always(OffloadPolicy::kAlways, 0.25);
   const auto a = evaluate_schedule(always, all)[0];
   EXPECT_EQ(a.offloaded, a.invocations);
   EXPECT_DOUBLE_EQ(a.policy_s, a.always_s);
-  OffloadScheduler regression(OffloadPolicy::kRegression, 0.25, 100);
+  OffloadScheduler regression(OffloadPolicy::kRegression, 0.25);
   regression.train(all);
   EXPECT_FALSE(regression.offload(all[3]));  // a training frame runs on the host
-  EXPECT_THROW(OffloadScheduler(OffloadPolicy::kOracle, 1.0, 10), std::runtime_error);
+  EXPECT_THROW(OffloadScheduler(OffloadPolicy::kOracle, 1.0), std::runtime_error);
   EXPECT_THROW(parse_offload_policy("sometimes"), std::runtime_error);
   EXPECT_EQ(parse_offload_policy("oracle"), OffloadPolicy::kOracle);
   EXPECT_THROW(model_degree("pnp"), std::runtime_error);
+}
+
+/// A mixed trace as the paper's mix orders it: frames 0..199 VIO (one kalman_gain a frame),
+/// 200..299 SLAM (a marginalization on every other frame), 300..399 registration (one
+/// projection a frame). Host times follow each kernel's model degree exactly.
+std::vector<KernelInvocation> mixed_invocations() {
+  std::vector<KernelInvocation> out;
+  const auto add = [&](std::size_t f, const char* kernel, double size, double host_s) {
+    KernelInvocation k;
+    k.frame_index = f;
+    k.kernel = kernel;
+    k.size = size;
+    k.host_s = host_s;
+    k.accel_s = k.accel_estimate_s = 1e-4;
+    out.push_back(k);
+  };
+  for (std::size_t f = 0; f < 200; ++f) {
+    const double m = double(20 + f % 50);
+    add(f, "kalman_gain", m, 1e-5 + 1e-7 * m * m);
+  }
+  for (std::size_t f = 200; f < 300; f += 2) {
+    const double m = double(10 + (f * 7) % 300);
+    add(f, "marginalization", m, 2e-5 + 3e-9 * m * m);
+  }
+  for (std::size_t f = 300; f < 400; ++f) {
+    const double m = double(1000 + 40 * (f % 25));
+    add(f, "projection", m, 5e-6 + 3e-8 * m);
+  }
+  return out;
+}
+
+TEST(OffloadScheduler, EachKernelTrainsOnTheFirstQuarterOfItsOwnInvocations) {
+  const auto all = mixed_invocations();
+  OffloadScheduler regression(OffloadPolicy::kRegression, 0.25);
+  const auto summary = evaluate_schedule(regression, all);
+  ASSERT_EQ(summary.size(), 3u);  // by kernel name
+  // kalman_gain: 200 invocations, ⌈50⌉ -> frames 0..49; marginalization: 50 invocations on
+  // frames 200, 202, ..., ⌈12.5⌉ = 13 -> up to frame 224; projection: 100, 25 -> frames 300..324.
+  EXPECT_EQ(regression.training_end_frame("kalman_gain"), 50u);
+  EXPECT_EQ(regression.training_end_frame("marginalization"), 225u);
+  EXPECT_EQ(regression.training_end_frame("projection"), 325u);
+  EXPECT_EQ(regression.training_end_frame("pnp"), 0u);  // never seen: no training frames
+  // 0.14 x 50 is 7.000000000000001 in doubles: still 7 training invocations (frames 0..6).
+  OffloadScheduler share(OffloadPolicy::kNever, 0.14);
+  share.train(std::vector<KernelInvocation>(all.begin(), all.begin() + 50));
+  EXPECT_EQ(share.training_end_frame("kalman_gain"), 7u);
+  const std::map<std::string, std::pair<std::size_t, std::size_t>> expected = {
+      {"kalman_gain", {50, 150}}, {"marginalization", {13, 37}}, {"projection", {25, 75}}};
+  for (const KernelScheduleSummary& s : summary) {
+    SCOPED_TRACE(s.kernel);
+    EXPECT_EQ(s.training_samples, expected.at(s.kernel).first);
+    EXPECT_EQ(s.invocations, expected.at(s.kernel).second);
+    ASSERT_TRUE(s.has_model);  // a frame-based 25 % split would leave two kernels without one
+    EXPECT_NEAR(s.r_squared_train, 1.0, 1e-9);
+    EXPECT_NEAR(s.gap_to_oracle, 0.0, 1e-9);
+  }
+  // Training invocations run on the host; the first evaluation one is decided by the model.
+  KernelInvocation k = all[0];
+  EXPECT_TRUE(regression.in_training(k));
+  EXPECT_FALSE(regression.offload(k));
+  k.frame_index = 300;  // a kalman_gain after its training frames
+  EXPECT_FALSE(regression.in_training(k));
+  k.size = 69;  // host 1e-5 + 1e-7 · 69² = 4.86e-4 s > 1e-4 s on the accelerator
+  EXPECT_TRUE(regression.offload(k));
+  k.size = 20;  // host 5e-5 s < 1e-4 s
+  EXPECT_FALSE(regression.offload(k));
 }
 
 }  // namespace

@@ -102,6 +102,15 @@ TEST(Platform, ShippedConfigsLoad) {
   EXPECT_EQ(car.backend.decomp_lanes(), 1);
   EXPECT_LT(drone.backend.gemm_block, car.backend.gemm_block);
   EXPECT_LT(drone.backend.spm_bytes, car.backend.spm_bytes);
+  // The same unit design on both (Sec. VII-A: "almost the same" implementations).
+  for (const Platform* p : {&car, &drone}) {
+    EXPECT_TRUE(p->backend.gemm_overlap_tiles) << p->name;
+    EXPECT_TRUE(p->backend.blocked_solvers) << p->name;
+  }
+  // Car host scales calibrated on the paper's mix (docs/MODEL.md, Host CPU): 92.4 ms / 51.53 ms
+  // and (1000 / 8.6 − 92.4) ms / 8.774 ms.
+  EXPECT_NEAR(car.host.frontend_time_scale, 92.4 / 51.53, 5e-3);
+  EXPECT_NEAR(car.host.backend_time_scale, (1000.0 / 8.6 - 92.4) / 8.774, 5e-3);
 }
 
 TEST(Platform, MissingFileIsNamed) {

@@ -196,7 +196,7 @@ TEST(SystemModel, RegressionFitsOnTheFirstQuarterAndMatchesTheOracle) {
   }
   const SystemResult r = simulate_system(test_platform("regression"), frames, kMeta, "t");
   ASSERT_EQ(r.schedule.size(), 1u);
-  EXPECT_EQ(r.schedule[0].invocations, 6u);  // 8 − ⌈0.25 x 8⌉
+  EXPECT_EQ(r.schedule[0].invocations, 6u);  // 8 − ⌈0.25 x 8⌉ (one projection a frame)
   EXPECT_EQ(r.schedule[0].training_samples, 2u);
   EXPECT_TRUE(r.schedule[0].has_model);
   EXPECT_NEAR(r.schedule[0].r_squared_train, 1.0, 1e-9);
@@ -207,6 +207,32 @@ TEST(SystemModel, RegressionFitsOnTheFirstQuarterAndMatchesTheOracle) {
     // Host 2 x (50 µs + 0.1 µs x 10) = 0.102 ms against 0.0018 ms: offloaded; 100 000 points:
     // host 20.1 ms against 12.8 ms: offloaded too. Training frames stay on the host.
     EXPECT_EQ(d.offloaded, !d.training) << d.frame_id;
+  }
+}
+
+TEST(SystemModel, EachKernelTrainsOnItsOwnInvocationsWhateverTheModeOrder) {
+  // 4 SLAM frames without an accelerable kernel, then 8 registration frames with the projections
+  // of the test above: the first 25 % of the frames (0..2) hold no projection, but the first
+  // ⌈0.25 x 8⌉ = 2 projections (frames 4 and 5) fit the line exactly.
+  std::vector<trace::FrameTrace> frames;
+  for (int i = 0; i < 4; ++i) {
+    frames.push_back(frame(i, BackendMode::Slam, 5'000'000));
+    frames.back().kernels = {host_only(1'000'000)};
+  }
+  for (int i = 4; i < 12; ++i) {
+    frames.push_back(frame(i, BackendMode::Registration, 50'000'000));
+    const std::int64_t points = i % 2 == 0 ? 10 : 100'000;
+    frames.back().kernels = {projection(points, 50'000 + points * 100)};
+  }
+  const SystemResult r = simulate_system(test_platform("regression"), frames, kMeta, "t");
+  ASSERT_EQ(r.schedule.size(), 1u);
+  EXPECT_EQ(r.schedule[0].training_samples, 2u);
+  EXPECT_EQ(r.schedule[0].invocations, 6u);
+  ASSERT_TRUE(r.schedule[0].has_model);
+  EXPECT_NEAR(r.schedule[0].r_squared_eval, 1.0, 1e-9);
+  for (const KernelDecision& d : r.decisions) {
+    EXPECT_EQ(d.training, d.frame_id < 6) << d.frame_id;
+    EXPECT_EQ(d.offloaded, !d.training) << d.frame_id;  // as in the test above
   }
 }
 
