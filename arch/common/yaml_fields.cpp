@@ -15,6 +15,19 @@ std::string line_of(const YAML::Node& node) {
 
 }  // namespace
 
+YAML::Node load_yaml_map(const std::string& text, const std::string& where,
+                         const std::string& what) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(
+        fmt::format("{}:{}: not valid YAML: {}", where, e.mark.line + 1, e.msg));
+  }
+  if (!root.IsMap()) throw std::runtime_error(fmt::format("{}: expected a map of {}", where, what));
+  return root;
+}
+
 YamlFields::YamlFields(const YAML::Node& node, std::string where, std::string prefix)
     : node_(node), where_(std::move(where)), prefix_(std::move(prefix)) {
   if (node_ && !node_.IsNull() && !node_.IsMap()) {

@@ -10,6 +10,11 @@
 
 namespace edx::arch {
 
+/// Parses `text` (read from `where`) and checks that its top level is a map. Errors:
+/// "where:line: not valid YAML: ..." and "where: expected a map of <what>".
+YAML::Node load_yaml_map(const std::string& text, const std::string& where,
+                         const std::string& what);
+
 class YamlFields {
  public:
   /// `node` must be a map (or null/absent: no fields); `where` is the file name, `prefix` the

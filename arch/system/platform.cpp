@@ -43,15 +43,7 @@ nlohmann::json Platform::to_json() const {
 namespace {
 
 YAML::Node load_yaml(const std::string& text, const std::string& where) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(
-        fmt::format("{}:{}: not valid YAML: {}", where, e.mark.line + 1, e.msg));
-  }
-  if (!root.IsMap()) throw std::runtime_error(fmt::format("{}: expected a map of sections", where));
-  return root;
+  return load_yaml_map(text, where, "sections");
 }
 
 std::string read_text(const std::filesystem::path& path) {

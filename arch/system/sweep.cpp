@@ -12,6 +12,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "arch/common/yaml_fields.hpp"
+
 namespace edx::arch {
 namespace {
 
@@ -239,14 +241,7 @@ nlohmann::json SweepSpec::to_json() const {
 
 SweepSpec SweepSpec::parse(const std::string& text, const std::string& where,
                            const std::filesystem::path& dir) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(
-        fmt::format("{}:{}: not valid YAML: {}", where, e.mark.line + 1, e.msg));
-  }
-  if (!root.IsMap()) throw std::runtime_error(fmt::format("{}: expected a map of keys", where));
+  const YAML::Node root = load_yaml_map(text, where, "keys");
   check_keys(where, root, "sweep",
              {"name", "description", "base", "trace", "parameters", "sampling", "objectives",
               "constraints"});

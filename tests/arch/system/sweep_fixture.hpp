@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 
+#include "tests/arch/system/hand_tasks.hpp"
 #include "workloads/trace/records.hpp"
 #include "workloads/trace/writer.hpp"
 
@@ -21,25 +22,7 @@ inline trace::FrameTrace sweep_frame(std::int64_t id, std::int64_t points) {
   f.frame.frontend_host_ns = 3'000'000;
   f.frame.backend_host_ns = 10'000'000;
   f.frame.backend_status = "no pose: hand-built";
-  using trace::Image;
-  using trace::Task;
-  const auto task = [](Task t, Image i, std::int64_t pixels, std::int64_t window) {
-    trace::TaskRecord r;
-    r.task = t;
-    r.image = i;
-    r.pixels = pixels;
-    r.levels = pixels > 0 ? 1 : 0;
-    r.window_size = window;
-    if (pixels > 0) r.per_level = {trace::LevelWork{0, 40, 25, pixels, 0, 0}};
-    return r;
-  };
-  f.tasks = {task(Task::FD, Image::Left, 1000, 0),  task(Task::IF, Image::Left, 1000, 7),
-             task(Task::FD, Image::Right, 1000, 0), task(Task::IF, Image::Right, 1000, 7),
-             task(Task::DC, Image::Left, 1000, 3),  task(Task::LSS, Image::Left, 0, 21),
-             task(Task::FC, Image::Left, 0, 31),    task(Task::FC, Image::Right, 0, 31),
-             task(Task::MO, Image::Stereo, 0, 0),   task(Task::DR, Image::Stereo, 0, 11)};
-  f.tasks[0].candidates = f.tasks[2].candidates = 10;
-  f.tasks[9].search_range = 11;
+  f.tasks = hand_task_rows();
   trace::KernelRecord k;
   k.kernel = "projection";
   k.accelerable = true;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "arch/system/results_db.hpp"
+#include "tests/arch/system/hand_tasks.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace edx::arch {
@@ -45,27 +46,7 @@ trace::FrameTrace frame(std::int64_t id, BackendMode mode, std::int64_t backend_
   f.frame.mode = mode;
   f.frame.frontend_host_ns = 3'000'000;  // 3 ms
   f.frame.backend_host_ns = backend_ns;
-  // The ten task rows of a frame (docs/TRACE.md), with work only in FD, IF (1000 pixels an
-  // image, 10 FAST candidates) and DC (1000 pixels); no features.
-  using trace::Image;
-  using trace::Task;
-  const auto task = [](Task t, Image i, std::int64_t pixels, std::int64_t window) {
-    trace::TaskRecord r;
-    r.task = t;
-    r.image = i;
-    r.pixels = pixels;
-    r.levels = pixels > 0 ? 1 : 0;
-    r.window_size = window;
-    if (pixels > 0) r.per_level = {trace::LevelWork{0, 40, 25, pixels, 0, 0}};
-    return r;
-  };
-  f.tasks = {task(Task::FD, Image::Left, 1000, 0),  task(Task::IF, Image::Left, 1000, 7),
-             task(Task::FD, Image::Right, 1000, 0), task(Task::IF, Image::Right, 1000, 7),
-             task(Task::DC, Image::Left, 1000, 3),  task(Task::LSS, Image::Left, 0, 21),
-             task(Task::FC, Image::Left, 0, 31),    task(Task::FC, Image::Right, 0, 31),
-             task(Task::MO, Image::Stereo, 0, 0),   task(Task::DR, Image::Stereo, 0, 11)};
-  f.tasks[0].candidates = f.tasks[2].candidates = 10;
-  f.tasks[9].search_range = 11;
+  f.tasks = hand_task_rows();
   return f;
 }
 
