@@ -101,7 +101,11 @@ GpsReport GpsFusion::process(VioState& state, std::span<const datasets::GpsFix> 
     kernel.record().detail_json = fmt::format(R"({{"aligned":{}}})", aligned_);
     return report;
   }
-  const double gate = chi2_quantile(options_.gps_chi2_confidence, 3);
+  // Rows fused per fix: the horizontal position (x, y in G), and the height with
+  // gps_fuse_vertical (default). Each row of H keeps H N = 0 (FEJ), so dropping the height row
+  // adds no information along the unobservable directions either.
+  const int rows = options_.gps_fuse_vertical ? 3 : 2;
+  const double gate = chi2_quantile(options_.gps_chi2_confidence, rows);
   for (const auto& fix : fixes) {
     const int n = state.dim();
     const double sigma = std::max(fix.sigma_m, options_.gps_sigma_floor_m);
@@ -122,9 +126,10 @@ GpsReport GpsFusion::process(VioState& state, std::span<const datasets::GpsFix> 
     H.block<3, 3>(0, kVel) = -dt * Rz_fe;
     H.block<3, 1>(0, kGpsYaw) = Rz_fe * skew(Eigen::Vector3d::UnitZ()) * a_fe;
     H.block<3, 3>(0, kGpsPos).setIdentity();
-    const Eigen::Vector3d r = fix.position_m - (Rz * a + state.t_GV);
-    const Eigen::Vector3d noise = Eigen::Vector3d::Constant(sigma * sigma);
-    Eigen::Matrix3d S = H * state.P * H.transpose();
+    H.conservativeResize(rows, Eigen::NoChange);
+    const Eigen::VectorXd r = (fix.position_m - (Rz * a + state.t_GV)).head(rows);
+    const Eigen::VectorXd noise = Eigen::VectorXd::Constant(rows, sigma * sigma);
+    Eigen::MatrixXd S = H * state.P * H.transpose();
     S.diagonal() += noise;
     const double gamma = r.dot(S.ldlt().solve(r));
     if (gamma > gate && consecutive_rejections_ < 20) {

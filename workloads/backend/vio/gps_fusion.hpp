@@ -8,12 +8,14 @@
 // with the filter's antenna position at their time; once they spread over
 // gps_align_min_extent_m, the least-squares 4-DoF transform (eval::align_positions, posyaw)
 // initializes (yaw_GV, t_GV) with covariance s_yaw^2 = sigma^2 / sum_i |e_i,xy|^2 (e_i the centred
-// fixes) and s_t^2 = sigma^2 / n per axis. From then on each fix z (at t_fix <= t) is fused:
+// fixes) and s_t^2 = sigma^2 / n per axis, correlated with the pose (gps_fusion.cpp). From then
+// on each fix z (at t_fix <= t) is fused:
 //   a = p_WI + R_WI l - v_WI (t - t_fix)       (antenna in W, l the lever arm in the body)
 //   z = Rz(yaw) a + t + n,  n ~ N(0, sigma^2 I3)
 //   H_theta = -Rz [R_WI l]x,  H_p = Rz,  H_v = -(t - t_fix) Rz,  H_yaw = [e_z]x Rz a,  H_t = I,
-// chi-square gated. The estimate stays in W: GPS corrects the drift of the pose while the
-// frame transform absorbs the (unobservable to VIO) choice of yaw and origin.
+// chi-square gated (rows x, y of G only when gps_fuse_vertical is off). The estimate stays in
+// W: GPS corrects the drift of the pose while the frame transform absorbs the (unobservable to
+// VIO) choice of yaw and origin.
 #include <Eigen/Geometry>
 #include <span>
 #include <vector>

@@ -71,7 +71,8 @@ nlohmann::json VioOptions::to_json() const {
           {"gps_sigma_floor_m", gps_sigma_floor_m},
           {"gps_align_min_extent_m", gps_align_min_extent_m},
           {"gps_align_min_fixes", gps_align_min_fixes},
-          {"gps_chi2_confidence", gps_chi2_confidence}};
+          {"gps_chi2_confidence", gps_chi2_confidence},
+          {"gps_fuse_vertical", gps_fuse_vertical}};
 }
 
 }  // namespace edx::backend::vio

@@ -42,6 +42,11 @@ struct VioOptions {
   double gps_align_min_extent_m = 15.0;  ///< horizontal spread of fixes before aligning frames
   int gps_align_min_fixes = 10;
   double gps_chi2_confidence = 0.999;
+  /// Fuse the fixes' height (3 rows per fix); false: only their horizontal position. Before the
+  /// first turn the VIO's height is only as good as its tilt (tilt sd x distance), so on short
+  /// straight runs the fixes' averaged noise moves the height by about its fused sd (worse than
+  /// a lucky VIO), while on runs whose VIO height drifts they remove the drift (docs/VIO.md).
+  bool gps_fuse_vertical = true;
 
   /// Throws std::runtime_error naming the first bad field and the range it must lie in.
   void validate() const;

@@ -125,9 +125,12 @@ TEST(VioEndToEnd, OutdoorCarWithAndWithoutGps) {
   ASSERT_TRUE(fused.accuracy);
   EXPECT_TRUE(fused.gps_aligned);
   EXPECT_GT(fused.gps_fused, 40);
-  // Known shortfall (docs/VIO.md): on this short run the fused GPS (0.5 m noise) does not
-  // improve on the VIO's own shape; ATE measured 0.12 m (target 0.10 m).
-  EXPECT_LT(fused.accuracy->ate_m.rmse, 0.25);
+  // Known shortfall (docs/VIO.md): before the first turn the VIO's height is only as good as
+  // its tilt (sd 0.005 rad x distance), so on this short straight run 0.5 m fixes cannot improve
+  // on the VIO's own shape and their averaged noise moves the height by about the fused sd; ATE
+  // measured 0.12 m (target 0.10 m). On runs whose VIO height drifts the same fusion takes the
+  // ATE from 0.35 to 0.13 m (full size, seed 2).
+  EXPECT_LT(fused.accuracy->ate_m.rmse, 0.20);
   EXPECT_LT(fused.final_drift_m, 0.01 * fused.distance_m);
   EXPECT_GT(fused.mean_nees, chi2_quantile(0.025, 6));
   EXPECT_LT(fused.mean_nees, chi2_quantile(0.975, 6));
@@ -175,6 +178,19 @@ fs::path full_size_dataset(const std::string& name, synthetic::Scenario scenario
   return dir / "data";
 }
 
+/// Outdoor options with the diagnostic overrides of docs/VIO.md ($EDX_VIO_PIXEL_SIGMA, ...).
+VioOptions diagnostic_options() {
+  VioOptions options;
+  if (const char* px = std::getenv("EDX_VIO_PIXEL_SIGMA")) options.pixel_sigma = std::stod(px);
+  if (const char* ba = std::getenv("EDX_VIO_BA_SIGMA"))
+    options.init_accel_bias_sigma = std::stod(ba);
+  if (std::getenv("EDX_VIO_NO_EXT")) options.estimate_extrinsics = false;
+  if (const char* rms = std::getenv("EDX_VIO_MAX_TRI_RMS"))
+    options.max_triangulation_rms_px = std::stod(rms);
+  if (std::getenv("EDX_VIO_GPS_HORIZONTAL")) options.gps_fuse_vertical = false;
+  return options;
+}
+
 // The end-to-end sizes with other generator seeds ($EDX_VIO_SEED), to check that the figures
 // are not particular to the tests' seed.
 TEST(VioFullSize, DISABLED_TestSizesOtherSeed) {
@@ -182,13 +198,20 @@ TEST(VioFullSize, DISABLED_TestSizesOtherSeed) {
   const edx::testing::TempDir dir;
   VioOptions options;
   options.use_gps = false;
-  const fs::path indoor = generate(dir.path() / "indoor", synthetic::Scenario::kIndoorUnknown, 160,
-                                   synthetic::Resolution{376, 240}, seed);
-  print(fmt::format("seed {} indoor 376x240 160 frames", seed), run_vio(indoor, options, 0));
+  const bool fused_only = std::getenv("EDX_VIO_FUSED_ONLY") != nullptr;  // GPS diagnosis
+  if (!fused_only) {
+    const fs::path indoor = generate(dir.path() / "indoor", synthetic::Scenario::kIndoorUnknown,
+                                     160, synthetic::Resolution{376, 240}, seed);
+    print(fmt::format("seed {} indoor 376x240 160 frames", seed), run_vio(indoor, options, 0));
+  }
+  options = diagnostic_options();
+  options.use_gps = false;
   const fs::path outdoor = generate(dir.path() / "outdoor", synthetic::Scenario::kOutdoorUnknown,
                                     160, synthetic::Resolution{640, 360}, seed);
-  print(fmt::format("seed {} outdoor 640x360 160 frames, GPS ignored", seed),
-        run_vio(outdoor, options, 0));
+  if (!fused_only) {
+    print(fmt::format("seed {} outdoor 640x360 160 frames, GPS ignored", seed),
+          run_vio(outdoor, options, 0));
+  }
   options.use_gps = true;
   print(fmt::format("seed {} outdoor 640x360 160 frames, GPS fused", seed),
         run_vio(outdoor, options, 0));
@@ -203,13 +226,7 @@ TEST(VioFullSize, DISABLED_IndoorDrone1200Frames) {
 
 TEST(VioFullSize, DISABLED_OutdoorCar) {
   const fs::path data = full_size_dataset("outdoor", synthetic::Scenario::kOutdoorUnknown, 400);
-  VioOptions options;
-  if (const char* px = std::getenv("EDX_VIO_PIXEL_SIGMA")) options.pixel_sigma = std::stod(px);
-  if (const char* ba = std::getenv("EDX_VIO_BA_SIGMA"))
-    options.init_accel_bias_sigma = std::stod(ba);
-  if (std::getenv("EDX_VIO_NO_EXT")) options.estimate_extrinsics = false;
-  if (const char* rms = std::getenv("EDX_VIO_MAX_TRI_RMS"))
-    options.max_triangulation_rms_px = std::stod(rms);
+  VioOptions options = diagnostic_options();
   options.use_gps = false;
   print("FULL outdoor 1280x720 400 frames, GPS ignored", run_vio(data, options, 0));
   options.use_gps = true;

@@ -219,6 +219,22 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
                    i, e(0), e(1), e(2), e(3), e(4), e(5), sd(0), sd(1), sd(2), sd(3), sd(4), sd(5),
                    sd(6), state.accel_bias.x(), state.accel_bias.y(), state.accel_bias.z(),
                    state.gyro_bias.norm());
+      {
+        // Camera orientation error (IMU tilt and extrinsics together), velocity and bias errors.
+        const Eigen::Matrix3d R_wc_true = truth_out.linear() * calibration.T_body_left.linear();
+        const Eigen::Vector3d e_cam = so3_log(R_wc_true * (state.R_WI * state.R_IC).transpose());
+        const Eigen::Vector3d v_true =
+            T_filter_gt->linear() * truth->velocity_m_s.value_or(Eigen::Vector3d::Zero());
+        const Eigen::Vector3d ba_true = truth->accel_bias_m_s2.value_or(Eigen::Vector3d::Zero());
+        std::fprintf(stderr,
+                     "  cam th %.4f %.4f %.4f v err %.3f %.3f %.3f (sd z %.3f) ba err %.3f %.3f "
+                     "%.3f corr(th_y,p_z) %.2f\n",
+                     e_cam(0), e_cam(1), e_cam(2), (v_true - state.v_WI).x(),
+                     (v_true - state.v_WI).y(), (v_true - state.v_WI).z(),
+                     std::sqrt(state.P(kVel + 2, kVel + 2)), (ba_true - state.accel_bias).x(),
+                     (ba_true - state.accel_bias).y(), (ba_true - state.accel_bias).z(),
+                     state.P(1, kPos + 2) / std::sqrt(state.P(1, 1) * state.P(kPos + 2, kPos + 2)));
+      }
       if (backend.gps_aligned()) {
         const Eigen::Isometry3d T_gv = T_filter_gt->inverse();
         std::fprintf(stderr,

@@ -402,5 +402,43 @@ TEST(GpsFusion, AlignsThenCorrectsDrift) {
   EXPECT_EQ(kernels.back().kernel, "gps_fusion");
 }
 
+// The fixes' height is fused only with gps_fuse_vertical (default on); without it they correct
+// the horizontal position and leave the VIO's height alone.
+TEST(GpsFusion, HeightOnlyWhenVertical) {
+  for (const bool vertical : {false, true}) {
+    VioOptions options;
+    options.gps_align_min_extent_m = 10.0;
+    options.gps_fuse_vertical = vertical;
+    GpsFusion fusion(options);
+    VioState state;
+    state.P = Eigen::MatrixXd::Zero(kCoreDim, kCoreDim);
+    state.P.diagonal().head(kImuDim).setConstant(1e-4);
+    state.v_WI = {10, 0, 0};
+    KernelRecorder recorder;
+    for (int k = 0; k < 20; ++k) {
+      state.t_ns = k * 100'000'000;
+      state.p_WI = {1.0 * k, 0, 0};
+      datasets::GpsFix fix{state.t_ns, state.p_WI, 0.1};
+      fusion.process(state, std::span(&fix, 1), recorder);
+    }
+    ASSERT_TRUE(fusion.aligned());
+    state.P.block<3, 3>(kPos, kPos) = 0.25 * Eigen::Matrix3d::Identity();
+    state.t_ns = 2'000'000'000;
+    const Eigen::Vector3d true_position(20, 0, 0);
+    state.p_WI = true_position + Eigen::Vector3d(0, 0.5, 0.5);
+    for (int k = 0; k < 5; ++k) {
+      datasets::GpsFix fix{state.t_ns, true_position, 0.1};
+      EXPECT_EQ(fusion.process(state, std::span(&fix, 1), recorder).fused, 1);
+    }
+    EXPECT_LT(std::abs(state.p_WI.y()), 0.1) << vertical;
+    if (vertical) {
+      EXPECT_LT(std::abs(state.p_WI.z()), 0.1);
+    } else {
+      EXPECT_DOUBLE_EQ(state.p_WI.z(), 0.5);
+      EXPECT_DOUBLE_EQ(state.P(kPos + 2, kPos + 2), 0.25);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace edx::backend::vio
