@@ -54,6 +54,22 @@ float intensity_centroid_angle(const cv::Mat& image, cv::Point2f point,
 
 }  // namespace
 
+cv::Point2f ImagePyramid::to_level0(cv::Point2f p, std::size_t level) const {
+  const cv::Mat& base = levels.front();
+  const cv::Mat& img = levels.at(level);
+  const float sx = static_cast<float>(base.cols) / static_cast<float>(img.cols);
+  const float sy = static_cast<float>(base.rows) / static_cast<float>(img.rows);
+  return {(p.x + 0.5f) * sx - 0.5f, (p.y + 0.5f) * sy - 0.5f};
+}
+
+cv::Point2f ImagePyramid::from_level0(cv::Point2f p, std::size_t level) const {
+  const cv::Mat& base = levels.front();
+  const cv::Mat& img = levels.at(level);
+  const float sx = static_cast<float>(img.cols) / static_cast<float>(base.cols);
+  const float sy = static_cast<float>(img.rows) / static_cast<float>(base.rows);
+  return {(p.x + 0.5f) * sx - 0.5f, (p.y + 0.5f) * sy - 0.5f};
+}
+
 FeatureExtractor::FeatureExtractor(const FrontendOptions& options) : options_(options) {
   // Half width of the radius-15 disc per row v, made symmetric in u and v exactly as cv::ORB
   // does (its umax table), so that orientations agree with ORB's own.
@@ -174,7 +190,7 @@ DetectedCorners FeatureExtractor::detect(const cv::Mat& image, trace::TaskRecord
       }
       std::sort(round.begin(), round.end(), by_score);
       for (cv::KeyPoint k : round) {
-        k.pt *= scale;
+        k.pt = out.pyramid.to_level0(k.pt, level);
         k.octave = static_cast<int>(level);
         k.size = kOrbPatchSize * scale;
         k.angle = -1;
@@ -273,8 +289,8 @@ bool FeatureExtractor::describable(const ImagePyramid& pyramid, cv::Point2f poin
                                    int octave) const {
   if (octave < 0 || static_cast<std::size_t>(octave) >= pyramid.levels.size()) return false;
   const cv::Mat& level = pyramid.levels[static_cast<std::size_t>(octave)];
-  const double scale = pyramid.scales[static_cast<std::size_t>(octave)];
-  const int x = cvRound(point.x / scale), y = cvRound(point.y / scale);
+  const cv::Point2f at_level = pyramid.from_level0(point, static_cast<std::size_t>(octave));
+  const int x = cvRound(at_level.x), y = cvRound(at_level.y);
   const int margin = options_.edge_margin_px;
   return x >= margin && y >= margin && x < level.cols - margin && y < level.rows - margin;
 }
@@ -292,7 +308,6 @@ cv::Mat FeatureExtractor::describe(const ImagePyramid& pyramid, const ImagePyram
                       cv::ORB::HARRIS_SCORE, kOrbPatchSize, options_.fast_threshold);
   for (std::size_t level = 0; level < pyramid.levels.size(); ++level) {
     const cv::Mat& img = pyramid.levels[level];
-    const float scale = static_cast<float>(pyramid.scales[level]);
     std::vector<cv::KeyPoint> at_level;
     for (std::size_t i = 0; i < keypoints.size(); ++i) {
       if (keypoints[i].octave != static_cast<int>(level)) continue;
@@ -300,7 +315,7 @@ cv::Mat FeatureExtractor::describe(const ImagePyramid& pyramid, const ImagePyram
         throw std::logic_error("FeatureExtractor::describe: keypoint outside the edge margin");
       }
       cv::KeyPoint k = keypoints[i];
-      k.pt *= 1.0f / scale;
+      k.pt = pyramid.from_level0(k.pt, level);
       k.octave = 0;
       k.class_id = static_cast<int>(i);
       k.angle = intensity_centroid_angle(img, k.pt, disc_row_half_width_);

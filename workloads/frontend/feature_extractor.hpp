@@ -5,7 +5,9 @@
 // (FC, computed by cv::ORB).
 //
 // Coordinates: keypoints are handed over in level-0 (input image) pixels; KeyPoint::octave is the
-// pyramid level they were found on, and level-l pixels are level-0 pixels / scale^l.
+// pyramid level they were found on; ImagePyramid::to_level0 / from_level0 convert between a
+// level's pixels and level-0 pixels (pixel centres at integers on every level).
+#include <cstddef>
 #include <opencv2/core.hpp>
 #include <span>
 #include <vector>
@@ -20,9 +22,20 @@ inline constexpr int kOrbPatchSize = 31;
 
 /// ORB scale pyramid: level l is the input resized to cvRound(W / s^l) x cvRound(H / s^l)
 /// (cv::resize INTER_LINEAR_EXACT from level l-1, as cv::ORB builds it).
+///
+/// Pixel centres are at integer coordinates on every level. cv::resize samples destination
+/// pixel x at source position (x + 0.5) * (W_src / W_dst) - 0.5, and these compose, so level-l
+/// pixel (x, y) sits at level-0 ((x + 0.5) W_0 / W_l - 0.5, (y + 0.5) H_0 / H_l - 0.5): the
+/// ratios of the rounded sizes (which differ from s^l, and between x and y, by up to 0.2 %),
+/// with the half-pixel shift. Plain x * s^l misplaces a level-3 corner by up to 1 px.
 struct ImagePyramid {
   std::vector<cv::Mat> levels;
-  std::vector<double> scales;  ///< s^l: level-0 pixels per level-l pixel
+  std::vector<double> scales;  ///< s^l, the nominal level-0 pixels per level-l pixel
+
+  /// Level-0 position of level-`level` position `p` (see above).
+  cv::Point2f to_level0(cv::Point2f p, std::size_t level) const;
+  /// Level-`level` position of level-0 position `p` (inverse of to_level0).
+  cv::Point2f from_level0(cv::Point2f p, std::size_t level) const;
 };
 
 /// FD's first stage: the pyramid and, per level, the FAST corners after non-maximum

@@ -123,7 +123,17 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
   auto backend_base = make_vio_backend(*dataset, options);
   auto& backend = dynamic_cast<VioBackend&>(*backend_base);
   const auto& calibration = dataset->calibration();
-  frontend::StereoFrontend frontend(frontend::FrontendOptions{},
+  frontend::FrontendOptions frontend_options;
+  // Diagnostics: small changes of the frontend ($EDX_VIO_FB_THRESHOLD, forward-backward
+  // threshold in px, default 1; $EDX_VIO_FEATURES, left feature budget, default 1000) show how
+  // much the runs move when the feature selection does.
+  if (const char* env = std::getenv("EDX_VIO_FB_THRESHOLD")) {
+    frontend_options.fb_threshold_px = std::atof(env);
+  }
+  if (const char* env = std::getenv("EDX_VIO_FEATURES")) {
+    frontend_options.features_per_image = std::atoi(env);
+  }
+  frontend::StereoFrontend frontend(frontend_options,
                                     {calibration.rectified.fx, calibration.baseline_m});
   VioRun run;
   run.frames = frames == 0 ? dataset->frame_count() : std::min(frames, dataset->frame_count());
