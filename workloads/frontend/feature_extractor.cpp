@@ -54,20 +54,24 @@ float intensity_centroid_angle(const cv::Mat& image, cv::Point2f point,
 
 }  // namespace
 
-cv::Point2f ImagePyramid::to_level0(cv::Point2f p, std::size_t level) const {
-  const cv::Mat& base = levels.front();
-  const cv::Mat& img = levels.at(level);
-  const float sx = static_cast<float>(base.cols) / static_cast<float>(img.cols);
-  const float sy = static_cast<float>(base.rows) / static_cast<float>(img.rows);
+namespace {
+
+/// A pixel position of an image of size `from` on the same view resized to `to` (cv::resize's
+/// pixel-centre convention): x_to = (x_from + 0.5)·W_to/W_from − 0.5, likewise in y.
+cv::Point2f map_through_pixel_centres(cv::Point2f p, cv::Size from, cv::Size to) {
+  const float sx = static_cast<float>(to.width) / static_cast<float>(from.width);
+  const float sy = static_cast<float>(to.height) / static_cast<float>(from.height);
   return {(p.x + 0.5f) * sx - 0.5f, (p.y + 0.5f) * sy - 0.5f};
 }
 
+}  // namespace
+
+cv::Point2f ImagePyramid::to_level0(cv::Point2f p, std::size_t level) const {
+  return map_through_pixel_centres(p, levels.at(level).size(), levels.front().size());
+}
+
 cv::Point2f ImagePyramid::from_level0(cv::Point2f p, std::size_t level) const {
-  const cv::Mat& base = levels.front();
-  const cv::Mat& img = levels.at(level);
-  const float sx = static_cast<float>(img.cols) / static_cast<float>(base.cols);
-  const float sy = static_cast<float>(img.rows) / static_cast<float>(base.rows);
-  return {(p.x + 0.5f) * sx - 0.5f, (p.y + 0.5f) * sy - 0.5f};
+  return map_through_pixel_centres(p, levels.front().size(), levels.at(level).size());
 }
 
 FeatureExtractor::FeatureExtractor(const FrontendOptions& options) : options_(options) {
