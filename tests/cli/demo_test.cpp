@@ -98,6 +98,19 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
     }
   }
   EXPECT_GE(pngs, 5);
+  // Sections for the four runs simulated by hand only (each with its latency CDF); the sweep's
+  // other 13 points are rows of the Runs table that link to the sweep.
+  int cdfs = 0;
+  for (const auto& entry : fs::directory_iterator(out / "report")) {
+    if (entry.path().filename().string().ends_with("_latency_cdf.png")) ++cdfs;
+  }
+  EXPECT_EQ(cdfs, 4);
+  std::size_t sweep_rows = 0;
+  for (std::size_t at = page.find("(point of sweep"); at != std::string::npos;
+       at = page.find("(point of sweep", at + 1)) {
+    ++sweep_rows;
+  }
+  EXPECT_EQ(sweep_rows, 13u);
   EXPECT_GT(fs::file_size(out / "car_frontend_timeline.json"), 1000u);
 }
 
