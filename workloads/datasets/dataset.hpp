@@ -84,6 +84,10 @@ struct ImuNoise {
   double accel_noise_density = 0;  ///< m/s^2/sqrt(Hz)
   double accel_random_walk = 0;    ///< m/s^3/sqrt(Hz)
   double rate_hz = 0;
+  /// Turn-on bias, 1 sigma per axis, when the sensor file states it (edx's keys
+  /// `gyroscope_bias_sigma` [rad/s] and `accelerometer_bias_sigma` [m/s^2]; EuRoC has neither).
+  std::optional<double> gyro_bias_sigma;
+  std::optional<double> accel_bias_sigma;
 };
 
 /// What the reader skipped while indexing the frames, so callers and tests can check it

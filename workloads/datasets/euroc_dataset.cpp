@@ -208,6 +208,14 @@ ImuNoise read_imu_noise(const fs::path& yaml_file) {
   noise.accel_random_walk = non_negative("accelerometer_random_walk");
   noise.rate_hz = yaml.number("rate_hz");
   if (!(noise.rate_hz > 0)) yaml.fail("rate_hz", "expected a positive rate");
+  const auto optional_positive = [&](const char* key) -> std::optional<double> {
+    if (!yaml.has(key)) return std::nullopt;
+    const double value = yaml.number(key);
+    if (!(value > 0)) yaml.fail(key, "expected a positive number");
+    return value;
+  };
+  noise.gyro_bias_sigma = optional_positive("gyroscope_bias_sigma");
+  noise.accel_bias_sigma = optional_positive("accelerometer_bias_sigma");
   if (yaml.has("T_BS") && !yaml.transform("T_BS").isApprox(Eigen::Isometry3d::Identity(), 1e-9)) {
     yaml.fail("T_BS", "the IMU must be the body frame (identity), as in EuRoC");
   }

@@ -64,6 +64,7 @@ TEST_F(TinyEuroc, ValidFolderReadsEveryStream) {
   EXPECT_EQ(cv::norm(frame.right, file, cv::NORM_INF), 0);
   EXPECT_EQ(dataset->imu().size(), 60u);
   EXPECT_DOUBLE_EQ(dataset->imu_noise()->accel_random_walk, 4.0e-3);
+  EXPECT_FALSE(dataset->imu_noise()->accel_bias_sigma.has_value());  // EuRoC states none
   ASSERT_EQ(dataset->ground_truth().size(), 5u);
   EXPECT_DOUBLE_EQ(dataset->ground_truth()[3].T_world_body.translation().x(), 0.3);
   EXPECT_DOUBLE_EQ(dataset->ground_truth()[3].velocity_m_s->x(), 2.0);
@@ -165,6 +166,12 @@ TEST_F(TinyEuroc, MissingOrMalformedYamlKeysNameFileAndKey) {
   testing::write_tiny_euroc(root());
   testing::replace_in_file(mav0("imu0/sensor.yaml"), "accelerometer_random_walk: 4.0e-3", "");
   EXPECT_CONTAINS(open_error(root()), "imu0/sensor.yaml: missing key 'accelerometer_random_walk'");
+
+  testing::write_tiny_euroc(root());
+  testing::replace_in_file(mav0("imu0/sensor.yaml"), "accelerometer_random_walk: 4.0e-3",
+                           "accelerometer_random_walk: 4.0e-3\naccelerometer_bias_sigma: -0.02");
+  EXPECT_CONTAINS(open_error(root()),
+                  "imu0/sensor.yaml: key 'accelerometer_bias_sigma': expected a positive number");
 
   testing::write_tiny_euroc(root());
   testing::replace_in_file(mav0("cam0/sensor.yaml"), "rate_hz: 20", "rate_hz: [20");

@@ -385,6 +385,9 @@ TEST(SyntheticGen, TheEurocReaderReadsTheOutput) {
   const auto noise = dataset->imu_noise();
   ASSERT_TRUE(noise.has_value());
   EXPECT_DOUBLE_EQ(noise->accel_random_walk, 3.0e-3);
+  // The turn-on bias the generator draws from, stated for the filter's prior.
+  EXPECT_EQ(noise->gyro_bias_sigma, ImuModel{}.initial_gyro_bias_sigma);
+  EXPECT_EQ(noise->accel_bias_sigma, ImuModel{}.initial_accel_bias_sigma);
   // Frames come back unchanged (already rectified: no remap).
   const datasets::StereoFrame f = dataset->load_frame(3);
   const auto cams = testing::read_csv(o.out / "mav0" / "cam0" / "data.csv");

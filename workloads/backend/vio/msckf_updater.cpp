@@ -25,7 +25,10 @@ struct FeatureRows {
 }  // namespace
 
 MsckfUpdater::MsckfUpdater(const VioOptions& options, double baseline_m, double focal_px)
-    : options_(options), baseline_m_(baseline_m), sigma_(options.pixel_sigma / focal_px) {}
+    : options_(options),
+      baseline_m_(baseline_m),
+      focal_px_(focal_px),
+      sigma_(options.effective_pixel_sigma() / focal_px) {}
 
 double MsckfUpdater::chi2_threshold(int dof) {
   if (static_cast<int>(chi2_table_.size()) <= dof) {
@@ -53,7 +56,7 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
     tri.baseline_m = baseline_m_;
     tri.min_depth_m = options_.min_depth_m;
     tri.max_depth_m = options_.max_depth_m;
-    tri.max_rms = options_.max_triangulation_rms_px * sigma_ / options_.pixel_sigma;
+    tri.max_rms = options_.max_triangulation_rms_px / focal_px_;
     tri.iterations = options_.triangulation_iterations;
     int observations = 0, iterations = 0;
     for (const FeatureTrack* track : tracks) {

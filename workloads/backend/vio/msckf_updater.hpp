@@ -52,7 +52,8 @@ class MsckfUpdater {
 
   VioOptions options_;
   double baseline_m_;
-  double sigma_;  ///< measurement sigma, normalized units
+  double focal_px_;
+  double sigma_;  ///< the update's measurement sigma (effective_pixel_sigma), normalized units
   std::vector<double> chi2_table_;
 };
 

@@ -36,7 +36,11 @@ VioBackend::VioBackend(const BackendCamera& camera, const datasets::ImuNoise& im
       propagator_(densities(imu_noise, options.imu_noise_scale), options.gravity_m_s2),
       initializer_(options, camera.T_body_left, camera.fx),
       updater_(options, camera.baseline_m, camera.fx),
-      gps_(options) {
+      gps_(options),
+      gyro_bias_sigma_(options.init_gyro_bias_sigma.value_or(
+          imu_noise.gyro_bias_sigma.value_or(VioOptions::kFallbackGyroBiasSigma))),
+      accel_bias_sigma_(options.init_accel_bias_sigma.value_or(
+          imu_noise.accel_bias_sigma.value_or(VioOptions::kFallbackAccelBiasSigma))) {
   if (!(imu_noise.gyro_noise_density > 0 && imu_noise.accel_noise_density > 0 &&
         imu_noise.gyro_random_walk > 0 && imu_noise.accel_random_walk > 0)) {
     throw std::runtime_error("vio backend: IMU noise densities and random walks must be > 0");
@@ -78,8 +82,8 @@ void VioBackend::start(const InitialState& initial) {
   sd.segment<3>(kTheta) << tilt, tilt, 1e-6;
   sd.segment<3>(kPos).setConstant(1e-6);
   sd.segment<3>(kVel).setConstant(initial.static_start ? 0.01 : options_.init_velocity_sigma_m_s);
-  sd.segment<3>(kGyroBias).setConstant(options_.init_gyro_bias_sigma);
-  sd.segment<3>(kAccelBias).setConstant(options_.init_accel_bias_sigma);
+  sd.segment<3>(kGyroBias).setConstant(gyro_bias_sigma_);
+  sd.segment<3>(kAccelBias).setConstant(accel_bias_sigma_);
   sd.segment<3>(kExtTheta).setConstant(
       options_.estimate_extrinsics ? options_.extrinsic_rotation_sigma_rad : 0.0);
   sd.segment<3>(kExtPos).setConstant(
@@ -184,8 +188,14 @@ std::unique_ptr<Backend> make_vio_backend(const datasets::Dataset& dataset,
     throw std::runtime_error(
         fmt::format("{}: the vio backend needs IMU samples (imu0), found none", dataset.name()));
   }
-  datasets::ImuNoise noise =
-      dataset.imu_noise().value_or(datasets::ImuNoise{1.6968e-4, 1.9393e-5, 2.0e-3, 3.0e-3, 200.0});
+  const datasets::ImuNoise noise =
+      dataset.imu_noise().value_or(datasets::ImuNoise{.gyro_noise_density = 1.6968e-4,
+                                                      .gyro_random_walk = 1.9393e-5,
+                                                      .accel_noise_density = 2.0e-3,
+                                                      .accel_random_walk = 3.0e-3,
+                                                      .rate_hz = 200.0,
+                                                      .gyro_bias_sigma = std::nullopt,
+                                                      .accel_bias_sigma = std::nullopt});
   return std::make_unique<VioBackend>(BackendCamera::from(dataset.calibration()), noise, options);
 }
 

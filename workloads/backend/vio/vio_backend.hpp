@@ -48,6 +48,8 @@ class VioBackend final : public Backend {
   Initializer initializer_;
   MsckfUpdater updater_;
   GpsFusion gps_;
+  double gyro_bias_sigma_;   ///< prior, rad/s: the option, else the dataset's, else the fallback
+  double accel_bias_sigma_;  ///< prior, m/s^2: likewise
   KernelRecorder recorder_;
   bool initialized_ = false;
   VioState state_;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <stdexcept>
 
 namespace edx::backend::vio {
@@ -19,6 +20,8 @@ void VioOptions::validate() const {
           "an integer in [2, max_clones]");
   require(update_track_length >= min_track_length, "update_track_length", ">= min_track_length");
   require(pixel_sigma > 0, "pixel_sigma", "> 0");
+  require(track_error_correlation >= 0 && track_error_correlation < 1, "track_error_correlation",
+          "a value in [0, 1)");
   require(min_depth_m > 0 && max_depth_m > min_depth_m, "min_depth_m/max_depth_m", "0 < min < max");
   require(max_triangulation_rms_px > 0, "max_triangulation_rms_px", "> 0");
   require(triangulation_iterations >= 1, "triangulation_iterations", ">= 1");
@@ -33,8 +36,10 @@ void VioOptions::validate() const {
   require(static_max_pixel_motion > 0, "static_max_pixel_motion", "> 0");
   require(init_tilt_sigma_rad > 0, "init_tilt_sigma_rad", "> 0");
   require(init_velocity_sigma_m_s > 0, "init_velocity_sigma_m_s", "> 0");
-  require(init_gyro_bias_sigma > 0, "init_gyro_bias_sigma", "> 0");
-  require(init_accel_bias_sigma > 0, "init_accel_bias_sigma", "> 0");
+  require(!init_gyro_bias_sigma || *init_gyro_bias_sigma > 0, "init_gyro_bias_sigma",
+          "> 0 (or unset)");
+  require(!init_accel_bias_sigma || *init_accel_bias_sigma > 0, "init_accel_bias_sigma",
+          "> 0 (or unset)");
   require(gps_lever_arm_m.allFinite(), "gps_lever_arm_m", "finite values");
   require(gps_sigma_floor_m > 0, "gps_sigma_floor_m", "> 0");
   require(gps_align_min_extent_m > 0, "gps_align_min_extent_m", "> 0");
@@ -43,11 +48,19 @@ void VioOptions::validate() const {
           "a value in (0, 1)");
 }
 
+double VioOptions::effective_pixel_sigma() const {
+  return pixel_sigma * std::sqrt((1 + track_error_correlation) / (1 - track_error_correlation));
+}
+
 nlohmann::json VioOptions::to_json() const {
+  const auto optional = [](const std::optional<double>& v) {
+    return v ? nlohmann::json(*v) : nlohmann::json("from dataset");
+  };
   return {{"max_clones", max_clones},
           {"min_track_length", min_track_length},
           {"update_track_length", update_track_length},
           {"pixel_sigma", pixel_sigma},
+          {"track_error_correlation", track_error_correlation},
           {"min_depth_m", min_depth_m},
           {"max_depth_m", max_depth_m},
           {"max_triangulation_rms_px", max_triangulation_rms_px},
@@ -64,8 +77,8 @@ nlohmann::json VioOptions::to_json() const {
           {"static_max_pixel_motion", static_max_pixel_motion},
           {"init_tilt_sigma_rad", init_tilt_sigma_rad},
           {"init_velocity_sigma_m_s", init_velocity_sigma_m_s},
-          {"init_gyro_bias_sigma", init_gyro_bias_sigma},
-          {"init_accel_bias_sigma", init_accel_bias_sigma},
+          {"init_gyro_bias_sigma", optional(init_gyro_bias_sigma)},
+          {"init_accel_bias_sigma", optional(init_accel_bias_sigma)},
           {"use_gps", use_gps},
           {"gps_lever_arm_m", {gps_lever_arm_m.x(), gps_lever_arm_m.y(), gps_lever_arm_m.z()}},
           {"gps_sigma_floor_m", gps_sigma_floor_m},

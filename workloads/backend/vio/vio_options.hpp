@@ -3,6 +3,7 @@
 // Constraint Kalman Filter (msckf_vio / OpenVINS style) with loosely coupled GPS fusion.
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 namespace edx::backend::vio {
 
@@ -14,7 +15,12 @@ struct VioOptions {
   /// Tracks still alive are used once they reach this many observations (then restarted), so
   /// that long tracks (slow or far scenes) inform the filter before the window is full.
   int update_track_length = 10;
-  double pixel_sigma = 1.0;               ///< measurement noise of a feature coordinate, px
+  double pixel_sigma = 1.0;  ///< white measurement noise of a feature coordinate, px
+  /// Lag-1 correlation rho of a track's position errors from frame to frame. The frontend's
+  /// tracks drift slowly (measured 0.5-0.8, docs/VIO.md), so n observations carry the
+  /// information of n (1 - rho) / (1 + rho) independent ones: the update uses the variance
+  /// pixel_sigma^2 (1 + rho) / (1 - rho) (the variance of the mean of an AR(1) sequence).
+  double track_error_correlation = 0.8;
   double min_depth_m = 0.2;               ///< triangulated points nearer than this are rejected
   double max_depth_m = 150.0;             ///< ... and farther than this
   double max_triangulation_rms_px = 2.0;  ///< RMS reprojection error after Gauss-Newton
@@ -33,8 +39,12 @@ struct VioOptions {
   double static_max_pixel_motion = 0.5;  ///< px: mean track motion below which the view is still
   double init_tilt_sigma_rad = 0.02;
   double init_velocity_sigma_m_s = 0.1;
-  double init_gyro_bias_sigma = 0.005;  ///< rad/s
-  double init_accel_bias_sigma = 0.05;  ///< m/s^2
+  /// Bias priors (1 sigma per axis); unset: the turn-on bias the dataset's IMU file states,
+  /// else the fallbacks below.
+  std::optional<double> init_gyro_bias_sigma;              ///< rad/s
+  std::optional<double> init_accel_bias_sigma;             ///< m/s^2
+  static constexpr double kFallbackGyroBiasSigma = 0.005;  ///< rad/s
+  static constexpr double kFallbackAccelBiasSigma = 0.05;  ///< m/s^2
   // GPS fusion (loosely coupled).
   bool use_gps = true;
   Eigen::Vector3d gps_lever_arm_m = Eigen::Vector3d::Zero();  ///< antenna in the body frame
@@ -50,6 +60,9 @@ struct VioOptions {
 
   /// Throws std::runtime_error naming the first bad field and the range it must lie in.
   void validate() const;
+  /// The update's standard deviation of a feature coordinate, px:
+  /// pixel_sigma sqrt((1 + rho) / (1 - rho)).
+  double effective_pixel_sigma() const;
   nlohmann::json to_json() const;
 };
 

@@ -38,6 +38,22 @@ TEST(VioOptions, ValidateNamesTheField) {
     EXPECT_NE(std::string(e.what()).find("max_clones"), std::string::npos);
   }
   EXPECT_EQ(VioOptions{}.to_json().at("max_clones"), 30);
+  options = VioOptions{};
+  options.track_error_correlation = 1.0;  // would give the measurements no information
+  EXPECT_THROW(options.validate(), std::runtime_error);
+}
+
+// sigma sqrt((1 + rho) / (1 - rho)): rho 0.8 -> sqrt(1.8 / 0.2) = 3; rho 0 -> white noise.
+TEST(VioOptions, EffectivePixelSigmaInflatesForTrackCorrelation) {
+  VioOptions options;
+  options.pixel_sigma = 1.0;
+  options.track_error_correlation = 0.8;
+  EXPECT_NEAR(options.effective_pixel_sigma(), 3.0, 1e-12);
+  options.pixel_sigma = 0.5;
+  options.track_error_correlation = 0.6;  // sqrt(1.6 / 0.4) = 2
+  EXPECT_NEAR(options.effective_pixel_sigma(), 1.0, 1e-12);
+  options.track_error_correlation = 0;
+  EXPECT_DOUBLE_EQ(options.effective_pixel_sigma(), 0.5);
 }
 
 TEST(VioState, CloningThenMarginalizingRestoresTheCovariance) {
@@ -226,6 +242,7 @@ TEST(Triangulation, RecoversAKnownPointAndRejectsBadGeometry) {
 TEST(MsckfUpdater, UpdateMovesPerturbedClonesTowardTheTruth) {
   VioOptions options;
   options.estimate_extrinsics = false;
+  options.track_error_correlation = 0;  // exact, independent measurements: 1 px white noise
   const double b = 0.11, fx = 450.0;
   VioState truth;
   truth.R_IC << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // camera looks along body x
