@@ -37,14 +37,19 @@ VioBackend::VioBackend(const BackendCamera& camera, const datasets::ImuNoise& im
       initializer_(options, camera.T_body_left, camera.fx),
       updater_(options, camera.baseline_m, camera.fx),
       gps_(options),
-      gyro_bias_sigma_(options.init_gyro_bias_sigma.value_or(
-          imu_noise.gyro_bias_sigma.value_or(VioOptions::kFallbackGyroBiasSigma))),
-      accel_bias_sigma_(options.init_accel_bias_sigma.value_or(
-          imu_noise.accel_bias_sigma.value_or(VioOptions::kFallbackAccelBiasSigma))) {
+      bias_priors_(bias_priors(options, imu_noise)) {
   if (!(imu_noise.gyro_noise_density > 0 && imu_noise.accel_noise_density > 0 &&
         imu_noise.gyro_random_walk > 0 && imu_noise.accel_random_walk > 0)) {
     throw std::runtime_error("vio backend: IMU noise densities and random walks must be > 0");
   }
+}
+
+VioBackend::BiasPriors VioBackend::bias_priors(const VioOptions& options,
+                                               const datasets::ImuNoise& imu_noise) {
+  return {options.init_gyro_bias_sigma.value_or(
+              imu_noise.gyro_bias_sigma.value_or(VioOptions::kFallbackGyroBiasSigma)),
+          options.init_accel_bias_sigma.value_or(
+              imu_noise.accel_bias_sigma.value_or(VioOptions::kFallbackAccelBiasSigma))};
 }
 
 std::vector<FrameFeature> VioBackend::to_frame_features(
@@ -82,8 +87,8 @@ void VioBackend::start(const InitialState& initial) {
   sd.segment<3>(kTheta) << tilt, tilt, 1e-6;
   sd.segment<3>(kPos).setConstant(1e-6);
   sd.segment<3>(kVel).setConstant(initial.static_start ? 0.01 : options_.init_velocity_sigma_m_s);
-  sd.segment<3>(kGyroBias).setConstant(gyro_bias_sigma_);
-  sd.segment<3>(kAccelBias).setConstant(accel_bias_sigma_);
+  sd.segment<3>(kGyroBias).setConstant(bias_priors_.gyro);
+  sd.segment<3>(kAccelBias).setConstant(bias_priors_.accel);
   sd.segment<3>(kExtTheta).setConstant(
       options_.estimate_extrinsics ? options_.extrinsic_rotation_sigma_rad : 0.0);
   sd.segment<3>(kExtPos).setConstant(

@@ -31,6 +31,13 @@ class VioBackend final : public Backend {
   trace::BackendMode mode() const override { return trace::BackendMode::Vio; }
   BackendOutput process(const BackendInput& input) override;
 
+  /// The bias priors (1 sigma per axis; gyro rad/s, accelerometer m/s^2): the option when set,
+  /// else the turn-on bias the IMU file states, else VioOptions' fallbacks.
+  struct BiasPriors {
+    double gyro = 0, accel = 0;
+  };
+  static BiasPriors bias_priors(const VioOptions& options, const datasets::ImuNoise& imu_noise);
+
   bool initialized() const { return initialized_; }
   /// The filter state (valid once initialized), in the filter's world frame.
   const VioState& state() const { return state_; }
@@ -48,8 +55,7 @@ class VioBackend final : public Backend {
   Initializer initializer_;
   MsckfUpdater updater_;
   GpsFusion gps_;
-  double gyro_bias_sigma_;   ///< prior, rad/s: the option, else the dataset's, else the fallback
-  double accel_bias_sigma_;  ///< prior, m/s^2: likewise
+  BiasPriors bias_priors_;
   KernelRecorder recorder_;
   bool initialized_ = false;
   VioState state_;

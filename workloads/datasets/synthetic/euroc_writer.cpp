@@ -117,9 +117,12 @@ void EurocWriter::write_imu(const std::vector<datasets::ImuSample>& samples,
           "  # [ m / s^2 / sqrt(Hz) ]   ( accel \"white noise\" )\n";
   yaml += "accelerometer_random_walk: " + real(zero_if_ideal * model.accel_random_walk) +
           "    # [ m / s^3 / sqrt(Hz) ].  ( accel bias diffusion )\n";
-  if (!model.noise_free) {  // the turn-on bias the generator draws (an ideal IMU has none)
+  // The turn-on bias the generator draws from (an ideal IMU has none; the reader wants > 0).
+  if (!model.noise_free && model.initial_gyro_bias_sigma > 0) {
     yaml += "gyroscope_bias_sigma: " + real(model.initial_gyro_bias_sigma) +
             "        # [ rad / s ] ( turn-on bias, 1 sigma per axis; edx key )\n";
+  }
+  if (!model.noise_free && model.initial_accel_bias_sigma > 0) {
     yaml += "accelerometer_bias_sigma: " + real(model.initial_accel_bias_sigma) +
             "    # [ m / s^2 ] ( turn-on bias, 1 sigma per axis; edx key )\n";
   }

@@ -9,6 +9,7 @@
 #include "workloads/backend/vio/imu_propagator.hpp"
 #include "workloads/backend/vio/msckf_updater.hpp"
 #include "workloads/backend/vio/triangulation.hpp"
+#include "workloads/backend/vio/vio_backend.hpp"
 #include "workloads/backend/vio/vio_options.hpp"
 #include "workloads/backend/vio/vio_state.hpp"
 
@@ -54,6 +55,26 @@ TEST(VioOptions, EffectivePixelSigmaInflatesForTrackCorrelation) {
   EXPECT_NEAR(options.effective_pixel_sigma(), 1.0, 1e-12);
   options.track_error_correlation = 0;
   EXPECT_DOUBLE_EQ(options.effective_pixel_sigma(), 0.5);
+}
+
+// Bias priors: the option when set, else the IMU file's stated turn-on bias, else the fallback.
+TEST(VioBackend, BiasPriorsComeFromOptionThenImuFileThenFallback) {
+  VioOptions options;
+  datasets::ImuNoise noise;  // EuRoC-like: no turn-on bias stated
+  auto priors = VioBackend::bias_priors(options, noise);
+  EXPECT_EQ(priors.gyro, VioOptions::kFallbackGyroBiasSigma);
+  EXPECT_EQ(priors.accel, VioOptions::kFallbackAccelBiasSigma);
+  noise.gyro_bias_sigma = 0.002;
+  noise.accel_bias_sigma = 0.02;
+  priors = VioBackend::bias_priors(options, noise);
+  EXPECT_EQ(priors.gyro, 0.002);
+  EXPECT_EQ(priors.accel, 0.02);
+  options.init_accel_bias_sigma = 0.07;
+  priors = VioBackend::bias_priors(options, noise);
+  EXPECT_EQ(priors.gyro, 0.002);
+  EXPECT_EQ(priors.accel, 0.07);
+  EXPECT_EQ(options.to_json().at("init_accel_bias_sigma"), 0.07);
+  EXPECT_EQ(options.to_json().at("init_gyro_bias_sigma"), "from dataset");
 }
 
 TEST(VioState, CloningThenMarginalizingRestoresTheCovariance) {
