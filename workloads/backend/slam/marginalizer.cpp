@@ -2,7 +2,6 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <algorithm>
 #include <array>
 #include <stdexcept>
 
@@ -13,45 +12,30 @@ namespace edx::backend::slam {
 using trace::Op;
 namespace flags = trace::op_flags;
 
-Eigen::MatrixXd structured_inverse(const Eigen::VectorXd& a, const Eigen::MatrixXd& B,
-                                   const Eigen::MatrixXd& D) {
-  const Eigen::Index m = a.size(), d = D.rows();
-  const Eigen::VectorXd a_inv = a.cwiseInverse();        // A^-1: reciprocals
-  const Eigen::MatrixXd AinvB = a_inv.asDiagonal() * B;  // A^-1 B (m x d)
-  Eigen::MatrixXd S = D - B.transpose() * AinvB;         // S = D - C A^-1 B
-  S = 0.5 * (S + S.transpose());
-  // S^-1 through its eigen-decomposition, clamping tiny eigenvalues (unobservable directions).
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S);
-  const double floor = std::max(1e-12, 1e-12 * eig.eigenvalues().cwiseAbs().maxCoeff());
-  const Eigen::VectorXd inv_values =
-      eig.eigenvalues().unaryExpr([floor](double x) { return x > floor ? 1.0 / x : 0.0; });
-  const Eigen::MatrixXd S_inv =
-      eig.eigenvectors() * inv_values.asDiagonal() * eig.eigenvectors().transpose();
-  Eigen::MatrixXd inv(m + d, m + d);
-  const Eigen::MatrixXd AinvB_Sinv = AinvB * S_inv;  // A^-1 B S^-1
-  inv.topLeftCorner(m, m) = AinvB_Sinv * AinvB.transpose();
-  inv.topLeftCorner(m, m).diagonal() += a_inv;
-  inv.topRightCorner(m, d) = -AinvB_Sinv;
-  inv.bottomLeftCorner(d, m) = -AinvB_Sinv.transpose();
-  inv.bottomRightCorner(d, d) = S_inv;
-  return inv;
+Eigen::MatrixXd symmetric_pseudo_inverse(const Eigen::MatrixXd& A) {
+  const Eigen::MatrixXd sym = 0.5 * (A + A.transpose());
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(sym);
+  const Eigen::VectorXd inv_values = eig.eigenvalues().unaryExpr(
+      [](double x) { return x > kPseudoInverseEpsilon ? 1.0 / x : 0.0; });
+  return eig.eigenvectors() * inv_values.asDiagonal() * eig.eigenvectors().transpose();
 }
 
-MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& options,
-                                         KernelRecorder& recorder) {
-  if (window.keyframes.size() < 2) throw std::logic_error("marginalize_oldest: < 2 keyframes");
-  auto kernel = recorder.kernel("marginalization", /*accelerable=*/true);
+MarginalizationSystem linearize_marginalization(const Window& window, const SlamOptions& options) {
+  if (window.keyframes.size() < 2) {
+    throw std::logic_error("linearize_marginalization: < 2 keyframes");
+  }
+  MarginalizationSystem sys;
   const int d = window.state_dim;
   const KeyframeState& oldest = window.keyframes.front();
-  MarginalizationReport report;
 
   // Landmarks anchored in the oldest keyframe, and the kept keyframes linked to the removed
   // variables (in window order).
-  std::vector<Landmark*> removed;
+  std::vector<const Landmark*> removed;
   std::vector<bool> linked(window.keyframes.size(), false);
-  for (auto& [id, l] : window.landmarks) {
+  for (const auto& [id, l] : window.landmarks) {
     if (l.anchor_id != oldest.id) continue;
     removed.push_back(&l);
+    sys.removed_tracks.push_back(l.track_id);
     for (const Observation& o : l.observations) {
       if (o.inlier) linked[static_cast<std::size_t>(window.slot(o.keyframe_id))] = true;
     }
@@ -60,27 +44,32 @@ MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& opti
   for (std::int64_t id : window.prior.keyframe_ids)
     linked[static_cast<std::size_t>(window.slot(id))] = true;
   linked[0] = false;
-  std::vector<int> kept_slots;  // window slot of each kept block
   std::vector<int> block_of(window.keyframes.size(), -1);
   for (std::size_t s = 1; s < linked.size(); ++s) {
     if (!linked[s]) continue;
-    block_of[s] = static_cast<int>(kept_slots.size());
-    kept_slots.push_back(static_cast<int>(s));
+    block_of[s] = static_cast<int>(sys.kept_slots.size());
+    sys.kept_slots.push_back(static_cast<int>(s));
   }
 
   // Dense system over [rho_removed (m) | oldest (d) | kept keyframes | delta (when estimated)]:
   // the disparity offset is a kept variable, so what the removed right-image residuals (and the
   // previous prior) say about it stays in the new prior instead of being conditioned away.
   const int m = static_cast<int>(removed.size());
-  const bool keep_offset = options.estimate_disparity_offset;
-  if (window.prior.has_offset && !keep_offset) {
-    throw std::logic_error("marginalize_oldest: prior has the disparity offset, not estimated");
+  sys.keeps_offset = options.estimate_disparity_offset;
+  if (window.prior.has_offset && !sys.keeps_offset) {
+    throw std::logic_error(
+        "linearize_marginalization: prior has the disparity offset, not estimated");
   }
-  const int r = static_cast<int>(kept_slots.size()) * d + (keep_offset ? 1 : 0);
+  const int r = static_cast<int>(sys.kept_slots.size()) * d + (sys.keeps_offset ? 1 : 0);
+  sys.m = m;
+  sys.d = d;
+  sys.r = r;
   const int N = m + d + r;
-  const int offset_at = keep_offset ? N - 1 : -1;  // delta's row (the last)
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(N, N);
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(N);
+  const int offset_at = sys.keeps_offset ? N - 1 : -1;  // delta's row (the last)
+  Eigen::MatrixXd& H = sys.H;
+  Eigen::VectorXd& b = sys.b;
+  H = Eigen::MatrixXd::Zero(N, N);
+  b = Eigen::VectorXd::Zero(N);
   auto pose_offset = [&](int slot) {
     return slot == 0 ? m : m + d + block_of[static_cast<std::size_t>(slot)] * d;
   };
@@ -155,6 +144,20 @@ MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& opti
     }
   }
 
+  return sys;
+}
+
+MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& options,
+                                         KernelRecorder& recorder) {
+  if (window.keyframes.size() < 2) throw std::logic_error("marginalize_oldest: < 2 keyframes");
+  auto kernel = recorder.kernel("marginalization", /*accelerable=*/true);
+  MarginalizationSystem sys = linearize_marginalization(window, options);
+  const int m = sys.m, d = sys.d, r = sys.r;
+  const int N = m + d + r;
+  Eigen::MatrixXd& H = sys.H;
+  Eigen::VectorXd& b = sys.b;
+  MarginalizationReport report;
+
   // With an IMU, the removed keyframe's velocity and biases (9) go first: they couple only to
   // its pose and the kept states, never to landmarks, so eliminating them leaves A diagonal and
   // D the 6x6 pose block of Sec. VI (Schur complements compose, the prior is the same).
@@ -194,16 +197,16 @@ MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& opti
   const int r_reduced = N_reduced - m - dm;
   if (r_reduced != r) throw std::logic_error("marginalize_oldest: kept size mismatch");
 
-  // Landmarks whose row is empty (no usable observation) carry no information: a tiny diagonal
-  // keeps A invertible without changing the result.
-  Eigen::VectorXd a = H.diagonal().head(m);
-  for (Eigen::Index i = 0; i < m; ++i) a(i) = std::max(a(i), 1e-9);
-  const Eigen::MatrixXd B = H.block(0, m, m, dm);
-  const Eigen::MatrixXd D = H.block(m, m, dm, dm);
+  // The host inverts A_mm = [[A, B], [C, D]] as a general dense symmetric matrix, as
+  // VINS-Mono's MarginalizationInfo does (eigen-decomposition, eigenvalues below
+  // kPseudoInverseEpsilon dropped, so a landmark row without a usable observation carries no
+  // information): O((m+6)^3). The flags record the structure (A diagonal, D 6x6) that the
+  // accelerator's inverse unit exploits (paper Sec. VI-A); the host does not.
   const int mm = m + dm;
   const std::uint32_t inverse_flags = flags::kDiagonalBlock | flags::kSymmetric | flags::kBlock6x6;
-  const Eigen::MatrixXd A_mm_inv = recorder.op(Op::Inverse, mm, mm, 0, inverse_flags,
-                                               [&] { return structured_inverse(a, B, D); });
+  const Eigen::MatrixXd A_mm_inv = recorder.op(Op::Inverse, mm, mm, 0, inverse_flags, [&] {
+    return symmetric_pseudo_inverse(H.topLeftCorner(mm, mm));
+  });
   Prior prior;
   if (r > 0) {  // else nothing kept is linked: the removed variables leave no information
     const Eigen::MatrixXd A_mr = H.block(0, mm, mm, r);
@@ -240,20 +243,21 @@ MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& opti
   // Archive what leaves the window, then remove it and install the new prior.
   report.landmarks = m;
   report.kept_dim = r;
-  report.removed = oldest;
-  for (Landmark* l : removed) {
-    report.removed_landmarks.push_back(*l);
-    report.removed_positions.push_back(window.landmark_world(*l));
+  report.removed = window.keyframes.front();
+  for (std::int64_t track : sys.removed_tracks) {
+    const Landmark& l = window.landmarks.at(track);
+    report.removed_landmarks.push_back(l);
+    report.removed_positions.push_back(window.landmark_world(l));
   }
   kernel.record().m = m;
   kernel.record().n = r;
   kernel.record().k = d;  // the removed keyframe's state size (6, or 15 with an IMU)
-  for (int slot : kept_slots) {
+  for (int slot : sys.kept_slots) {
     prior.keyframe_ids.push_back(window.keyframes[static_cast<std::size_t>(slot)].id);
     prior.linearization_points.push_back(
         window.keyframes[static_cast<std::size_t>(slot)].navigation_state());
   }
-  prior.has_offset = keep_offset && r > 0;
+  prior.has_offset = sys.keeps_offset && r > 0;
   prior.offset_linearization_px = window.disparity_offset_px;
   if (r == 0) prior.keyframe_ids.clear(), prior.linearization_points.clear();
   window.prior = std::move(prior);

@@ -1,4 +1,4 @@
-// Marginalization: the structured inverse against a dense inverse, and the prior it leaves
+// Marginalization: the host's inverse against a dense inverse, and the prior it leaves
 // against the Schur complement of the full normal equations computed independently (dense,
 // from the factors' Jacobians), with and without the disparity offset delta as a kept variable,
 // with the ops recorded with their sizes and structure flags; and the window LM using a prior
@@ -17,7 +17,9 @@
 namespace edx::backend::slam {
 namespace {
 
-TEST(StructuredInverse, MatchesDenseInverse) {
+// The host's general inverse of A_mm (diagonal A, 6x6 D): equals Eigen's LU inverse, and drops
+// a direction without information instead of blowing up.
+TEST(SymmetricPseudoInverse, MatchesDenseInverseAndDropsNullDirections) {
   std::mt19937 rng(4);
   std::normal_distribution<double> n(0, 1);
   const int m = 9, d = 6;
@@ -28,9 +30,17 @@ TEST(StructuredInverse, MatchesDenseInverse) {
   Eigen::MatrixXd H = J.transpose() * J;
   H.topLeftCorner(m, m) = Eigen::MatrixXd(H.topLeftCorner(m, m).diagonal().asDiagonal());
   H.topLeftCorner(m, m).diagonal().array() += 50.0;  // keep it positive definite
-  const Eigen::MatrixXd inv = structured_inverse(H.topLeftCorner(m, m).diagonal(),
-                                                 H.topRightCorner(m, d), H.bottomRightCorner(d, d));
+  const Eigen::MatrixXd inv = symmetric_pseudo_inverse(H);
   EXPECT_LT((inv - H.inverse()).norm(), 1e-9 * H.inverse().norm());
+
+  // A landmark without any usable observation: an empty row and column.
+  H.row(2).setZero();
+  H.col(2).setZero();
+  const Eigen::MatrixXd pinv = symmetric_pseudo_inverse(H);
+  EXPECT_LT(pinv.row(2).norm(), 1e-12 * pinv.norm());
+  Eigen::MatrixXd expected_identity = Eigen::MatrixXd::Identity(m + d, m + d);
+  expected_identity(2, 2) = 0;
+  EXPECT_LT((pinv * H - expected_identity).norm(), 1e-9);
 }
 
 /// Window of three keyframes 0.3 m apart looking at a wall of landmarks anchored in the first

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "tests/support/temp_dir.hpp"
+#include "workloads/backend/slam/marginalizer.hpp"
 #include "workloads/backend/slam/slam_backend.hpp"
 #include "workloads/datasets/synthetic/generator.hpp"
 #include "workloads/eval/metrics.hpp"
@@ -31,6 +32,12 @@ struct RunFigures {
   double marginalization_share = 0;
   int keyframes = 0, marginalizations = 0, tracking_failures = 0;
   double disparity_offset_px = 0;  ///< the backend's final estimate
+  /// The marginalization system of the final window (linearize_marginalization).
+  struct {
+    int m = -1, d = 0;
+    double landmark_block_off_diagonal = -1;   ///< max |H_ll(i, j)|, i != j
+    double landmark_speed_bias_coupling = -1;  ///< max |H(landmark, removed v/b_a/b_g)|
+  } final_window;
 };
 
 double final_drift_pct(const fs::path& trace_file);
@@ -38,12 +45,23 @@ double final_drift_pct(const fs::path& trace_file);
 /// Runs a SLAM backend; when the runner destroys it, copies its statistics out and saves its map.
 class StatisticsKeeper : public Backend {
  public:
-  StatisticsKeeper(std::unique_ptr<Backend> slam, SlamStatistics& out, fs::path map_file)
-      : slam_(std::move(slam)), out_(out), map_file_(std::move(map_file)) {}
+  StatisticsKeeper(std::unique_ptr<Backend> slam, SlamStatistics& out, RunFigures& figures,
+                   fs::path map_file)
+      : slam_(std::move(slam)), out_(out), figures_(figures), map_file_(std::move(map_file)) {}
   ~StatisticsKeeper() override {
     const auto& slam = static_cast<const SlamBackend&>(*slam_);
     out_ = slam.statistics();
     if (!map_file_.empty()) slam.save_map(map_file_);
+    if (slam.window().keyframes.size() < 2) return;
+    const MarginalizationSystem sys = linearize_marginalization(slam.window(), slam.options());
+    auto& w = figures_.final_window;
+    w.m = sys.m;
+    w.d = sys.d;
+    Eigen::MatrixXd landmarks = sys.H.topLeftCorner(sys.m, sys.m);
+    landmarks.diagonal().setZero();
+    w.landmark_block_off_diagonal = sys.m > 0 ? landmarks.cwiseAbs().maxCoeff() : 0.0;
+    w.landmark_speed_bias_coupling =
+        sys.d == 15 && sys.m > 0 ? sys.H.block(0, sys.m + 6, sys.m, 9).cwiseAbs().maxCoeff() : 0.0;
   }
   trace::BackendMode mode() const override { return slam_->mode(); }
   BackendOutput process(const BackendInput& input) override { return slam_->process(input); }
@@ -51,6 +69,7 @@ class StatisticsKeeper : public Backend {
  private:
   std::unique_ptr<Backend> slam_;
   SlamStatistics& out_;
+  RunFigures& figures_;
   fs::path map_file_;
 };
 
@@ -68,7 +87,7 @@ RunFigures run(const fs::path& dataset, datasets::DatasetFormat format, const fs
   RunFigures f;
   SlamStatistics statistics;
   options.make_backend = [&](const datasets::Dataset& d) {
-    return std::make_unique<StatisticsKeeper>(make_slam_backend(d, slam_options), statistics,
+    return std::make_unique<StatisticsKeeper>(make_slam_backend(d, slam_options), statistics, f,
                                               map_file);
   };
   f.summary = modes::run_trace(options);
@@ -157,7 +176,7 @@ TEST(SlamEndToEnd, SyntheticIndoorUnknownSmall) {
   // The synthetic rig is calibrated exactly: no disparity offset to find.
   EXPECT_LT(std::abs(f.disparity_offset_px), 0.2);
   // With the IMU the removed keyframe's velocity and biases are eliminated first (a 9x9 LDLT),
-  // then the structured inverse with D the 6x6 pose block; the trace carries the IMU
+  // then the inverse of A_mm (flagged diagonal + 6x6 block); the trace carries the IMU
   // preintegration kernel.
   int marginalizations = 0, preintegrations = 0;
   for (const trace::FrameTrace& frame : trace::TraceReader(dir.path() / "trace.db").read_all()) {
@@ -179,6 +198,13 @@ TEST(SlamEndToEnd, SyntheticIndoorUnknownSmall) {
   }
   EXPECT_EQ(marginalizations, f.marginalizations);
   EXPECT_GE(preintegrations, 59);
+  // A_mm of the paper's Sec. VI on a real window: the landmark block A is diagonal (landmarks
+  // couple only through poses) and no landmark couples to the removed keyframe's velocity and
+  // biases, so once those 9 are eliminated D is the 6x6 pose block.
+  EXPECT_EQ(f.final_window.d, 15);
+  EXPECT_GT(f.final_window.m, 0);
+  EXPECT_EQ(f.final_window.landmark_block_off_diagonal, 0.0);
+  EXPECT_EQ(f.final_window.landmark_speed_bias_coupling, 0.0);
 }
 
 fs::path kitti_excerpt() {
