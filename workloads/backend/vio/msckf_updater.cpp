@@ -191,13 +191,15 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
   report.rows = static_cast<int>(H.rows());
   if (H.rows() == 0) return report;
 
-  // Measurement compression when the rows outnumber the state columns H touches (the QR runs
-  // on those columns only; the others are zero and stay zero).
+  // Optional measurement compression when the rows outnumber the state columns H touches (the
+  // QR runs on those columns only; the others are zero and stay zero).
   std::vector<int> cols;
-  for (int c = 0; c < n; ++c)
-    if (!H.col(c).isZero(0.0)) cols.push_back(c);
+  if (options_.measurement_compression) {
+    for (int c = 0; c < n; ++c)
+      if (!H.col(c).isZero(0.0)) cols.push_back(c);
+  }
   const int used_cols = static_cast<int>(cols.size());
-  if (H.rows() > used_cols) {
+  if (options_.measurement_compression && H.rows() > used_cols) {
     auto kernel = recorder.kernel("compression");
     kernel.record().m = H.rows();
     kernel.record().n = used_cols;

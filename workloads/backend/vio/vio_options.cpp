@@ -67,6 +67,7 @@ nlohmann::json VioOptions::to_json() const {
           {"triangulation_iterations", triangulation_iterations},
           {"chi2_confidence", chi2_confidence},
           {"max_features_per_update", max_features_per_update},
+          {"measurement_compression", measurement_compression},
           {"estimate_extrinsics", estimate_extrinsics},
           {"extrinsic_rotation_sigma_rad", extrinsic_rotation_sigma_rad},
           {"extrinsic_translation_sigma_m", extrinsic_translation_sigma_m},

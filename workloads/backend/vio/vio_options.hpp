@@ -27,7 +27,13 @@ struct VioOptions {
   int triangulation_iterations = 10;
   double chi2_confidence = 0.95;      ///< chi-square gate of each feature's residual
   int max_features_per_update = 150;  ///< most features stacked into one update
-  bool estimate_extrinsics = true;    ///< camera-IMU extrinsics in the state
+  /// QR-compress the stacked H to the state columns it touches before the Kalman gain, as the
+  /// designs the paper names do (Mourikis & Roumeliotis 2007, Sec. III-E; msckf_vio's
+  /// measurementUpdate). With R = sigma^2 I the update is the same either way (to round-off);
+  /// false runs Eq. 1 on the stacked H, whose height then follows the number of features
+  /// (hundreds to thousands of rows: not real-time on a CPU, docs/VIO.md "Kalman gain").
+  bool measurement_compression = true;
+  bool estimate_extrinsics = true;  ///< camera-IMU extrinsics in the state
   double extrinsic_rotation_sigma_rad = 0.002;
   double extrinsic_translation_sigma_m = 0.002;
   // IMU.

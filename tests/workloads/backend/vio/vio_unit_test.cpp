@@ -258,47 +258,63 @@ TEST(Triangulation, RecoversAKnownPointAndRejectsBadGeometry) {
   EXPECT_FALSE(triangulate(observations, cameras, options));
 }
 
-// Exact measurements of known points from true clones; the filter starts from perturbed clones
-// with a covariance that covers the perturbation; one update must pull the clones to the truth.
-TEST(MsckfUpdater, UpdateMovesPerturbedClonesTowardTheTruth) {
-  VioOptions options;
-  options.estimate_extrinsics = false;
-  options.track_error_correlation = 0;  // exact, independent measurements: 1 px white noise
-  const double b = 0.11, fx = 450.0;
+/// Exact measurements of `features` known points from `clone_count` true clones; the filter
+/// starts from perturbed clones with a covariance that covers the perturbation.
+struct PerturbedScene {
+  std::vector<Clone> truth;
+  std::vector<FeatureTrack> tracks;
+  VioState state;
+  double baseline = 0.11, fx = 450.0;
+  std::vector<const FeatureTrack*> pointers() const {
+    std::vector<const FeatureTrack*> out;
+    for (const auto& t : tracks) out.push_back(&t);
+    return out;
+  }
+  /// Sum over clones of position and rotation error against the truth.
+  double error() const {
+    double e = 0;
+    for (std::size_t i = 0; i < truth.size(); ++i)
+      e += (state.clones[i].p_WI - truth[i].p_WI).norm() +
+           so3_log(state.clones[i].R_WI * truth[i].R_WI.transpose()).norm();
+    return e;
+  }
+};
+
+PerturbedScene perturbed_scene(int clone_count, int features) {
+  PerturbedScene scene;
   VioState truth;
   truth.R_IC << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // camera looks along body x
   truth.p_IC = {0.05, -0.02, 0.01};
-  std::vector<Clone> clones;
-  for (int i = 0; i < 6; ++i) {
+  for (int i = 0; i < clone_count; ++i) {
     Clone c;
     c.t_ns = i;
     c.R_WI = so3_exp(Eigen::Vector3d(0.01 * i, -0.02 * i, 0.05 * i));
     c.p_WI = {0.2 * i, 0.03 * i, -0.01 * i};
-    clones.push_back(c);
+    scene.truth.push_back(c);
   }
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> uniform(-1, 1);
-  std::vector<FeatureTrack> tracks;
-  for (int f = 0; f < 60; ++f) {
+  for (int f = 0; f < features; ++f) {
     const Eigen::Vector3d p_W(5 + 3 * uniform(rng), 2 * uniform(rng), 1.5 * uniform(rng));
     FeatureTrack track;
     track.id = f;
-    for (const Clone& c : clones) {
+    for (const Clone& c : scene.truth) {
       CameraPose cam{c.R_WI * truth.R_IC, c.p_WI + c.R_WI * truth.p_IC};
-      Observation o = observe(cam, p_W, b, true);
+      Observation o = observe(cam, p_W, scene.baseline, true);
       o.t_ns = c.t_ns;
       track.observations.push_back(o);
     }
-    tracks.push_back(track);
+    scene.tracks.push_back(track);
   }
-  VioState state = truth;
+  VioState& state = scene.state;
+  state = truth;
   state.P = Eigen::MatrixXd::Zero(kCoreDim, kCoreDim);
   state.P.diagonal().setConstant(1e-12);
   const double s_theta = 0.005, s_pos = 0.02;
-  for (std::size_t i = 0; i < clones.size(); ++i) {
+  for (std::size_t i = 0; i < scene.truth.size(); ++i) {
     state.augment_clone();
     Clone& c = state.clones.back();
-    c = clones[i];
+    c = scene.truth[i];
     const int at = VioState::clone_index(i);
     state.P.block(at, 0, 6, state.dim()).setZero();
     state.P.block(0, at, state.dim(), 6).setZero();
@@ -311,29 +327,85 @@ TEST(MsckfUpdater, UpdateMovesPerturbedClonesTowardTheTruth) {
     c.R_WI = so3_exp(Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)) * s_theta) * c.R_WI;
     c.p_WI += Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)) * s_pos;
   }
-  const auto error = [&] {
-    double e = 0;
-    for (std::size_t i = 0; i < clones.size(); ++i)
-      e += (state.clones[i].p_WI - clones[i].p_WI).norm() +
-           so3_log(state.clones[i].R_WI * clones[i].R_WI.transpose()).norm();
-    return e;
-  };
-  const double before = error();
-  MsckfUpdater updater(options, b, fx);
-  std::vector<const FeatureTrack*> pointers;
-  for (const auto& t : tracks) pointers.push_back(&t);
-  KernelRecorder recorder;
-  const UpdateReport report = updater.update(state, pointers, recorder);
-  EXPECT_GE(report.triangulated, 40);  // the perturbed clones leave a few above the RMS limit
-  EXPECT_GT(report.accepted, 30);
-  EXPECT_TRUE(report.updated);
-  EXPECT_LT(error(), 0.2 * before);
-  // The kernels of one update, in order.
-  std::vector<std::string> names;
-  for (const auto& k : recorder.take()) names.push_back(k.kernel);
-  const std::vector<std::string> expected{"triangulation", "jacobians",   "nullspace_projection",
-                                          "compression",   "kalman_gain", "covariance_update"};
-  EXPECT_EQ(names, expected);
+  return scene;
+}
+
+// One update must pull the perturbed clones to the truth, with the stacked H compressed (the
+// default, as msckf_vio) and without (the paper's Eq. 1 on all the accepted features' rows).
+TEST(MsckfUpdater, UpdateMovesPerturbedClonesTowardTheTruth) {
+  for (const bool compression : {true, false}) {
+    SCOPED_TRACE(compression ? "compressed" : "stacked");
+    VioOptions options;
+    options.estimate_extrinsics = false;
+    options.track_error_correlation = 0;  // exact, independent measurements: 1 px white noise
+    options.measurement_compression = compression;
+    PerturbedScene scene = perturbed_scene(6, 60);
+    const double before = scene.error();
+    MsckfUpdater updater(options, scene.baseline, scene.fx);
+    KernelRecorder recorder;
+    const UpdateReport report = updater.update(scene.state, scene.pointers(), recorder);
+    EXPECT_GE(report.triangulated, 40);  // the perturbed clones leave a few above the RMS limit
+    EXPECT_GT(report.accepted, 30);
+    EXPECT_TRUE(report.updated);
+    EXPECT_LT(scene.error(), 0.2 * before);
+    // 2 or 4 rows per observation (mono or stereo), 3 removed per feature by the null-space
+    // projection: far more rows than the 36 clone columns, compressed to those 36 or not.
+    EXPECT_GE(report.rows, report.accepted * (2 * 6 - 3));
+    EXPECT_LE(report.rows, report.accepted * (4 * 6 - 3));
+    EXPECT_GT(report.rows, 10 * 36);
+    EXPECT_EQ(report.rows_used, compression ? 36 : report.rows);
+    // The kernels of one update, in order; kalman_gain's m is the height of the H it uses.
+    std::vector<std::string> names;
+    for (const auto& k : recorder.take()) {
+      names.push_back(k.kernel);
+      if (k.kernel == "kalman_gain") {
+        EXPECT_EQ(k.m, report.rows_used);
+      }
+    }
+    std::vector<std::string> expected{"triangulation", "jacobians",   "nullspace_projection",
+                                      "compression",   "kalman_gain", "covariance_update"};
+    if (!compression) expected.erase(expected.begin() + 3);
+    EXPECT_EQ(names, expected);
+  }
+}
+
+// With R = sigma^2 I, QR compression of the stacked H (H = Q1 T, r -> Q1^T r) leaves the update
+// unchanged in exact arithmetic: the compressed and the uncompressed Kalman gain give the same
+// state correction and covariance (to round-off) on a window of 12 clones and 80 features.
+TEST(MsckfUpdater, CompressionLeavesTheUpdateUnchanged) {
+  VioOptions options;
+  options.estimate_extrinsics = false;
+  options.track_error_correlation = 0;
+  options.measurement_compression = false;
+  VioOptions compressed_options = options;
+  compressed_options.measurement_compression = true;
+  const PerturbedScene scene = perturbed_scene(12, 80);
+  PerturbedScene plain = scene, compressed = scene;
+  KernelRecorder plain_recorder, compressed_recorder;
+  const UpdateReport a = MsckfUpdater(options, scene.baseline, scene.fx)
+                             .update(plain.state, plain.pointers(), plain_recorder);
+  const UpdateReport c = MsckfUpdater(compressed_options, scene.baseline, scene.fx)
+                             .update(compressed.state, compressed.pointers(), compressed_recorder);
+  ASSERT_TRUE(a.updated);
+  ASSERT_TRUE(c.updated);
+  EXPECT_EQ(a.rows, c.rows);
+  EXPECT_EQ(a.rows_used, a.rows);
+  EXPECT_LT(c.rows_used, c.rows);  // compressed to the columns H touches
+  EXPECT_LE(c.rows_used, 6 * 12);
+  // State correction: the clones moved by the same amount (relative to the move).
+  for (std::size_t i = 0; i < scene.truth.size(); ++i) {
+    const Eigen::Vector3d move = plain.state.clones[i].p_WI - scene.state.clones[i].p_WI;
+    EXPECT_LE((plain.state.clones[i].p_WI - compressed.state.clones[i].p_WI).norm(),
+              1e-9 * std::max(move.norm(), 1e-3));
+    EXPECT_LE(
+        so3_log(plain.state.clones[i].R_WI * compressed.state.clones[i].R_WI.transpose()).norm(),
+        1e-9);
+  }
+  EXPECT_LE((plain.state.P - compressed.state.P).norm(), 1e-9 * plain.state.P.norm());
+  int compression_kernels = 0;
+  for (const auto& k : compressed_recorder.take())
+    compression_kernels += k.kernel == "compression" ? 1 : 0;
+  EXPECT_EQ(compression_kernels, 1);
 }
 
 // First-estimate Jacobians in the MSCKF update: the clones' current positions differ from their
