@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
+#include <sstream>
 
 #include "tests/support/temp_dir.hpp"
 #include "tests/workloads/backend/vio/vio_run.hpp"
@@ -232,6 +234,63 @@ TEST(VioFullSize, DISABLED_OutdoorCar) {
   print("FULL outdoor 1280x720 400 frames, GPS ignored", run_vio(data, options, 0));
   options.use_gps = true;
   print("FULL outdoor 1280x720 400 frames, GPS fused", run_vio(data, options, 0));
+}
+
+/// Seeds of the multi-seed check: $EDX_VIO_SEEDS ("11 12 13 14 15" when unset: none of them
+/// was used to choose any option or constant).
+std::vector<std::uint64_t> seeds_from_env() {
+  const char* env = std::getenv("EDX_VIO_SEEDS");
+  std::istringstream in(env ? env : "11 12 13 14 15");
+  std::vector<std::uint64_t> seeds;
+  for (std::uint64_t s; in >> s;) seeds.push_back(s);
+  return seeds;
+}
+
+/// Min / median / max of a series, for the spread line.
+std::string spread(std::vector<double> v) {
+  if (v.empty()) return "-";
+  std::sort(v.begin(), v.end());
+  return fmt::format("{:.3f} / {:.3f} / {:.3f}", v.front(), v[v.size() / 2], v.back());
+}
+
+// The issue-16 targets at full size on seeds nobody tuned on (run by hand, ~3 min a seed):
+// outdoor_unknown 600 frames at 752x480 (the issue's reproduction: `edx gen --scenario
+// outdoor_unknown --frames 600 --resolution 752x480 --seed S`, `edx trace --backend vio`), GPS
+// fused (target ATE <= 0.10 m) and ignored, and indoor_unknown 600 frames at 752x480 without
+// GPS (target ATE <= 0.27 m); NEES against its 95 % interval. Prints each run and the spread.
+TEST(VioFullSize, DISABLED_SeedSpread) {
+  const edx::testing::TempDir dir;
+  std::vector<double> fused, ignored, indoor, nees;
+  const synthetic::Resolution res{752, 480};
+  for (const std::uint64_t seed : seeds_from_env()) {
+    const fs::path outdoor = generate(dir.path() / fmt::format("outdoor{}", seed),
+                                      synthetic::Scenario::kOutdoorUnknown, 600, res, seed);
+    VioOptions options;
+    options.use_gps = true;
+    const VioRun f = run_vio(outdoor, options, 0);
+    print(fmt::format("seed {} outdoor 752x480 600 frames, GPS fused", seed), f);
+    options.use_gps = false;
+    const VioRun g = run_vio(outdoor, options, 0);
+    print(fmt::format("seed {} outdoor 752x480 600 frames, GPS ignored", seed), g);
+    const fs::path in = generate(dir.path() / fmt::format("indoor{}", seed),
+                                 synthetic::Scenario::kIndoorUnknown, 600, res, seed);
+    const VioRun i = run_vio(in, options, 0);
+    print(fmt::format("seed {} indoor 752x480 600 frames, no GPS", seed), i);
+    for (const VioRun* r : {&f, &g, &i}) {
+      ASSERT_TRUE(r->accuracy.has_value());
+      nees.push_back(r->mean_nees);
+    }
+    fused.push_back(f.accuracy->ate_m.rmse);
+    ignored.push_back(g.accuracy->ate_m.rmse);
+    indoor.push_back(i.accuracy->ate_m.rmse);
+  }
+  std::printf(
+      "[vio] spread over %zu seeds (min / median / max): ATE outdoor GPS fused %s m, GPS "
+      "ignored %s m, indoor %s m; mean NEES %s (95%% interval [%.2f, %.2f])\n",
+      fused.size(), spread(fused).c_str(), spread(ignored).c_str(), spread(indoor).c_str(),
+      spread(nees).c_str(), chi2_quantile(0.025, 6), chi2_quantile(0.975, 6));
+  for (double ate : fused) EXPECT_LE(ate, 0.10);
+  for (double ate : indoor) EXPECT_LE(ate, 0.27);
 }
 
 }  // namespace
