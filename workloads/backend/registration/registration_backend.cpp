@@ -114,6 +114,27 @@ RegistrationBackend::RegistrationBackend(const BackendCamera& camera,
     vocabulary_->transform(descriptors, options_.direct_index_level, bow, features);
     database_.add(bow, std::move(features));
   }
+  covisibility_ = std::make_unique<CovisibilityGraph>(*map_, options_.local_map_options());
+}
+
+std::vector<std::size_t> RegistrationBackend::current_map(
+    const std::vector<std::size_t>& anchor_points) {
+  auto k = recorder_.kernel("local_map");
+  std::vector<std::size_t> points;
+  std::size_t keyframes = 0;
+  if (options_.local_map) {
+    LocalMap local = covisibility_->local_map(anchor_points);
+    keyframes = local.keyframes.size();
+    points = std::move(local.points);
+  } else {
+    keyframes = map_->keyframes.size();
+    points.resize(static_cast<std::size_t>(points_.cols()));
+    for (std::size_t i = 0; i < points.size(); ++i) points[i] = i;
+  }
+  k.record().m = static_cast<std::int64_t>(anchor_points.size());
+  k.record().n = static_cast<std::int64_t>(keyframes);
+  k.record().k = static_cast<std::int64_t>(points.size());
+  return points;
 }
 
 double RegistrationBackend::sigma_px(int octave) const {
@@ -135,9 +156,10 @@ BackendOutput RegistrationBackend::process(const BackendInput& input) {
     if (options_.constant_velocity && previous_T_cam_world_) {
       guess = *last_T_cam_world_ * inverse(*previous_T_cam_world_) * *last_T_cam_world_;
     }
-    attempt = track_by_projection(features, guess, options_.tracking_radius_px);
+    const std::vector<std::size_t> points = current_map(last_inlier_points_);
+    attempt = track_by_projection(features, guess, options_.tracking_radius_px, points);
     if (!attempt.ok) {
-      attempt = track_by_projection(features, guess, 2 * options_.tracking_radius_px);
+      attempt = track_by_projection(features, guess, 2 * options_.tracking_radius_px, points);
     }
     tracked = attempt.ok;
     if (!attempt.ok) attempt = relocalize(features);
@@ -151,6 +173,7 @@ BackendOutput RegistrationBackend::process(const BackendInput& input) {
     ++(tracked ? statistics_.tracked : statistics_.relocalized);
     previous_T_cam_world_ = last_T_cam_world_;
     last_T_cam_world_ = attempt.T_cam_world;
+    last_inlier_points_ = std::move(attempt.inlier_points);
     // T_world_body = T_world_cam T_cam_body = T_cam_world^-1 T_body_left^-1.
     output.T_world_body = inverse(attempt.T_cam_world) * inverse(camera_.T_body_left);
     output.status = "ok";
@@ -158,6 +181,7 @@ BackendOutput RegistrationBackend::process(const BackendInput& input) {
     ++statistics_.failures;
     last_T_cam_world_.reset();
     previous_T_cam_world_.reset();
+    last_inlier_points_.clear();
     output.status = "registration_failed: " + attempt.reason;
   }
   output.kernels = recorder_.take();
@@ -166,25 +190,28 @@ BackendOutput RegistrationBackend::process(const BackendInput& input) {
 
 std::vector<Correspondence> RegistrationBackend::match_by_projection(
     const std::vector<frontend::Feature>& features, const Eigen::Isometry3d& T_cam_world,
-    double radius_px) {
-  const Eigen::Index M = points_.cols();
+    double radius_px, const std::vector<std::size_t>& points) {
+  const Eigen::Index M = static_cast<Eigen::Index>(points.size());
+  Eigen::Matrix4Xd X(4, M);  // the current map's homogeneous points
+  for (Eigen::Index i = 0; i < M; ++i) X.col(i) = points_.col(static_cast<Eigen::Index>(points[i]));
   struct Visible {
     std::size_t point;
     double u, v;
   };
   std::vector<Visible> visible;
   {
-    // The accelerable kernel of Table I: Y = C X for all M map points, then u = Y0/Y2, v = Y1/Y2.
+    // The accelerable kernel of Table I: Y = C X for the M points of the current map, then
+    // u = Y0/Y2, v = Y1/Y2.
     auto k = recorder_.kernel("projection", /*accelerable=*/true);
     const Eigen::Matrix<double, 3, 4> C = camera_matrix(camera_, T_cam_world);
     const Eigen::Matrix3Xd Y =
-        recorder_.op(trace::Op::Gemm, 3, M, 4, 0, [&] { return project(C, points_); });
+        recorder_.op(trace::Op::Gemm, 3, M, 4, 0, [&] { return project(C, X); });
     for (Eigen::Index i = 0; i < M; ++i) {
       const double z = Y(2, i);
       if (!(z >= options_.min_depth_m && z <= options_.max_depth_m)) continue;
       const double u = Y(0, i) / z, v = Y(1, i) / z;
       if (u < 0 || v < 0 || u >= camera_.width || v >= camera_.height) continue;
-      visible.push_back({static_cast<std::size_t>(i), u, v});
+      visible.push_back({points[static_cast<std::size_t>(i)], u, v});
     }
     k.record().m = M;
     k.record().n = static_cast<std::int64_t>(visible.size());
@@ -256,10 +283,10 @@ RefinementResult RegistrationBackend::refine(const std::vector<Correspondence>& 
 
 RegistrationBackend::Attempt RegistrationBackend::track_by_projection(
     const std::vector<frontend::Feature>& features, const Eigen::Isometry3d& T_cam_world_guess,
-    double radius_px) {
+    double radius_px, const std::vector<std::size_t>& points) {
   Attempt attempt;
   const std::vector<Correspondence> matches =
-      match_by_projection(features, T_cam_world_guess, radius_px);
+      match_by_projection(features, T_cam_world_guess, radius_px, points);
   if (static_cast<int>(matches.size()) < options_.min_inliers) {
     attempt.reason = "few_matches";
     return attempt;
@@ -270,6 +297,9 @@ RegistrationBackend::Attempt RegistrationBackend::track_by_projection(
   if (refined.inliers < options_.min_inliers) {
     attempt.reason = "few_inliers";
     return attempt;
+  }
+  for (std::size_t c = 0; c < matches.size(); ++c) {
+    if (refined.inlier[c]) attempt.inlier_points.push_back(matches[c].landmark);
   }
   attempt.ok = true;
   return attempt;
@@ -386,8 +416,13 @@ RegistrationBackend::Attempt RegistrationBackend::relocalize(
     attempt.reason = "few_inliers";
     return attempt;
   }
-  // Use the whole map around the pose: tracking by projection in a narrow window.
-  return track_by_projection(features, refined.T_cam_world, options_.relocalization_radius_px);
+  // Use the current map around the PnP inliers: tracking by projection in a narrow window.
+  std::vector<std::size_t> anchors;
+  for (std::size_t c = 0; c < per_candidate[best_candidate].size(); ++c) {
+    if (refined.inlier[c]) anchors.push_back(per_candidate[best_candidate][c].landmark);
+  }
+  return track_by_projection(features, refined.T_cam_world, options_.relocalization_radius_px,
+                             current_map(anchors));
 }
 
 std::unique_ptr<Backend> make_registration_backend(

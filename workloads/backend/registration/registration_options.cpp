@@ -45,6 +45,9 @@ void RegistrationOptions::validate() const {
   require(max_depth_m > min_depth_m, "max_depth_m", "> min_depth_m", max_depth_m);
   require(grid_cell_px >= 1, "grid_cell_px", ">= 1", grid_cell_px);
   require(min_inliers >= 4, "min_inliers", ">= 4", min_inliers);
+  require(covisibility_min_shared >= 1, "covisibility_min_shared", ">= 1", covisibility_min_shared);
+  require(local_map_neighbours >= 1, "local_map_neighbours", ">= 1", local_map_neighbours);
+  require(local_map_max_keyframes >= 1, "local_map_max_keyframes", ">= 1", local_map_max_keyframes);
 }
 
 nlohmann::json RegistrationOptions::to_json() const {
@@ -69,6 +72,10 @@ nlohmann::json RegistrationOptions::to_json() const {
           {"max_depth_m", max_depth_m},
           {"grid_cell_px", grid_cell_px},
           {"min_inliers", min_inliers},
+          {"local_map", local_map},
+          {"covisibility_min_shared", covisibility_min_shared},
+          {"local_map_neighbours", local_map_neighbours},
+          {"local_map_max_keyframes", local_map_max_keyframes},
           {"constant_velocity", constant_velocity}};
 }
 

@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <nlohmann/json.hpp>
 
+#include "workloads/backend/registration/covisibility.hpp"
+
 namespace edx::backend::registration {
 
 struct RegistrationOptions {
@@ -38,12 +40,23 @@ struct RegistrationOptions {
   double min_depth_m = 0.1;             ///< map points nearer than this are not searched
   double max_depth_m = 60;              ///< nor farther ones
   int grid_cell_px = 16;                ///< feature grid cell for window searches
+  /// Which map points are projected each frame ("the current map", docs/REGISTRATION.md): true,
+  /// ORB-SLAM's local map around the points the previous frame matched (covisibility.hpp);
+  /// false, the whole map every frame.
+  bool local_map = true;
+  int covisibility_min_shared = 15;          ///< ORB-SLAM's covisibility edge threshold
+  std::size_t local_map_neighbours = 10;     ///< best covisible keyframes looked at per keyframe
+  std::size_t local_map_max_keyframes = 80;  ///< ORB-SLAM's bound on the local keyframes
 
   /// A frame is registered when the last refinement keeps at least this many inliers; tracking
   /// below it falls back to relocalization.
   int min_inliers = 20;
   /// Predict the pose by constant velocity (else: the previous pose).
   bool constant_velocity = true;
+
+  LocalMapOptions local_map_options() const {
+    return {covisibility_min_shared, local_map_neighbours, local_map_max_keyframes};
+  }
 
   /// Throws std::runtime_error naming the first field out of range.
   void validate() const;

@@ -155,7 +155,12 @@ TEST(RegistrationOptionsTest, ValidateNamesTheBadFieldAndJsonListsAll) {
   const nlohmann::json j = RegistrationOptions{}.to_json();
   EXPECT_EQ(j.at("min_inliers"), 20);
   EXPECT_EQ(j.at("bow_max_hamming"), 50);
-  EXPECT_EQ(j.size(), 22u);
+  EXPECT_EQ(j.at("local_map"), true);
+  EXPECT_EQ(j.at("local_map_max_keyframes"), 80);
+  EXPECT_EQ(j.size(), 26u);
+  o = RegistrationOptions{};
+  o.local_map_neighbours = 0;
+  EXPECT_THROW(o.validate(), std::runtime_error);
 }
 
 }  // namespace

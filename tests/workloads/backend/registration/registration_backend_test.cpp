@@ -159,7 +159,7 @@ TEST(RegistrationBackend, RelocalizesThenTracksByProjection) {
   std::vector<std::string> names;
   for (const auto& k : out1.kernels) names.push_back(k.kernel);
   const std::vector<std::string> relocalization = {
-      "bow_query",           "matching",       "pnp", "pose_refinement", "projection",
+      "bow_query",           "matching",       "pnp", "pose_refinement", "local_map", "projection",
       "projection_matching", "pose_refinement"};
   EXPECT_TRUE(std::search(names.begin(), names.end(), relocalization.begin() + 2,
                           relocalization.end()) != names.end());
@@ -167,17 +167,25 @@ TEST(RegistrationBackend, RelocalizesThenTracksByProjection) {
   EXPECT_EQ(names[1], "matching");
   EXPECT_EQ(backend.statistics().relocalized, 1);
 
+  // The current map: every keyframe shares points with the others here, so the local map is
+  // all 5 keyframes and the M points they observe.
+  std::int64_t observed = 0;
+  for (const auto& l : w.map->landmarks) observed += l.observations.empty() ? 0 : 1;
+  const trace::KernelRecord* local = find_kernel(out1, "local_map");
+  ASSERT_NE(local, nullptr);
+  EXPECT_EQ(local->n, 5);
+  EXPECT_EQ(local->k, observed);
   // The projection kernel: accelerable, m = M, one gemm C (3x4) times X (4xM).
   const trace::KernelRecord* projection = find_kernel(out1, "projection");
   ASSERT_NE(projection, nullptr);
   EXPECT_TRUE(projection->accelerable);
-  EXPECT_EQ(projection->m, 600);
+  EXPECT_EQ(projection->m, observed);
   // Visible: the points seen in the frame (up to a few at the border of the image).
   EXPECT_NEAR(static_cast<double>(projection->n), static_cast<double>(frame1.features.size()), 3);
   ASSERT_EQ(projection->ops.size(), 1u);
   EXPECT_EQ(projection->ops[0].op, trace::Op::Gemm);
   EXPECT_EQ(projection->ops[0].m, 3);
-  EXPECT_EQ(projection->ops[0].n, 600);
+  EXPECT_EQ(projection->ops[0].n, observed);
   EXPECT_EQ(projection->ops[0].k, 4);
   for (const auto& k : out1.kernels) {
     EXPECT_EQ(k.accelerable, k.kernel == "projection") << k.kernel;
@@ -190,7 +198,8 @@ TEST(RegistrationBackend, RelocalizesThenTracksByProjection) {
   const BackendOutput out2 = backend.process(input_of(frame2, 2));
   ASSERT_EQ(out2.status, "ok");
   EXPECT_LT((out2.T_world_body->translation() - truth2.translation()).norm(), 0.01);
-  EXPECT_EQ(out2.kernels.front().kernel, "projection");
+  EXPECT_EQ(out2.kernels.front().kernel, "local_map");
+  EXPECT_EQ(out2.kernels[1].kernel, "projection");
   EXPECT_EQ(find_kernel(out2, "bow_query"), nullptr);
   EXPECT_EQ(backend.statistics().tracked, 1);
   const trace::KernelRecord* refinement = find_kernel(out2, "pose_refinement");

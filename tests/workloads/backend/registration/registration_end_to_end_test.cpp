@@ -16,9 +16,12 @@
 
 #include "tests/support/temp_dir.hpp"
 #include "workloads/backend/registration/bow/training.hpp"
+#include "workloads/backend/registration/registration_backend.hpp"
+#include "workloads/backend/slam/map.hpp"
 #include "workloads/datasets/synthetic/generator.hpp"
 #include "workloads/modes/backend_registry.hpp"
 #include "workloads/modes/trace_runner.hpp"
+#include "workloads/trace/reader.hpp"
 
 namespace edx::backend::registration {
 namespace {
@@ -30,6 +33,32 @@ struct Figures {
   double registered_fraction = 0;
   double projection_share = 0;
 };
+
+/// Localizes the loc run of the generated data in dir (map.json, vocab.bin) into `out`.
+modes::TraceRunSummary localize(const fs::path& dir, const fs::path& out,
+                                const RegistrationOptions& options) {
+  auto map = std::make_shared<const slam::Map>(slam::load_map(dir / "map.json"));
+  auto vocabulary =
+      std::make_shared<const bow::Vocabulary>(bow::Vocabulary::load(dir / "vocab.bin"));
+  modes::TraceRunOptions r;
+  r.dataset_path = dir / "data" / "loc";
+  r.out = out;
+  r.make_backend = [=](const datasets::Dataset& d) {
+    return make_registration_backend(d, options, map, vocabulary);
+  };
+  return modes::run_trace(r);
+}
+
+/// The projection kernel's M of every frame of a trace.
+std::vector<std::int64_t> projection_sizes(const fs::path& trace_file) {
+  std::vector<std::int64_t> sizes;
+  for (const trace::FrameTrace& frame : trace::TraceReader(trace_file).read_all()) {
+    for (const trace::KernelRecord& k : frame.kernels) {
+      if (k.kernel == "projection") sizes.push_back(k.m);
+    }
+  }
+  return sizes;
+}
 
 Figures map_and_localize(const fs::path& dir, int frames, std::optional<synthetic::Resolution> res,
                          int vocabulary_depth) {
@@ -96,10 +125,27 @@ TEST(RegistrationEndToEnd, LocalizesTheLocRunInTheMapOfTheMapRun) {
   EXPECT_LE(f.loc.accuracy->ate_m.rmse, 0.15);
   std::set<std::string> kernels;
   for (const auto& [name, ms] : f.loc.kernel_ms) kernels.insert(name);
-  for (const char* name :
-       {"bow_query", "matching", "pnp", "pose_refinement", "projection", "projection_matching"}) {
+  for (const char* name : {"bow_query", "matching", "pnp", "pose_refinement", "local_map",
+                           "projection", "projection_matching"}) {
     EXPECT_TRUE(kernels.count(name)) << name;
   }
+  // The current map (ORB-SLAM's local map): this 3.5 m warehouse is covisible as a whole, so
+  // with the default bound (80 keyframes) every frame projects the 15 keyframes' points.
+  for (std::int64_t m : projection_sizes(dir.path() / "loc.db")) {
+    EXPECT_GT(m, 0);
+    EXPECT_LE(m, static_cast<std::int64_t>(f.map.map_landmarks));
+  }
+  // Bounded to 4 keyframes, the current map follows the frame through the map: M varies over
+  // the run (the full-size map of docs/REGISTRATION.md varies with the default bound), and the
+  // run still registers.
+  RegistrationOptions bounded;
+  bounded.local_map_max_keyframes = 4;
+  const modes::TraceRunSummary b = localize(dir.path(), dir.path() / "loc_bounded.db", bounded);
+  EXPECT_GE(static_cast<double>(b.estimated_frames), 0.9 * static_cast<double>(b.frames));
+  const std::vector<std::int64_t> sizes = projection_sizes(dir.path() / "loc_bounded.db");
+  const std::set<std::int64_t> distinct(sizes.begin(), sizes.end());
+  EXPECT_GE(distinct.size(), 5u);
+  EXPECT_LT(*distinct.rbegin(), static_cast<std::int64_t>(f.map.map_landmarks));
 }
 
 // Full size, by hand (--gtest_also_run_disabled_tests): the figures of docs/REGISTRATION.md.
