@@ -17,6 +17,7 @@ namespace {
 struct GenArgs {
   std::string scenario;
   int frames = 200;
+  int map_frames = 0;  ///< 0: as --frames
   std::string resolution;
   std::string rig;
   std::uint64_t seed = 1;
@@ -35,6 +36,7 @@ void run_gen(const GenArgs& a) {
   synthetic::GenerateOptions o;
   o.scenario = synthetic::parse_scenario(a.scenario);
   o.frames = a.frames;
+  if (a.map_frames != 0) o.map_frames = a.map_frames;
   if (!a.resolution.empty()) o.resolution = synthetic::parse_resolution(a.resolution);
   if (!a.rig.empty()) o.rig = synthetic::parse_rig(a.rig);
   o.seed = a.seed;
@@ -81,6 +83,10 @@ void add_gen_command(CLI::App& app) {
   cmd->add_option("--out", args->out, "output directory DIR (must not exist or be empty)")
       ->required();
   cmd->add_option("--frames", args->frames, "stereo frames per run (20 Hz)")->capture_default_str();
+  cmd->add_option("--map-frames", args->map_frames,
+                  "known scenarios: frames of the map run (default: --frames); a longer map run "
+                  "maps more than the loc run visits")
+      ->check(CLI::Range(1, 1'000'000));
   cmd->add_option("--resolution", args->resolution,
                   "WIDTHxHEIGHT (default: the rig's, 752x480 euroc, 1280x720 car)");
   cmd->add_option("--rig", args->rig,

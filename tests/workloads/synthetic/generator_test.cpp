@@ -148,6 +148,34 @@ TEST(SyntheticGen, WritesTheEurocLayoutForEveryScenario) {
   }
 }
 
+// The map-size option: a longer map run than loc run; the loc run re-traverses the start of the
+// map route, so the map covers what it visits. Only the known scenarios have a map run.
+TEST(SyntheticGen, MapFramesLengthensTheMapRunOnly) {
+  TempDir dir("map_frames");
+  GenerateOptions o = small_options(Scenario::kIndoorKnown, dir.path() / "ds", 4);
+  o.map_frames = 9;
+  const GenerateSummary summary = generate_dataset(o);
+  ASSERT_EQ(summary.runs.size(), 2u);
+  EXPECT_EQ(summary.runs[0].frames, 9);
+  EXPECT_EQ(summary.runs[1].frames, 4);
+  expect_mav0_layout(o.out / "map" / "mav0", 9, false, summary.rig);
+  expect_mav0_layout(o.out / "loc" / "mav0", 4, false, summary.rig);
+  EXPECT_GT(summary.runs[0].path_length_m, 1.5 * summary.runs[1].path_length_m);
+  const auto& map_route = summary.runs[0].route;
+  const auto& loc_route = summary.runs[1].route;
+  ASSERT_FALSE(loc_route.empty());
+  EXPECT_EQ(loc_route.front(), map_route.front());
+
+  GenerateOptions unknown = small_options(Scenario::kIndoorUnknown, dir.path() / "u", 4);
+  unknown.map_frames = 9;
+  EXPECT_THROW(generate_dataset(unknown), std::runtime_error);
+  GenerateOptions zero = small_options(Scenario::kIndoorKnown, dir.path() / "z", 4);
+  zero.map_frames = 0;
+  EXPECT_THROW(generate_dataset(zero), std::runtime_error);
+  EXPECT_FALSE(fs::exists(dir.path() / "u"));
+  EXPECT_FALSE(fs::exists(dir.path() / "z"));
+}
+
 TEST(SyntheticGen, IdenticalArgumentsGiveIdenticalBytes) {
   TempDir dir("determinism");
   GenerateOptions o = small_options(Scenario::kOutdoorKnown, dir.path() / "a", 5);

@@ -110,6 +110,18 @@ void validate(const GenerateOptions& o) {
                              std::to_string(o.frames));
   }
   if (o.frames > 1'000'000) throw std::runtime_error("frames: at most 1000000");
+  if (o.map_frames) {
+    if (!has_map_run(o.scenario)) {
+      throw std::runtime_error(
+          fmt::format("map frames: only the known scenarios have a map run, "
+                      "not {}",
+                      to_string(o.scenario)));
+    }
+    if (*o.map_frames < 1 || *o.map_frames > 1'000'000) {
+      throw std::runtime_error(
+          fmt::format("map frames: expected 1 to 1000000 frames, got {}", *o.map_frames));
+    }
+  }
   if (o.threads < 1) throw std::runtime_error("threads: expected at least 1");
   if (!(o.gps.sigma_m >= 0)) throw std::runtime_error("gps sigma: expected >= 0");
   if (!(o.gps.dropout_rate_per_min >= 0))
@@ -138,6 +150,7 @@ std::string describe(const GenerateOptions& o, const StereoRig& rig,
   y += fmt::format("world: {}\n", is_outdoor(o.scenario) ? "street" : "warehouse");
   y += fmt::format("seed: {}\n", o.seed);
   y += fmt::format("frames_per_run: {}\n", o.frames);
+  if (o.map_frames) y += fmt::format("map_frames: {}\n", *o.map_frames);
   y += fmt::format("rig: {}\n", to_string(rig.kind));
   y += fmt::format("resolution: [{}, {}]\n", rig.width, rig.height);
   y += fmt::format("baseline_m: {}\n", rig.baseline_m);
@@ -205,8 +218,6 @@ GenerateSummary generate_dataset(const GenerateOptions& options, const ProgressF
   const Scene scene = build_scene(options.scenario, options.seed);
   const std::vector<Eigen::Vector3d> body_points = {rig.T_body_left.translation(),
                                                     rig.T_body_right().translation()};
-  const std::int64_t duration_ns = static_cast<std::int64_t>(options.frames - 1) * kCameraPeriodNs;
-  const double duration_s = static_cast<double>(duration_ns) * 1e-9;
   const std::int64_t imu_period_ns = std::llround(1e9 / options.imu.rate_hz);
   const std::vector<std::string> run_names = has_map_run(options.scenario)
                                                  ? std::vector<std::string>{"map", "loc"}
@@ -219,6 +230,9 @@ GenerateSummary generate_dataset(const GenerateOptions& options, const ProgressF
   double render_seconds = 0;
   for (std::size_t r = 0; r < run_names.size(); ++r) {
     const std::string& name = run_names[r];
+    const int frames = r == 0 && options.map_frames ? *options.map_frames : options.frames;
+    const std::int64_t duration_ns = static_cast<std::int64_t>(frames - 1) * kCameraPeriodNs;
+    const double duration_s = static_cast<double>(duration_ns) * 1e-9;
     const std::uint64_t run_seed = derive_seed(options.seed, "run", r);
     const PlannedTrajectory planned = plan_trajectory(scene, std::max(duration_s, 0.1), run_seed,
                                                       body_points, r == 0 ? nullptr : &revisit);
@@ -233,7 +247,7 @@ GenerateSummary generate_dataset(const GenerateOptions& options, const ProgressF
                     outdoor ? "street" : "warehouse", name.empty() ? "" : ", " + name + " run",
                     to_string(rig.kind), options.seed));
     StereoCamera camera(scene.world, rig, options.image, run_seed, options.threads);
-    for (int k = 0; k < options.frames; ++k) {
+    for (int k = 0; k < frames; ++k) {
       const std::int64_t offset_ns = static_cast<std::int64_t>(k) * kCameraPeriodNs;
       const BodyState state = traj.at(static_cast<double>(offset_ns) * 1e-9);
       const auto t_render = std::chrono::steady_clock::now();
@@ -241,7 +255,7 @@ GenerateSummary generate_dataset(const GenerateOptions& options, const ProgressF
       render_seconds +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t_render).count();
       writer.add_frame(t0 + offset_ns, images.left, images.right);
-      if (progress) progress(name, k + 1, options.frames);
+      if (progress) progress(name, k + 1, frames);
     }
     const std::size_t imu_count = static_cast<std::size_t>(duration_ns / imu_period_ns) + 1;
     const InertialTrack inertial = simulate_inertial(traj, t0, imu_count, options.imu, run_seed);
@@ -257,7 +271,7 @@ GenerateSummary generate_dataset(const GenerateOptions& options, const ProgressF
 
     run.name = name;
     run.mav0 = (name.empty() ? out : out / name) / "mav0";
-    run.frames = options.frames;
+    run.frames = frames;
     run.imu_samples = inertial.imu.size();
     run.duration_s = duration_s;
     for (std::size_t i = 1; i < inertial.ground_truth.size(); ++i) {

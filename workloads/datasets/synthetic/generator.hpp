@@ -42,7 +42,11 @@ inline constexpr std::int64_t kLocalizationDelayNs = 3'600'000'000'000;
 
 struct GenerateOptions {
   Scenario scenario = Scenario::kIndoorUnknown;
-  int frames = 200;                      ///< stereo frames per run
+  int frames = 200;  ///< stereo frames per run
+  /// Known scenarios: stereo frames of the map run (default: `frames`). A longer map run maps
+  /// more of the world than the loc run (which re-traverses its route from the start) visits:
+  /// the map-size option of the registration studies (docs/REGISTRATION.md).
+  std::optional<int> map_frames;
   std::optional<Resolution> resolution;  ///< default: the rig's native resolution
   std::optional<RigKind> rig;            ///< default: by resolution, else by scenario
   std::uint64_t seed = 1;
