@@ -1,7 +1,8 @@
 #pragma once
 // Instrumentation of backend kernels for the trace (docs/TRACE.md, kernels and ops tables):
-// each kernel invocation is timed on the host with the steady clock, and inside the accelerable
-// kernels every matrix primitive is timed and recorded with its dimensions and structure flags.
+// each kernel invocation is timed on the host by the thread's CPU time (host_clock.hpp), and inside
+// the accelerable kernels every matrix primitive is timed and recorded with its dimensions and
+// structure flags.
 //
 //   KernelRecorder rec;
 //   {
@@ -10,12 +11,12 @@
 //     Eigen::MatrixXd S = rec.op(trace::Op::Gemm, m, n, k, 0, [&] { return (H * PHt).eval(); });
 //   }  // host_ns of the kernel is set here
 //   out.kernels = rec.take();
-#include <chrono>
 #include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "workloads/trace/host_clock.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::backend {
@@ -57,12 +58,8 @@ class KernelRecorder {
   /// std::logic_error while a kernel is open.
   std::vector<trace::KernelRecord> take();
 
-  /// Steady-clock now in ns.
-  static std::int64_t now_ns() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-  }
+  /// The recording thread's CPU time in ns (workloads/trace/host_clock.hpp).
+  static std::int64_t now_ns() { return trace::thread_cpu_ns(); }
 
  private:
   class OpTimer {

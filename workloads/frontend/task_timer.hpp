@@ -1,31 +1,44 @@
 #pragma once
-// Host timing of frontend tasks: steady-clock nanoseconds added to a TaskRecord's host_ns.
-#include <chrono>
+// Host timing of frontend tasks: the thread's CPU time (workloads/trace/host_clock.hpp) added to
+// a TaskRecord's host_ns.
 #include <cstdint>
+#include <opencv2/core/utility.hpp>
 
+#include "workloads/trace/host_clock.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::frontend {
 
-/// Steady-clock time in nanoseconds (arbitrary epoch; only differences mean something).
-inline std::int64_t steady_now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-/// Adds the time from construction to destruction to `task.host_ns`. A task that runs in
-/// several stages (FD: detection, then selection once tracks are known) accumulates.
+/// Adds the thread CPU time from construction to destruction to `task.host_ns`. A task that runs
+/// in several stages (FD: detection, then selection once tracks are known) accumulates.
 class ScopedTaskTimer {
  public:
-  explicit ScopedTaskTimer(trace::TaskRecord& task) : task_(task), start_ns_(steady_now_ns()) {}
-  ~ScopedTaskTimer() { task_.host_ns += steady_now_ns() - start_ns_; }
+  explicit ScopedTaskTimer(trace::TaskRecord& task)
+      : task_(task), start_ns_(trace::thread_cpu_ns()) {}
+  ~ScopedTaskTimer() { task_.host_ns += trace::thread_cpu_ns() - start_ns_; }
   ScopedTaskTimer(const ScopedTaskTimer&) = delete;
   ScopedTaskTimer& operator=(const ScopedTaskTimer&) = delete;
 
  private:
   trace::TaskRecord& task_;
   std::int64_t start_ns_;
+};
+
+/// While tracing with the tasks one after another (not `parallel_images`), OpenCV runs on the
+/// calling thread only (cv::setNumThreads(1)), so that a task's thread CPU time is all of its
+/// work rather than missing what OpenCV's pool threads did; the previous setting comes back on
+/// destruction. With `parallel_images` the pool stays (nested OpenCV calls run serially).
+class TracingThreads {
+ public:
+  explicit TracingThreads(bool parallel_images) : previous_(cv::getNumThreads()) {
+    if (!parallel_images) cv::setNumThreads(1);
+  }
+  ~TracingThreads() { cv::setNumThreads(previous_); }
+  TracingThreads(const TracingThreads&) = delete;
+  TracingThreads& operator=(const TracingThreads&) = delete;
+
+ private:
+  int previous_;
 };
 
 /// A TaskRecord for `task` on `image` with every count at 0.

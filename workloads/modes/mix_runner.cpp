@@ -18,6 +18,7 @@
 #include "workloads/frontend/task_timer.hpp"
 #include "workloads/frontend/trace_meta.hpp"
 #include "workloads/modes/pipeline.hpp"
+#include "workloads/trace/host_clock.hpp"
 #include "workloads/trace/writer.hpp"
 
 namespace edx::modes {
@@ -88,6 +89,7 @@ std::string world_key(const MixPlan& plan, const MixSegment& segment) {
 
 MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress) {
   const auto run_start = std::chrono::steady_clock::now();
+  const frontend::TracingThreads threads(options.frontend.parallel_images);
   options.frontend.validate();
   options.mode_switch.validate();
   if (options.out.empty()) throw std::runtime_error("no output trace file given");
@@ -211,9 +213,9 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
       input.frontend = &result;
       input.imu = between(dataset.imu(), previous_t_ns, images.t_ns);
       input.gps = between(dataset.gps(), previous_t_ns, images.t_ns);
-      const std::int64_t start_ns = frontend::steady_now_ns();
+      const std::int64_t start_ns = trace::process_cpu_ns();
       backend::BackendOutput output = backend->process(input);
-      record.frame.backend_host_ns = frontend::steady_now_ns() - start_ns;
+      record.frame.backend_host_ns = trace::process_cpu_ns() - start_ns;
       record.frame.backend_status = output.status;
       if (decision.mode == BackendMode::Registration) {
         mode_switch.report_registration(output.T_world_body.has_value());

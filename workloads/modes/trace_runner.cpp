@@ -16,6 +16,7 @@
 #include "workloads/frontend/task_timer.hpp"
 #include "workloads/frontend/trace_meta.hpp"
 #include "workloads/modes/pipeline.hpp"
+#include "workloads/trace/host_clock.hpp"
 #include "workloads/trace/writer.hpp"
 
 namespace edx::modes {
@@ -54,6 +55,7 @@ std::string sequence_name(const fs::path& dataset_path, datasets::DatasetFormat 
 
 TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& progress) {
   const auto run_start = std::chrono::steady_clock::now();
+  const frontend::TracingThreads threads(options.frontend.parallel_images);
   options.frontend.validate();
   if (options.out.empty()) throw std::runtime_error("no output trace file given");
   // Refuse an existing output before any work (TraceWriter checks again when it opens).
@@ -152,9 +154,9 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
       input.frontend = &result;
       input.imu = between(dataset->imu(), previous_t_ns, images.t_ns);
       input.gps = between(dataset->gps(), previous_t_ns, images.t_ns);
-      const std::int64_t start_ns = frontend::steady_now_ns();
+      const std::int64_t start_ns = trace::process_cpu_ns();
       backend::BackendOutput output = backend->process(input);
-      record.frame.backend_host_ns = frontend::steady_now_ns() - start_ns;
+      record.frame.backend_host_ns = trace::process_cpu_ns() - start_ns;
       record.frame.backend_status = output.status;
       if (output.T_world_body) {
         record.frame.estimated_pose = to_pose_array(*output.T_world_body);

@@ -42,9 +42,9 @@ struct TraceRunOptions {
   /// data with GPS, indoor_unknown otherwise (the *_known variants with the registration
   /// backend, whose frames are also marked map_available).
   std::optional<trace::Scenario> scenario;
-  /// Frontend options. Traces run the tasks one after another by default, so that each task's
-  /// host time is its own and not inflated by the other tasks of the frame competing for the
-  /// cores (OpenCV's own threading inside a task stays on).
+  /// Frontend options. Traces run the tasks one after another by default, each on the calling
+  /// thread (OpenCV single-threaded while tracing, frontend::TracingThreads), so that each task's
+  /// host time (thread CPU time, workloads/trace/host_clock.hpp) is all of its own work.
   FrontendOptions frontend = [] {
     FrontendOptions o;
     o.parallel_images = false;

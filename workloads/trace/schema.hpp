@@ -6,7 +6,8 @@
 
 namespace edx::trace {
 
-inline constexpr int kSchemaVersion = 1;
+// 2 (2026-11-25): host_ns columns are CPU time (host_clock.hpp), no longer wall time.
+inline constexpr int kSchemaVersion = 2;
 
 /// Metadata keys every trace carries (besides schema_version).
 inline constexpr std::array<std::string_view, 10> kRequiredMetaKeys{
