@@ -396,9 +396,9 @@ std::string format_system_result(const SystemResult& r) {
   const nlohmann::json cmp = r.comparison();
   for (const auto& [mode, c] : cmp.items()) {
     text += fmt::format(
-        "speedup    {:<6} e2e {:.2f}x, backend {:.2f}x, e2e SD -{:.1f}%, energy -{:.1f}%\n", mode,
+        "speedup    {:<6} e2e {:.2f}x, backend {:.2f}x, e2e SD {:+.1f}%, energy {:+.1f}%\n", mode,
         c["e2e_speedup"].get<double>(), c["backend_speedup"].get<double>(),
-        100 * c["e2e_sd_reduction"].get<double>(), 100 * c["energy_reduction"].get<double>());
+        -100 * c["e2e_sd_reduction"].get<double>(), -100 * c["energy_reduction"].get<double>());
   }
   for (const KernelScheduleSummary& s : r.schedule) {
     const std::string model =
