@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "workloads/trace/host_clock.hpp"
+
 namespace edx::backend {
 namespace {
 
@@ -18,8 +20,12 @@ TEST(KernelRecorder, RecordsKernelsAndOpsInOrderWithTimes) {
     const Eigen::MatrixXd s = recorder.op(trace::Op::Syrk, 40, 40, 30, trace::op_flags::kSymmetric,
                                           [&] { return (a * a.transpose()).eval(); });
     EXPECT_EQ(s.rows(), 40);
+    // Host times are the thread's CPU time: 2 ms of work count, a sleep would not.
     recorder.op(trace::Op::Transpose, 40, 30, 0, 0, [&] {
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      const std::int64_t start = trace::thread_cpu_ns();
+      volatile double x = 0;
+      while (trace::thread_cpu_ns() - start < 2'000'000) x = x + 1;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
       return 0;
     });
   }
@@ -34,6 +40,7 @@ TEST(KernelRecorder, RecordsKernelsAndOpsInOrderWithTimes) {
   EXPECT_EQ(kernels[0].ops[0].k, 30);
   EXPECT_EQ(kernels[0].ops[0].flags, trace::op_flags::kSymmetric);
   EXPECT_GE(kernels[0].ops[1].host_ns, 2'000'000);
+  EXPECT_LT(kernels[0].ops[1].host_ns, 4'000'000);  // not the 5 ms of sleep
   // The kernel's time covers its ops.
   EXPECT_GE(kernels[0].host_ns, kernels[0].ops[0].host_ns + kernels[0].ops[1].host_ns);
   EXPECT_EQ(kernels[1].kernel, "imu_propagation");
