@@ -151,8 +151,8 @@ void add_trace_command(CLI::App& app) {
   cmd->add_option("--features", args->features, "Keypoint budget per image")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--parallel", args->parallel,
-                "Run tracking and feature extraction on parallel threads (faster; per-task host "
-                "times then include waiting for a core)");
+                "Run tracking and feature extraction on parallel threads (faster; host times stay "
+                "CPU time of the work, docs/TRACE.md)");
   CLI::Option* mix_opt =
       cmd->add_option(
              "--mix", args->mix,
