@@ -523,6 +523,17 @@ std::optional<double> sweep_value(const SweepPoint& p, const std::string& metric
   return p.metrics[metric].get<double>();
 }
 
+/// A sweep point's parameters, "key = value, ...".
+std::string parameters_text(const SweepPoint& p) {
+  std::string text;
+  if (!p.parameters.is_object()) return text;
+  for (const auto& [k, v] : p.parameters.items()) {
+    text +=
+        (text.empty() ? "" : ", ") + k + " = " + (v.is_string() ? v.get<std::string>() : v.dump());
+  }
+  return text;
+}
+
 /// The points of a sweep and their Pareto front (sweep_points.pareto, as `edx sweep` stored it):
 /// one plot per pair (first objective, each other objective); one objective: value per point.
 std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std::string& gnuplot,
@@ -599,13 +610,7 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
     for (const std::string& c : columns) h += "<th>" + html_escape(c) + "</th>";
     h += "<th>feasible</th><th>Pareto</th></tr>\n";
     for (const SweepPoint& p : sweep.points) {
-      std::string params;
-      if (p.parameters.is_object()) {
-        for (const auto& [k, v] : p.parameters.items()) {
-          params += (params.empty() ? "" : ", ") + k + " = " +
-                    (v.is_string() ? v.get<std::string>() : v.dump());
-        }
-      }
+      const std::string params = parameters_text(p);
       h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td>", p.point, html_escape(p.run_id),
                        html_escape(params));
       for (const std::string& c : columns) {
@@ -786,14 +791,8 @@ std::string runs_table_html(const ResultsData& data, const std::vector<std::size
               sections.end()) {
         continue;
       }
-      std::string params;
-      if (p.parameters.is_object()) {
-        for (const auto& [k, v] : p.parameters.items()) {
-          params += ", " + k + " = " + (v.is_string() ? v.get<std::string>() : v.dump());
-        }
-      }
-      rows += row(*run, fmt::format("{}{} (point of sweep <a href=\"#sweeps\">{}</a>)",
-                                    html_escape(run_title(*run)), html_escape(params),
+      rows += row(*run, fmt::format("{}, {} (point of sweep <a href=\"#sweeps\">{}</a>)",
+                                    html_escape(run_title(*run)), html_escape(parameters_text(p)),
                                     html_escape(sweep.sweep_id)));
     }
     if (rows.empty()) continue;
