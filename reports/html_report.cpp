@@ -31,9 +31,13 @@ constexpr const char* kPalette[] = {"#0072B2", "#E69F00", "#009E73", "#CC79A7",
                                     "#56B4E9", "#D55E00", "#F0E442", "#000000"};
 constexpr const char* kBaselineColor = "#999999";
 constexpr const char* kAcceleratedColor = "#0072B2";
-/// SVG: crisp at any zoom; `dynamic` lets the page scale it to the column width.
-constexpr const char* kTerminal =
-    "set terminal svg size 960,540 dynamic noenhanced font 'Sans,11' background '#ffffff'\n";
+/// The gnuplot terminal line: SVG, crisp at any zoom; `dynamic` lets the page scale it.
+std::string svg_terminal(int width, int height) {
+  return fmt::format(
+      "set terminal svg size {},{} dynamic noenhanced font 'Sans,11' background '#ffffff'\n", width,
+      height);
+}
+const std::string kTerminal = svg_terminal(960, 540);
 constexpr const char* kPlotExtension = ".svg";
 
 const char* mode_color(const std::string& mode) {
@@ -731,9 +735,8 @@ std::string paper_check_html(const ResultsData& data, const std::vector<std::siz
       const std::string image = stem + kPlotExtension;
       std::ofstream(dir / (stem + ".dat")) << dat;
       std::ofstream(dir / (stem + ".gp"))
-          << "set terminal svg size 960," << 200 + 18 * index
-          << " dynamic noenhanced font 'Sans,11' background '#ffffff'\n"
-          << "set output " << gp_quote((dir / image).string()) << "\n"
+          << svg_terminal(960, 200 + 18 * index) << "set output "
+          << gp_quote((dir / image).string()) << "\n"
           << "datafile = " << gp_quote((dir / (stem + ".dat")).string()) << "\n"
           << "set title 'Simulated / paper per target (grey band: tolerance)'\n"
           << "set xlabel 'simulated / paper'\nset logscale x\nset xrange [0.1:10]\n"
