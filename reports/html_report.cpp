@@ -16,6 +16,7 @@
 #include <stdexcept>
 
 #include "reports/metrics.hpp"
+#include "reports/paper_check.hpp"
 #include "sim_core/atomic_file.hpp"
 #include "workloads/trace/reader.hpp"
 
@@ -30,7 +31,14 @@ constexpr const char* kPalette[] = {"#0072B2", "#E69F00", "#009E73", "#CC79A7",
                                     "#56B4E9", "#D55E00", "#F0E442", "#000000"};
 constexpr const char* kBaselineColor = "#999999";
 constexpr const char* kAcceleratedColor = "#0072B2";
-constexpr const char* kTerminal = "set terminal pngcairo size 960,540 noenhanced font 'Sans,11'\n";
+/// The gnuplot terminal line: SVG, crisp at any zoom; `dynamic` lets the page scale it.
+std::string svg_terminal(int width, int height) {
+  return fmt::format(
+      "set terminal svg size {},{} dynamic noenhanced font 'Sans,11' background '#ffffff'\n", width,
+      height);
+}
+const std::string kTerminal = svg_terminal(960, 540);
+constexpr const char* kPlotExtension = ".svg";
 
 const char* mode_color(const std::string& mode) {
   if (mode == "registration") return kPalette[0];
@@ -183,7 +191,7 @@ class RunReport {
   std::string plot(const std::string& name, const std::string& data, const std::string& script,
                    const std::string& what) {
     if (!plot_) return "";
-    const std::string png = prefix_ + name + ".png";
+    const std::string png = prefix_ + name + kPlotExtension;
     const fs::path dat = dir_ / (prefix_ + name + ".dat");
     const fs::path gp = dir_ / (prefix_ + name + ".gp");
     std::ofstream(dat) << data;
@@ -519,6 +527,17 @@ std::optional<double> sweep_value(const SweepPoint& p, const std::string& metric
   return p.metrics[metric].get<double>();
 }
 
+/// A sweep point's parameters, "key = value, ...".
+std::string parameters_text(const SweepPoint& p) {
+  std::string text;
+  if (!p.parameters.is_object()) return text;
+  for (const auto& [k, v] : p.parameters.items()) {
+    text +=
+        (text.empty() ? "" : ", ") + k + " = " + (v.is_string() ? v.get<std::string>() : v.dump());
+  }
+  return text;
+}
+
 /// The points of a sweep and their Pareto front (sweep_points.pareto, as `edx sweep` stored it):
 /// one plot per pair (first objective, each other objective); one objective: value per point.
 std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std::string& gnuplot,
@@ -565,7 +584,7 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
       for (const std::string& b : blocks)
         dat += "# block\n" + (b.empty() ? "nan nan\n" : b) + "\n\n";
       const std::string stem = fmt::format("sweep{}_{}", index, j);
-      const std::string png = stem + ".png";
+      const std::string png = stem + kPlotExtension;
       std::ofstream(dir / (stem + ".dat")) << dat;
       std::ofstream(dir / (stem + ".gp"))
           << kTerminal << "set output " << gp_quote((dir / png).string()) << "\n"
@@ -595,13 +614,7 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
     for (const std::string& c : columns) h += "<th>" + html_escape(c) + "</th>";
     h += "<th>feasible</th><th>Pareto</th></tr>\n";
     for (const SweepPoint& p : sweep.points) {
-      std::string params;
-      if (p.parameters.is_object()) {
-        for (const auto& [k, v] : p.parameters.items()) {
-          params += (params.empty() ? "" : ", ") + k + " = " +
-                    (v.is_string() ? v.get<std::string>() : v.dump());
-        }
-      }
+      const std::string params = parameters_text(p);
       h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td>", p.point, html_escape(p.run_id),
                        html_escape(params));
       for (const std::string& c : columns) {
@@ -616,15 +629,225 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
   return h;
 }
 
+/// "edx_car × kitti.db": a run named for people (the hash stays as a small id).
+std::string run_title(const RunData& r) {
+  return fmt::format("{} × {}", r.platform, fs::path(r.trace).filename().string());
+}
+
+/// A number from the run summary at `path` (JSON pointer), NaN when absent.
+double summary_number(const RunData& r, const std::string& path) {
+  const nlohmann::json::json_pointer pointer(path);
+  return r.summary.contains(pointer) && r.summary[pointer].is_number()
+             ? r.summary[pointer].get<double>()
+             : NAN;
+}
+
+/// One row of headline figures per run that has a section: speedup per mode, SD reduction,
+/// FPS without / with pipelining, energy, resources and fit.
+std::string summary_html(const ResultsData& data, const std::vector<std::size_t>& sections) {
+  std::string h =
+      "<h2 id=\"summary\">Summary</h2>\n<p class=\"cap\">One row per platform run: accelerated "
+      "against its CPU-only baseline. Look for the e2e speedup per mode and whether the design "
+      "fits its device.</p>\n<table><tr><th>run</th><th>e2e speedup per mode</th>"
+      "<th>e2e SD reduction</th><th>FPS (baseline → accel.)</th><th>FPS pipelined (accel.)</th>"
+      "<th>energy / frame (baseline → accel.)</th><th>LUT / DSP</th><th>fits</th></tr>\n";
+  for (std::size_t i : sections) {
+    const RunData& r = data.runs[i];
+    std::string speedups;
+    if (r.summary.contains("comparison") && r.summary["comparison"].is_object()) {
+      for (const auto& [mode, c] : r.summary["comparison"].items()) {
+        speedups += fmt::format("{}{} {}×", speedups.empty() ? "" : "<br>", html_escape(mode),
+                                num(c.value("e2e_speedup", NAN)));
+      }
+    }
+    const auto fits = nlohmann::json::json_pointer("/resources/fits");
+    h += fmt::format(
+        "<tr><td><a href=\"#run{}_\">{}</a> <small>{}</small></td><td>{}</td><td>{}</td>"
+        "<td>{} → {}</td><td>{}</td><td>{} → {} J</td><td>{} / {}</td><td>{}</td></tr>\n",
+        i + 1, html_escape(run_title(r)), html_escape(r.run_id), speedups,
+        pct(summary_number(r, "/comparison/all/e2e_sd_reduction")),
+        num(summary_number(r, "/baseline/fps_without_pipelining"), 1),
+        num(summary_number(r, "/accelerated/fps_without_pipelining"), 1),
+        num(summary_number(r, "/accelerated/fps_with_pipelining"), 1),
+        num(summary_number(r, "/baseline/modes/all/energy_j/mean"), 3),
+        num(summary_number(r, "/accelerated/modes/all/energy_j/mean"), 3),
+        num(summary_number(r, "/resources/total/lut"), 0),
+        num(summary_number(r, "/resources/total/dsp"), 0),
+        r.summary.contains(fits) ? (r.summary[fits].get<bool>() ? "yes" : "<b>no</b>") : "–");
+  }
+  return h + "</table>\n";
+}
+
+/// The paper check (reports/paper_targets.yaml, as `edx check`) of each Edx-Car run with a
+/// section: a table and a plot of simulated / paper per target with the tolerance band.
+std::string paper_check_html(const ResultsData& data, const std::vector<std::size_t>& sections,
+                             const fs::path& dir, const std::string& gnuplot, bool plot,
+                             std::vector<std::string>& images) {
+  const std::vector<PaperTarget> targets = load_targets(default_targets_path());
+  // Misses are explained in one place (docs/MODEL.md); the report links there.
+  const std::string model_doc =
+      "file://" +
+      (default_targets_path().parent_path().parent_path() / "docs" / "MODEL.md").string() +
+      "#what-is-not-reachable-honestly-and-why";
+  std::string h;
+  for (std::size_t i : sections) {
+    const RunData& r = data.runs[i];
+    if (r.platform != "edx_car") continue;
+    const CheckResult check = check_targets(targets, run_metrics(r), r.run_id);
+    h += fmt::format(
+        "<h2 id=\"check{0}\">Paper check: {1} <small>{2}</small></h2>\n<p class=\"cap\">{3} of "
+        "{4} of the paper's Edx-Car figures within tolerance (as <code>edx check --results DB "
+        "--run {2}</code>). Why targets miss: <a href=\"{5}\">docs/MODEL.md</a>.</p>\n",
+        i + 1, html_escape(run_title(r)), html_escape(r.run_id), check.passed(), check.rows.size(),
+        html_escape(model_doc));
+    std::string dat = "# index ratio(simulated/paper) tolerance label\n";
+    std::string rows =
+        "<table><tr><th>target</th><th>paper</th><th>simulated</th><th>error</th>"
+        "<th>tolerance</th><th>verdict</th><th>source</th></tr>\n";
+    int index = 0;
+    for (const CheckRow& row : check.rows) {
+      const std::string verdict = row.verdict == Verdict::kPass       ? "pass"
+                                  : row.verdict == Verdict::kNotFound ? "MISS (not found)"
+                                                                      : "MISS";
+      const std::string unit = row.target.unit.empty() ? "" : " " + row.target.unit;
+      rows += fmt::format(
+          "<tr{}><td>{}</td><td>{:.4g}{}</td><td>{}</td><td>{}</td><td>±{:.0f}%</td><td>{}</td>"
+          "<td>{}</td></tr>\n",
+          row.verdict == Verdict::kPass ? "" : " class=\"miss\"", html_escape(row.target.name),
+          row.target.paper, html_escape(unit),
+          row.simulated ? fmt::format("{:.4g}{}", *row.simulated, html_escape(unit)) : "–",
+          row.simulated ? fmt::format("{:+.1f}%", 100 * row.error) : "–",
+          100 * row.target.tolerance,
+          row.verdict == Verdict::kPass
+              ? verdict
+              : fmt::format("<a href=\"{}\">{}</a>", html_escape(model_doc), verdict),
+          html_escape(row.target.source));
+      if (row.simulated) {
+        std::string label = row.target.name;
+        std::erase(label, '"');
+        dat += fmt::format("{} {:.6g} {:.6g} \"{}\"\n", index, *row.simulated / row.target.paper,
+                           row.target.tolerance, label);
+      }
+      ++index;
+    }
+    if (plot && index > 0) {
+      const std::string stem = fmt::format("check{}", i + 1);
+      const std::string image = stem + kPlotExtension;
+      std::ofstream(dir / (stem + ".dat")) << dat;
+      std::ofstream(dir / (stem + ".gp"))
+          << svg_terminal(960, 200 + 18 * index) << "set output "
+          << gp_quote((dir / image).string()) << "\n"
+          << "datafile = " << gp_quote((dir / (stem + ".dat")).string()) << "\n"
+          << "set title 'Simulated / paper per target (grey band: tolerance)'\n"
+          << "set xlabel 'simulated / paper'\nset logscale x\nset xrange [0.1:10]\n"
+          << "set yrange [" << index << ":-1]\nset grid xtics\nset lmargin 38\nunset key\n"
+          << "set ytics scale 0\n"
+          << "plot datafile using (1-$3):1:(1-$3):(1+$3):($1-0.4):($1+0.4):ytic(4) "
+             "with boxxyerror fs solid 0.3 noborder lc rgb '#BBBBBB', \\\n"
+          << "     '' using ($2 < 0.1 ? 0.1 : ($2 > 10 ? 10 : $2)):1:(abs($2-1) <= $3 ? 0x009E73 "
+             ": 0xD55E00) with points pt 7 ps 1.2 lc rgb variable\n";
+      run_gnuplot(gnuplot, dir / (stem + ".gp"), "paper check plot");
+      images.push_back(image);
+      h += fmt::format(
+          "<p class=\"cap\">Green: within tolerance; orange: a miss (clamped to 0.1–10 on the "
+          "log axis). Look for dots outside the grey band.</p>\n<img src=\"{}\" alt=\"paper "
+          "check\">\n",
+          image);
+    }
+    h += rows + "</table>\n";
+  }
+  return h;
+}
+
+/// A table cell: values longer than a line fold into details/summary.
+std::string folded_cell(const std::string& value) {
+  constexpr std::size_t kShown = 80;
+  if (value.size() <= kShown) return "<td class=\"text\">" + html_escape(value) + "</td>";
+  return fmt::format(
+      "<td class=\"text\"><details><summary>{}…</summary><code>{}</code></details></td>",
+      html_escape(value.substr(0, kShown)), html_escape(value));
+}
+
+/// The runs: those with a section first, named platform × trace; the points of each sweep
+/// folded under it.
+std::string runs_table_html(const ResultsData& data, const std::vector<std::size_t>& sections,
+                            const std::map<std::string, std::string>& sweep_of_run) {
+  const std::string header =
+      "<table><tr><th>run</th><th>id</th><th>frames</th><th>policy</th></tr>\n";
+  const auto row = [&](const RunData& r, const std::string& name) {
+    return fmt::format("<tr><td>{}</td><td><small>{}</small></td><td>{}</td><td>{}</td></tr>\n",
+                       name, html_escape(r.run_id), r.frames, html_escape(r.policy));
+  };
+  std::string h = "<h2>Runs</h2>\n" + header;
+  for (std::size_t i : sections) {
+    h += row(data.runs[i], fmt::format("<a href=\"#run{}_\">{}</a>", i + 1,
+                                       html_escape(run_title(data.runs[i]))));
+  }
+  h += "</table>\n";
+  for (const SweepData& sweep : data.sweeps) {
+    std::string rows;
+    for (const SweepPoint& p : sweep.points) {
+      const auto run = std::find_if(data.runs.begin(), data.runs.end(),
+                                    [&](const RunData& r) { return r.run_id == p.run_id; });
+      if (run == data.runs.end() || !sweep_of_run.contains(run->run_id) ||
+          std::find(sections.begin(), sections.end(), std::size_t(run - data.runs.begin())) !=
+              sections.end()) {
+        continue;
+      }
+      rows += row(*run, fmt::format("{}, {} (point of sweep <a href=\"#sweeps\">{}</a>)",
+                                    html_escape(run_title(*run)), html_escape(parameters_text(p)),
+                                    html_escape(sweep.sweep_id)));
+    }
+    if (rows.empty()) continue;
+    h +=
+        fmt::format("<details><summary>Sweep {}: {} point runs</summary>\n{}{}</table></details>\n",
+                    html_escape(sweep.sweep_id), sweep.points.size(), header, rows);
+  }
+  return h;
+}
+
+/// The trace's meta table; long values (pipeline_params) fold.
+std::string trace_meta_html(const fs::path& trace_path) {
+  const trace::TraceReader reader(trace_path);
+  std::string h = fmt::format("<h2>Trace {}</h2>\n<table><tr><th>key</th><th>value</th></tr>\n",
+                              html_escape(trace_path.string()));
+  for (const auto& [k, v] : reader.meta()) {
+    h += fmt::format("<tr><td>{}</td>{}</tr>\n", html_escape(k), folded_cell(v));
+  }
+  return h + "</table>\n";
+}
+
 constexpr const char* kStyle = R"css(
 body { font-family: sans-serif; max-width: 1100px; margin: 2em auto; color: #222; }
 table { border-collapse: collapse; margin: 0.5em 0 1.5em; font-size: 0.9em; }
 th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
 th { background: #f0f0f0; } td:first-child, th:first-child { text-align: left; }
+td { overflow-wrap: break-word; } td.text { text-align: left; } td.text code { white-space: normal; }
+tr.miss td { background: #fdebe3; } small { color: #777; }
+h2 small { font-weight: normal; }
 tr.total td { font-weight: bold; }
 img { max-width: 100%; border: 1px solid #eee; }
 p.cap { color: #555; font-size: 0.9em; }
 )css";
+
+/// Test-only self-check, inert unless the page is opened as index.html?browser-check (the
+/// browser test, docs/REPORTS.md): after load, appends <pre id="browser-check"> with JSON
+/// {images, broken: [src], wide: [tag#id], scroll_width, viewport}.
+constexpr const char* kBrowserCheck = R"js(
+if (location.search.includes('browser-check')) addEventListener('load', () => {
+  const viewport = document.documentElement.clientWidth;
+  const images = [...document.images];
+  const broken = images.filter(i => !i.complete || i.naturalWidth === 0).map(i => i.src);
+  const wide = [...document.body.querySelectorAll('*')]
+      .filter(e => e.getBoundingClientRect().right > viewport + 0.5)
+      .map(e => e.tagName + (e.id ? '#' + e.id : ''));
+  const out = document.createElement('pre');
+  out.id = 'browser-check';
+  out.textContent = JSON.stringify({images: images.length, broken, wide, viewport,
+                                    scroll_width: document.documentElement.scrollWidth});
+  document.body.appendChild(out);
+});
+)js";
 
 }  // namespace
 
@@ -672,31 +895,15 @@ ReportResult write_report(const ResultsData& data, const ReportOptions& options)
     const auto has_section = [&](const RunData& r) {
       return !r.frame_rows.empty() || !sweep_of_run.contains(r.run_id);
     };
-    body +=
-        "<h2>Runs</h2>\n<table><tr><th>run</th><th>platform</th><th>trace</th>"
-        "<th>frames</th><th>policy</th></tr>\n";
+    std::vector<std::size_t> sections;
     for (std::size_t i = 0; i < data.runs.size(); ++i) {
-      const RunData& r = data.runs[i];
-      const std::string link =
-          has_section(r) ? fmt::format("<a href=\"#run{}_\">{}</a>", i + 1, html_escape(r.run_id))
-                         : fmt::format("{} (point of sweep <a href=\"#sweeps\">{}</a>)",
-                                       html_escape(r.run_id), html_escape(sweep_of_run[r.run_id]));
-      body += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-                          link, html_escape(r.platform), html_escape(r.trace), r.frames,
-                          html_escape(r.policy));
+      if (has_section(data.runs[i])) sections.push_back(i);
     }
-    body += "</table>\n";
-    if (!options.trace.empty()) {
-      const trace::TraceReader reader(options.trace);
-      body += fmt::format("<h2>Trace {}</h2>\n<table><tr><th>key</th><th>value</th></tr>\n",
-                          html_escape(options.trace.string()));
-      for (const auto& [k, v] : reader.meta()) {
-        body += fmt::format("<tr><td>{}</td><td>{}</td></tr>\n", html_escape(k), html_escape(v));
-      }
-      body += "</table>\n";
-    }
-    for (std::size_t i = 0; i < data.runs.size(); ++i) {
-      if (!has_section(data.runs[i])) continue;
+    body += summary_html(data, sections);
+    body += paper_check_html(data, sections, stage, options.gnuplot, result.plotted, result.images);
+    body += runs_table_html(data, sections, sweep_of_run);
+    if (!options.trace.empty()) body += trace_meta_html(options.trace);
+    for (std::size_t i : sections) {
       RunReport run(data.runs[i], i, stage, options.gnuplot, result.plotted);
       body += run.html(result.images);
     }
@@ -704,11 +911,12 @@ ReportResult write_report(const ResultsData& data, const ReportOptions& options)
       body += sweeps_html(data, stage, options.gnuplot, result.plotted, result.images);
     const std::string html = fmt::format(
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>edx report: {0}</title>"
-        "<style>{1}</style></head>\n<body>\n<h1>edx report</h1>\n<p>Results database: "
+        "<style>{1}</style><script>{5}</script></head>\n<body>\n<h1>edx report</h1>\n<p>Results "
+        "database: "
         "<code>{0}</code> ({2} run{3}). Generated by <code>edx report</code>; plots by "
         "gnuplot (scripts and data beside them: *.gp, *.dat).</p>\n{4}</body></html>\n",
         html_escape(data.path.string()), kStyle, data.runs.size(), data.runs.size() == 1 ? "" : "s",
-        body);
+        body, kBrowserCheck);
     sim::write_file_atomically(stage / "index.html", html);
     // Swap the finished directory into place.
     const fs::path old = parent / fmt::format(".{}.old-{}", out.filename().string(), ::getpid());

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "tests/support/run_command.hpp"
@@ -90,19 +91,19 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
   // The report: a page referencing plots that exist, and a frontend timeline.
   const std::string page = read_file(out / "report" / "index.html");
   EXPECT_THAT(page, HasSubstr("<img"));
-  int pngs = 0;
+  int svgs = 0;
   for (const auto& entry : fs::directory_iterator(out / "report")) {
-    if (entry.path().extension() == ".png") {
-      ++pngs;
+    if (entry.path().extension() == ".svg") {
+      ++svgs;
       EXPECT_GT(fs::file_size(entry.path()), 1000u) << entry.path();
     }
   }
-  EXPECT_GE(pngs, 5);
+  EXPECT_GE(svgs, 5);
   // Sections for the four runs simulated by hand only (each with its latency CDF); the sweep's
   // other 13 points are rows of the Runs table that link to the sweep.
   int cdfs = 0;
   for (const auto& entry : fs::directory_iterator(out / "report")) {
-    if (entry.path().filename().string().ends_with("_latency_cdf.png")) ++cdfs;
+    if (entry.path().filename().string().ends_with("_latency_cdf.svg")) ++cdfs;
   }
   EXPECT_EQ(cdfs, 4);
   std::size_t sweep_rows = 0;
@@ -111,7 +112,40 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
     ++sweep_rows;
   }
   EXPECT_EQ(sweep_rows, 13u);
+  // The summary first, then the paper check of each Edx-Car run (car mix, KITTI) with its plot.
+  EXPECT_LT(page.find("id=\"summary\""), page.find("Paper check"));
+  EXPECT_LT(page.find("Paper check"), page.find("<h2>Runs</h2>"));
+  EXPECT_THAT(page, HasSubstr("edx_car × car_mix.db"));
+  EXPECT_THAT(page, HasSubstr("what-is-not-reachable-honestly-and-why"));
   EXPECT_GT(fs::file_size(out / "car_frontend_timeline.json"), 1000u);
+}
+
+// The demo's report in a real browser (headless Chromium at 1280 px): the page's test-only
+// self-check (index.html?browser-check, docs/REPORTS.md) reports that every image loaded and
+// that no element is wider than the viewport.
+TEST(Demo, ReportRendersInABrowserAt1280Pixels) {
+  if (run_command("command -v chromium").exit_code != 0) {
+    GTEST_SKIP() << "chromium not installed (./edx test installs it): browser check skipped";
+  }
+  const TempDir dir;
+  const fs::path out = dir.path() / "demo";
+  ASSERT_EQ(run_command(demo_command(out)).exit_code, 0);
+  const auto dom = run_command(
+      "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=1280,2000 "
+      "--virtual-time-budget=10000 --user-data-dir=" +
+      (dir.path() / "chromium").string() + " --dump-dom 'file://" +
+      (out / "report" / "index.html").string() + "?browser-check' 2>/dev/null");
+  ASSERT_EQ(dom.exit_code, 0);
+  const std::string open_tag = "<pre id=\"browser-check\">";
+  const std::size_t begin = dom.out.find(open_tag);
+  ASSERT_NE(begin, std::string::npos) << "the page did not load or its check did not run";
+  const std::size_t end = dom.out.find("</pre>", begin);
+  const auto check =
+      nlohmann::json::parse(dom.out.substr(begin + open_tag.size(), end - begin - open_tag.size()));
+  EXPECT_GE(check.at("images").get<int>(), 5) << check.dump();
+  EXPECT_TRUE(check.at("broken").empty()) << check.dump();
+  EXPECT_TRUE(check.at("wide").empty()) << check.dump();
+  EXPECT_LE(check.at("scroll_width").get<int>(), check.at("viewport").get<int>()) << check.dump();
 }
 
 TEST(Demo, BadArgumentsAreOneLineErrorsWithExitTwo) {

@@ -237,6 +237,10 @@ TEST(Report, WritesIndexAndPlots) {
   EXPECT_NE(html.find("Backend kernel breakdown"), std::string::npos);
   EXPECT_NE(html.find("kalman_gain"), std::string::npos);
   EXPECT_NE(html.find("2.00×"), std::string::npos);  // e2e speedup 100 / 50
+  // The summary comes first, the run is named platform × trace; no paper check (not Edx-Car).
+  EXPECT_LT(html.find("id=\"summary\""), html.find("<h2>Runs</h2>"));
+  EXPECT_NE(html.find("hand_made × "), std::string::npos);
+  EXPECT_EQ(html.find("Paper check"), std::string::npos);
   // Nothing left beside the report (no staging directory).
   EXPECT_EQ(edx::testing::entries(dir.path()).size(), 2u);  // r.db and report
   if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed: plots not checked";
@@ -244,9 +248,10 @@ TEST(Report, WritesIndexAndPlots) {
   // CDF, per-frame (vio, slam), backend breakdown, FPS, energy.
   EXPECT_EQ(result.images.size(), 6u);
   for (const std::string& image : result.images) {
-    const std::string png = edx::testing::read_file(dir.path() / "report" / image);
-    ASSERT_GT(png.size(), 1000u) << image;
-    EXPECT_EQ(png.substr(1, 3), "PNG") << image;
+    const std::string svg = edx::testing::read_file(dir.path() / "report" / image);
+    ASSERT_GT(svg.size(), 1000u) << image;
+    EXPECT_NE(svg.find("<svg"), std::string::npos) << image;
+    EXPECT_NE(svg.find("</svg>"), std::string::npos) << image;
     EXPECT_NE(html.find("src=\"" + image + "\""), std::string::npos) << image;
   }
 }
