@@ -21,6 +21,8 @@ void add_sweep_command(CLI::App& app);
 void add_export_command(CLI::App& app);
 /// `edx report`: HTML report with gnuplot plots of a results database.
 void add_report_command(CLI::App& app);
+/// `edx host-speed`: the machine-speed reference suite's times on this machine.
+void add_host_speed_command(CLI::App& app);
 /// `edx check`: a run against the paper's Edx-Car figures (reports/paper_targets.yaml).
 void add_check_command(CLI::App& app);
 

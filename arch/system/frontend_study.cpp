@@ -48,6 +48,7 @@ nlohmann::json FrontendStudy::to_json() const {
   for (const auto& [unit, u] : utilization) util[unit] = u;
   return {{"platform", platform},
           {"host", host.to_json()},
+          {"host_mapping", host_mapping.to_json()},
           {"frames", frames},
           {"resolution", fmt::format("{}x{}", width, height)},
           {"cpu_ms", cpu_ms.to_json()},
@@ -64,19 +65,26 @@ nlohmann::json FrontendStudy::to_json() const {
 }
 
 FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
-                             const std::string& resolution, const FrontendSimOptions& timeline) {
-  if (frames.empty()) throw std::runtime_error("the trace has no frames");
+                             const trace::TraceMeta& trace_meta, const std::string& trace_name,
+                             const FrontendSimOptions& timeline) {
+  if (frames.empty())
+    throw std::runtime_error(fmt::format("{}: the trace has no frames", trace_name));
+  const auto resolution = trace_meta.find("resolution");
+  if (resolution == trace_meta.end()) {
+    throw std::runtime_error(fmt::format("{}: trace meta has no resolution", trace_name));
+  }
   FrontendStudy study;
   study.platform = platform.name;
   study.host = platform.host;
+  study.host_mapping = map_host(platform.host, trace_meta, trace_name);
   study.frames = frames.size();
-  std::tie(study.width, study.height) = parse_wxh(resolution);
+  std::tie(study.width, study.height) = parse_wxh(resolution->second);
   const std::int64_t level0 = static_cast<std::int64_t>(study.width) * study.height;
 
   std::vector<double> cpu;
   for (const trace::FrameTrace& f : frames) {
     cpu.push_back(static_cast<double>(f.frame.frontend_host_ns) * 1e-6 *
-                  platform.host.frontend_time_scale);
+                  study.host_mapping.frontend_scale(f.frame.frame_id));
   }
   FrontendConfig sequential = platform.frontend;
   sequential.pipeline_fe_sm = false;
@@ -137,8 +145,8 @@ std::string format_frontend_study(const FrontendStudy& s) {
   row("  SM (MO..DR)", s.sm_ms);
   row("  TM (DC..LSS)", s.tm_ms);
   text += fmt::format("speedup    {:.2f}x\n", s.speedup);
-  text += fmt::format("CPU        {}: trace host time x {} ({})\n", s.host.name,
-                      s.host.frontend_time_scale, s.host.provenance);
+  text += fmt::format("CPU        {}: trace host time {}\n", s.host.name,
+                      s.host_mapping.frontend_basis());
   text += fmt::format(
       "throughput CPU {:.1f} FPS; accelerator {:.1f} FPS without FE/SM pipelining, "
       "{:.1f} FPS with it\n",

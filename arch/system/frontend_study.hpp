@@ -26,10 +26,11 @@ struct Distribution {
 
 struct FrontendStudy {
   std::string platform;
-  HostConfig host;  ///< the CPU baseline's scale and its provenance
+  HostConfig host;           ///< the CPU baseline's host
+  HostMapping host_mapping;  ///< its factor on this trace's frontend host times
   std::size_t frames = 0;
   int width = 0, height = 0;
-  Distribution cpu_ms;    ///< frontend host time x host.frontend_time_scale
+  Distribution cpu_ms;    ///< frontend host time x host_mapping.frontend_scale(frame)
   Distribution accel_ms;  ///< accelerator latency, frames one at a time (no FE/SM pipelining)
   Distribution fe_ms, sm_ms, tm_ms;
   double speedup = 0;                                          ///< cpu_ms.mean / accel_ms.mean
@@ -46,10 +47,11 @@ struct FrontendStudy {
   nlohmann::json to_json() const;
 };
 
-/// `resolution` is the trace's meta.resolution ("WxH"); a malformed one is an error naming it.
-/// `timeline`: the pipelined run's Perfetto timeline of frames [first, first + count).
+/// `trace_meta`: the trace's meta (resolution "WxH", host_speed); a malformed or missing value is
+/// an error naming `trace_name` and the key. `timeline`: the pipelined run's Perfetto timeline of
+/// frames [first, first + count).
 FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
-                             const std::string& resolution,
+                             const trace::TraceMeta& trace_meta, const std::string& trace_name,
                              const FrontendSimOptions& timeline = {});
 
 std::string format_frontend_study(const FrontendStudy& study);

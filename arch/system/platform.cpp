@@ -14,14 +14,6 @@
 
 namespace edx::arch {
 
-nlohmann::json HostConfig::to_json() const {
-  return {{"name", name},
-          {"frontend_time_scale", frontend_time_scale},
-          {"provenance", provenance},
-          {"backend_time_scale", backend_time_scale},
-          {"backend_provenance", backend_provenance}};
-}
-
 nlohmann::json SchedulerConfig::to_json() const {
   return {{"policy", to_string(policy)}, {"training_fraction", training_fraction}};
 }
@@ -136,13 +128,7 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   } catch (const std::runtime_error& e) {
     top.fail("device", e.what());
   }
-  YamlFields host(root["host"], where, "host");
-  host.read("name", p.host.name);
-  host.read("frontend_time_scale", p.host.frontend_time_scale, 0.0);
-  host.read("provenance", p.host.provenance);
-  host.read("backend_time_scale", p.host.backend_time_scale, 0.0);
-  host.read("backend_provenance", p.host.backend_provenance);
-  host.finish();
+  p.host = HostConfig::from_yaml(root["host"], where);
   p.frontend = FrontendConfig::from_yaml(root["frontend"], where);
   if (root["link"]) p.link = LinkSpec::from_yaml(root["link"], where);
   p.transfers = FrameTransferConfig::from_yaml(root["transfers"], where);

@@ -5,8 +5,8 @@
 //   name: edx_car
 //   description: ...
 //   device: xc7v690t
-//   host: {frontend_time_scale: 2.37, provenance: "...", backend_time_scale: 2.37,
-//          backend_provenance: "..."}
+//   host: {frontend_suite_ms: 71.2, provenance: "...", backend_suite_ms: 21.9,
+//          backend_provenance: "..."}         HostConfig (arch/host)
 //   frontend: {clock_mhz: 150, ...}             FrontendConfig
 //   backend: {gemm_block: 4, ...}               BackendConfig (arch/backend)
 //   link: {preset: pcie3_x8, ...}               LinkSpec
@@ -30,27 +30,12 @@
 #include "arch/backend/backend_config.hpp"
 #include "arch/cost/cost_config.hpp"
 #include "arch/frontend/frontend_config.hpp"
+#include "arch/host/host_model.hpp"
 #include "arch/link/frame_transfers.hpp"
 #include "arch/link/link.hpp"
 #include "arch/scheduler/scheduler.hpp"
 
 namespace edx::arch {
-
-/// The host CPU as far as the frontend comparison needs it: trace host times are scaled to the
-/// target CPU by a declared factor (DESIGN.md, "Host CPU").
-struct HostConfig {
-  std::string name = "trace host";
-  /// Target CPU time = trace host time x this factor, for the frontend tasks.
-  double frontend_time_scale = 1.0;
-  /// Where the factor comes from (measurement, datasheet ratio, or calibration against a paper
-  /// figure: then say so).
-  std::string provenance = "identity: the trace host is the target";
-  /// Target CPU time = trace host time x this factor, for the backend (every kernel and the
-  /// backend's whole time of a frame).
-  double backend_time_scale = 1.0;
-  std::string backend_provenance = "identity: the trace host is the target";
-  nlohmann::json to_json() const;
-};
 
 /// `scheduler:` section: the offload policy of Sec. VI-B (arch/scheduler).
 struct SchedulerConfig {

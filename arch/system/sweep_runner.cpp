@@ -227,7 +227,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
         }
         if (owner) {
           try {
-            mine.set_value(study_frontend(platform, frames, resolution->second));
+            mine.set_value(study_frontend(platform, frames, trace_meta, trace_name));
           } catch (...) {
             mine.set_exception(std::current_exception());
           }

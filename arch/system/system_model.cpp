@@ -252,12 +252,8 @@ std::string frontend_study_key(const Platform& platform) {
 SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
                              const trace::TraceMeta& trace_meta, const std::string& trace_path,
                              const FrontendSimOptions& timeline) {
-  const auto resolution = trace_meta.find("resolution");
-  if (resolution == trace_meta.end()) {
-    throw std::runtime_error(fmt::format("{}: trace meta has no resolution", trace_path));
-  }
   return simulate_system(platform, frames, trace_meta, trace_path,
-                         study_frontend(platform, frames, resolution->second, timeline));
+                         study_frontend(platform, frames, trace_meta, trace_path, timeline));
 }
 
 SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
@@ -273,7 +269,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   r.frontend.platform = platform.name;
 
   // Every accelerable kernel: host time, accelerator time (units + link), SPM check.
-  const double sb = platform.host.backend_time_scale;
+  const HostMapping host = map_host(platform.host, trace_meta, trace_path);
   std::vector<KernelInvocation> invocations;
   std::vector<KernelAccelResult> accel;
   std::vector<KernelTransfer> transfers;
@@ -290,7 +286,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       d.kernel_seq = static_cast<int>(k);
       d.kernel = kernel.kernel;
       d.size = double(kernel.m);
-      d.host_ms = 1e-6 * double(kernel.host_ns) * sb;
+      d.host_ms = 1e-6 * double(kernel.host_ns) * host.backend_scale(frame.frame.frame_id);
       d.compute_ms = 1e3 * a.seconds;
       d.transfer_ms = 1e3 * link_s;
       d.fits_spm = a.fits_spm;
@@ -328,7 +324,8 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     base.frame_id = frame.frame.frame_id;
     base.mode = trace::to_string(frame.frame.mode);
     base.frontend_ms = r.frontend.frame_cpu_ms[f];
-    base.backend_ms = 1e-6 * double(frame.frame.backend_host_ns) * sb;
+    base.backend_ms =
+        1e-6 * double(frame.frame.backend_host_ns) * host.backend_scale(frame.frame.frame_id);
     base.e2e_ms = base.frontend_ms + base.backend_ms;
     base.host_busy_ms = base.e2e_ms;
     base.activity.fpga_present = false;

@@ -8,7 +8,8 @@
 // no FPGA, every kernel on the host) and "accelerated". Statistics per mode of the trace's
 // frames (registration, vio, slam, none) and over all frames.
 //
-// Backend of a frame f (seconds; s_b = host.backend_time_scale, O_f the offloaded kernels):
+// Backend of a frame f (seconds; s_b = s_b(f), the host mapping's backend factor around frame f,
+// arch/host; O_f the offloaded kernels):
 //   be_cpu(f) = s_b · backend_host_ns(f)
 //   be_acc(f) = be_cpu(f) − Σ_{k∈O_f} s_b · host_ns(k) + Σ_{k∈O_f} (t_accel(k) + t_link(k))
 // t_accel: Σ op cycles of the kernel on the backend units / clock (accelerate_kernel);

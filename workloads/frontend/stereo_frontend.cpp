@@ -7,6 +7,7 @@
 #include <exception>
 #include <functional>
 #include <initializer_list>
+#include <numeric>
 #include <opencv2/core/utility.hpp>
 #include <stdexcept>
 
@@ -35,26 +36,52 @@ void check_image(const cv::Mat& image, const char* side, std::size_t frame) {
 /// cv::getNumThreads() threads), waits for all and rethrows the first job's exception. OpenCV
 /// runs parallel_for_ calls made inside a running one serially, so the OpenCV functions the
 /// jobs call (LK, Gaussian filter, resize) do not compete with the jobs for the cores.
-void run_concurrently(std::initializer_list<std::function<void()>> jobs) {
+/// Returns the jobs' work: the sum of each job's thread CPU time, ns (the pool's threads waiting
+/// for work, and the calling thread waiting for the jobs, are not work).
+std::int64_t run_concurrently(std::initializer_list<std::function<void()>> jobs) {
   const std::vector<std::function<void()>> list(jobs);
   std::vector<std::exception_ptr> failures(list.size());
+  std::vector<std::int64_t> work_ns(list.size(), 0);
   cv::parallel_for_(
       cv::Range(0, static_cast<int>(list.size())),
       [&](const cv::Range& range) {
         for (int j = range.start; j < range.end; ++j) {
           const auto index = static_cast<std::size_t>(j);
+          const std::int64_t start = trace::thread_cpu_ns();
           try {
             list[index]();
           } catch (...) {
             failures[index] = std::current_exception();
           }
+          work_ns[index] = trace::thread_cpu_ns() - start;
         }
       },
       static_cast<double>(list.size()));
   for (const std::exception_ptr& failure : failures) {
     if (failure) std::rethrow_exception(failure);
   }
+  return std::accumulate(work_ns.begin(), work_ns.end(), std::int64_t{0});
 }
+
+/// The CPU time of a frame's work (FrontendFrame::host_ns): the calling thread's CPU time,
+/// except while it waits in run_concurrently, plus the concurrent jobs' own CPU time.
+class FrameWorkClock {
+ public:
+  FrameWorkClock() : start_ns_(trace::thread_cpu_ns()) {}
+  /// Runs `jobs` concurrently and counts their work instead of the caller's wait.
+  void run_concurrently(std::initializer_list<std::function<void()>> jobs) {
+    const std::int64_t before = trace::thread_cpu_ns();
+    jobs_ns_ += edx::frontend::run_concurrently(jobs);
+    waited_ns_ += trace::thread_cpu_ns() - before;
+  }
+  std::int64_t elapsed_ns() const {
+    return trace::thread_cpu_ns() - start_ns_ - waited_ns_ + jobs_ns_;
+  }
+
+ private:
+  std::int64_t start_ns_;
+  std::int64_t waited_ns_ = 0, jobs_ns_ = 0;
+};
 
 }  // namespace
 
@@ -79,7 +106,7 @@ void StereoFrontend::reset() {
 }
 
 FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right) {
-  const std::int64_t start_ns = trace::process_cpu_ns();  // all threads (--parallel)
+  FrameWorkClock clock;
   const std::size_t frame = frames_;
   check_image(left, "left", frame);
   check_image(right, "right", frame);
@@ -142,7 +169,7 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
         extractor_.describe(right_corners.pyramid, right_smoothed, right_keypoints, fc_right);
   };
   if (options_.parallel_images) {
-    run_concurrently({tracking_chain, left_detection, right_detection});
+    clock.run_concurrently({tracking_chain, left_detection, right_detection});
   } else {
     right_detection();
     left_detection();
@@ -185,7 +212,7 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
         extractor_.describe(left_corners.pyramid, left_smoothed, left_keypoints, fc_left);
   };
   if (options_.parallel_images) {
-    run_concurrently({left_description, right_description});
+    clock.run_concurrently({left_description, right_description});
   } else {
     right_description();
     left_description();
@@ -220,7 +247,7 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
   out.stats.right_keypoints = static_cast<int>(right_keypoints.size());
 
   out.tasks = {fd_left, if_left, fd_right, if_right, dc, lss, fc_left, fc_right, mo, dr};
-  out.host_ns = trace::process_cpu_ns() - start_ns;
+  out.host_ns = clock.elapsed_ns();
   // Counting LK iterations is measurement, not frontend work: after the frame's timing.
   if (options_.count_lk_iterations) {
     tracker_.count_iterations(previous_pyramid_, pyramid, previous_points_, tracks, out.tasks[5]);

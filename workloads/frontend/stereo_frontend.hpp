@@ -87,7 +87,9 @@ struct FrontendFrame {
   std::size_t index = 0;                 ///< frames processed before this one
   std::vector<Feature> features;         ///< tracked features first (by id), then new ones
   std::vector<trace::TaskRecord> tasks;  ///< the ten task rows, see the file comment
-  std::int64_t host_ns = 0;              ///< wall time of process() without the LK iteration replay
+  /// CPU time of process()'s work without the LK iteration replay: the calling thread's, plus
+  /// with parallel_images each concurrent chain's own (not the pool's waiting), docs/TRACE.md
+  std::int64_t host_ns = 0;
   FrameStats stats;
 };
 

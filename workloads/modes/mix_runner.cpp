@@ -17,6 +17,7 @@
 #include "workloads/frontend/stereo_frontend.hpp"
 #include "workloads/frontend/task_timer.hpp"
 #include "workloads/frontend/trace_meta.hpp"
+#include "workloads/modes/host_speed_meter.hpp"
 #include "workloads/modes/pipeline.hpp"
 #include "workloads/trace/host_clock.hpp"
 #include "workloads/trace/writer.hpp"
@@ -145,6 +146,13 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
   meta["frames"] = std::to_string(plan.total_frames());
   meta["opencv_version"] = CV_VERSION;
 
+  // How fast this machine is, sampled over the whole run (host_speed_meter.hpp).
+  HostSpeedMeterOptions host_speed_options = options.host_speed;
+  host_speed_options.parallel_images = options.frontend.parallel_images;
+  HostSpeedMeter host_speed(host_speed_options);
+  host_speed.start();
+  meta["host_speed"] = trace::to_meta_value(host_speed.result());
+
   trace::TraceWriterOptions writer_options;
   writer_options.overwrite = options.overwrite;
   trace::TraceWriter writer(options.out, meta, writer_options);
@@ -213,9 +221,8 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
       input.frontend = &result;
       input.imu = between(dataset.imu(), previous_t_ns, images.t_ns);
       input.gps = between(dataset.gps(), previous_t_ns, images.t_ns);
-      const std::int64_t start_ns = trace::process_cpu_ns();
-      backend::BackendOutput output = backend->process(input);
-      record.frame.backend_host_ns = trace::process_cpu_ns() - start_ns;
+      auto [output, backend_ns] = run_backend_timed(*backend, input);
+      record.frame.backend_host_ns = backend_ns;
       record.frame.backend_status = output.status;
       if (decision.mode == BackendMode::Registration) {
         mode_switch.report_registration(output.T_world_body.has_value());
@@ -243,6 +250,7 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
       }
       record.kernels = std::move(output.kernels);
       writer.append(record);
+      host_speed.after_frame(record.frame.frontend_host_ns + record.frame.backend_host_ns);
       ++segment_summary.frames_by_mode[trace::to_string(decision.mode)];
       previous_t_ns = images.t_ns;
       if (progress) progress(segment.name, i + 1, frames);
@@ -274,6 +282,8 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
     }
     summary.segments.push_back(std::move(segment_summary));
   }
+  host_speed.finish();
+  writer.set_meta("host_speed", trace::to_meta_value(host_speed.result()));
   writer.finish();
 
   summary.frames = static_cast<std::size_t>(frame_id);

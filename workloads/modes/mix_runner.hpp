@@ -19,6 +19,7 @@
 #include "workloads/eval/evaluate.hpp"
 #include "workloads/frontend/frontend_options.hpp"
 #include "workloads/frontend/sample_stats.hpp"
+#include "workloads/modes/host_speed_meter.hpp"
 #include "workloads/modes/mix.hpp"
 #include "workloads/modes/mode_switch.hpp"
 
@@ -38,6 +39,8 @@ struct MixRunOptions {
   ModeSwitchOptions mode_switch;
   /// Vocabulary file for registration; empty: trained into data_dir (vocabulary-s<seed>.bin).
   std::filesystem::path vocabulary;
+  /// When the machine-speed reference suite samples (meta host_speed).
+  HostSpeedMeterOptions host_speed;
 };
 
 /// Latency and accuracy of the frames one mode ran on.

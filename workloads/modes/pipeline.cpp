@@ -1,6 +1,10 @@
 #include "workloads/modes/pipeline.hpp"
 
 #include <cstdlib>
+#include <utility>
+
+#include "workloads/frontend/task_timer.hpp"
+#include "workloads/trace/host_clock.hpp"
 
 namespace edx::modes {
 
@@ -38,6 +42,14 @@ std::optional<Eigen::Isometry3d> ground_truth_at(const datasets::Dataset& datase
       datasets::interpolate_ground_truth(dataset.ground_truth(), t_ns, kMaxGroundTruthGapNs);
   if (!truth) return std::nullopt;
   return truth->T_world_body;
+}
+
+std::pair<backend::BackendOutput, std::int64_t> run_backend_timed(
+    backend::Backend& backend, const backend::BackendInput& input) {
+  const frontend::TracingThreads single_threaded(false);
+  const std::int64_t start_ns = trace::thread_cpu_ns();
+  backend::BackendOutput output = backend.process(input);
+  return {std::move(output), trace::thread_cpu_ns() - start_ns};
 }
 
 }  // namespace edx::modes

@@ -8,11 +8,18 @@
 #include <span>
 #include <vector>
 
+#include "workloads/backend/backend.hpp"
 #include "workloads/datasets/dataset.hpp"
 #include "workloads/eval/trajectory.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::modes {
+
+/// Runs the backend on one frame and returns its output with the CPU time of its work, ns:
+/// the calling thread's CPU time, OpenCV single-threaded meanwhile (frontend::TracingThreads),
+/// so that neither the pool's idle threads nor their waiting count (docs/TRACE.md, Host times).
+std::pair<backend::BackendOutput, std::int64_t> run_backend_timed(
+    backend::Backend& backend, const backend::BackendInput& input);
 
 /// Ground truth is interpolated between samples at most this far apart.
 inline constexpr std::int64_t kMaxGroundTruthGapNs = 250'000'000;

@@ -15,6 +15,7 @@
 #include "workloads/frontend/stereo_frontend.hpp"
 #include "workloads/frontend/task_timer.hpp"
 #include "workloads/frontend/trace_meta.hpp"
+#include "workloads/modes/host_speed_meter.hpp"
 #include "workloads/modes/pipeline.hpp"
 #include "workloads/trace/host_clock.hpp"
 #include "workloads/trace/writer.hpp"
@@ -108,6 +109,13 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
   meta["frames"] = std::to_string(frames);
   meta["opencv_version"] = CV_VERSION;
 
+  // How fast this machine is, sampled over the whole run (host_speed_meter.hpp).
+  HostSpeedMeterOptions host_speed_options = options.host_speed;
+  host_speed_options.parallel_images = options.frontend.parallel_images;
+  HostSpeedMeter host_speed(host_speed_options);
+  host_speed.start();
+  meta["host_speed"] = trace::to_meta_value(host_speed.result());
+
   trace::TraceWriterOptions writer_options;
   writer_options.overwrite = options.overwrite;
   trace::TraceWriter writer(options.out, meta, writer_options);
@@ -154,9 +162,8 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
       input.frontend = &result;
       input.imu = between(dataset->imu(), previous_t_ns, images.t_ns);
       input.gps = between(dataset->gps(), previous_t_ns, images.t_ns);
-      const std::int64_t start_ns = trace::process_cpu_ns();
-      backend::BackendOutput output = backend->process(input);
-      record.frame.backend_host_ns = trace::process_cpu_ns() - start_ns;
+      auto [output, backend_ns] = run_backend_timed(*backend, input);
+      record.frame.backend_host_ns = backend_ns;
       record.frame.backend_status = output.status;
       if (output.T_world_body) {
         record.frame.estimated_pose = to_pose_array(*output.T_world_body);
@@ -174,6 +181,7 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
     }
     previous_t_ns = images.t_ns;
     writer.append(record);
+    host_speed.after_frame(record.frame.frontend_host_ns + record.frame.backend_host_ns);
 
     if (task_ms.empty()) {
       task_ms.resize(result.tasks.size());
@@ -190,6 +198,8 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
     stereo.push_back(result.stats.stereo_matches);
     if (progress) progress(i + 1, frames);
   }
+  host_speed.finish();
+  writer.set_meta("host_speed", trace::to_meta_value(host_speed.result()));
   writer.finish();
   if (options.map_out) {
     const backend::slam::Map map = map_builder->map();

@@ -19,6 +19,7 @@
 #include "workloads/eval/evaluate.hpp"
 #include "workloads/frontend/frontend_options.hpp"
 #include "workloads/frontend/sample_stats.hpp"
+#include "workloads/modes/host_speed_meter.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::modes {
@@ -57,6 +58,8 @@ struct TraceRunOptions {
   /// Alignment of the estimate to the ground truth for the accuracy figures; default: position
   /// and yaw when the dataset has an IMU (gravity is observable), SE(3) otherwise.
   std::optional<eval::AlignmentMethod> alignment;
+  /// When the machine-speed reference suite samples (meta host_speed).
+  HostSpeedMeterOptions host_speed;
 };
 
 struct TraceRunSummary {

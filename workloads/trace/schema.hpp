@@ -7,12 +7,14 @@
 namespace edx::trace {
 
 // 2 (2026-11-25): host_ns columns are CPU time (host_clock.hpp), no longer wall time.
-inline constexpr int kSchemaVersion = 2;
+// 3 (2026-11-25): meta host_speed, the tracing machine's reference-suite times (host_speed.hpp).
+inline constexpr int kSchemaVersion = 3;
 
 /// Metadata keys every trace carries (besides schema_version).
-inline constexpr std::array<std::string_view, 10> kRequiredMetaKeys{
-    "dataset",  "sequence",   "resolution",     "camera_model",    "pipeline_params",
-    "host_cpu", "host_cores", "compiler_flags", "source_revision", "created_utc"};
+inline constexpr std::array<std::string_view, 11> kRequiredMetaKeys{
+    "dataset",         "sequence",    "resolution", "camera_model",
+    "pipeline_params", "host_cpu",    "host_cores", "compiler_flags",
+    "source_revision", "created_utc", "host_speed"};
 
 /// Table definitions, executed in order on a new database.
 inline constexpr std::string_view kSchemaSql = R"sql(

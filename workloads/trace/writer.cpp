@@ -168,6 +168,14 @@ void TraceWriter::insert_frame(const FrameTrace& trace) {
   }
 }
 
+void TraceWriter::set_meta(const std::string& key, const std::string& value) {
+  if (finished_) throw std::logic_error("TraceWriter::set_meta after finish");
+  SQLite::Statement update(*db_, "INSERT OR REPLACE INTO meta VALUES (?, ?)");
+  update.bind(1, key);
+  update.bind(2, value);
+  update.exec();
+}
+
 void TraceWriter::finish() {
   if (finished_) return;
   if (in_transaction_) {

@@ -28,6 +28,9 @@ class TraceWriter {
 
   /// Validates and appends one frame; frame ids must run 0, 1, 2, ...
   void append(const FrameTrace& frame);
+  /// Replaces the value of meta `key` (one measured over the run, e.g. host_speed). Before
+  /// finish() only; a required key may not be emptied.
+  void set_meta(const std::string& key, const std::string& value);
   /// Commits, closes and moves the database onto the target path.
   void finish();
   std::size_t frames_written() const { return frames_written_; }

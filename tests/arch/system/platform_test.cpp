@@ -22,11 +22,12 @@ std::string error_of(const std::string& yaml) {
 
 TEST(Platform, ReadsFieldsOverTheDefaults) {
   const Platform p = Platform::parse(
-      "name: car\nhost:\n  frontend_time_scale: 2.5\n  provenance: calibrated\nfrontend:\n"
+      "name: car\nhost:\n  frontend_suite_ms: 2.5\n  provenance: calibrated\n"
+      "  backend_suite_ms: 4\nfrontend:\n"
       "  clock_mhz: 200\n  pipeline_fe_sm: false\n  mo_comparators: 8\n",
       "p.yaml");
   EXPECT_EQ(p.name, "car");
-  EXPECT_DOUBLE_EQ(p.host.frontend_time_scale, 2.5);
+  EXPECT_DOUBLE_EQ(p.host.frontend_suite_ms, 2.5);
   EXPECT_EQ(p.host.provenance, "calibrated");
   EXPECT_DOUBLE_EQ(p.frontend.clock_mhz, 200);
   EXPECT_FALSE(p.frontend.pipeline_fe_sm);
@@ -53,11 +54,12 @@ TEST(Platform, BadInputNamesFileLineAndKey) {
 
 TEST(Platform, ReadsBackendCostPowerSchedulerAndHostBackendScale) {
   const Platform p = Platform::parse(
-      "name: car\nhost:\n  backend_time_scale: 1.5\n  backend_provenance: measured\n"
+      "name: car\nhost:\n  frontend_suite_ms: 3\n  backend_suite_ms: 1.5\n"
+      "  backend_provenance: measured\n"
       "backend:\n  gemm_block: 8\ncost:\n  ns_modes: 2\npower:\n  host_active_w: 20\n"
       "scheduler:\n  policy: oracle\n  training_fraction: 0.5\n",
       "p.yaml");
-  EXPECT_DOUBLE_EQ(p.host.backend_time_scale, 1.5);
+  EXPECT_DOUBLE_EQ(p.host.backend_suite_ms, 1.5);
   EXPECT_EQ(p.host.backend_provenance, "measured");
   EXPECT_EQ(p.backend.gemm_block, 8);
   EXPECT_EQ(p.backend.decomp_block, BackendConfig{}.decomp_block);
@@ -84,8 +86,12 @@ TEST(Platform, BadKeysOfTheNewSectionsNameFileLineAndKey) {
               HasSubstr("p.yaml:3: scheduler.training_fraction: expected a fraction in [0, 1)"));
   EXPECT_EQ(error_of("name: car\nscheduler:\n  polcy: never\n"),
             "p.yaml:3: scheduler.polcy: unknown key");
-  EXPECT_THAT(error_of("name: car\nhost:\n  backend_time_scale: 0\n"),
-              HasSubstr("p.yaml:3: host.backend_time_scale: expected a number > 0"));
+  EXPECT_THAT(error_of("name: car\nhost:\n  backend_suite_ms: 0\n"),
+              HasSubstr("p.yaml:3: host.backend_suite_ms: expected a number > 0"));
+  EXPECT_THAT(error_of("name: car\nhost:\n  frontend_suite_ms: 5\n"),
+              HasSubstr("host.backend_suite_ms: expected both suite times or neither"));
+  EXPECT_THAT(error_of("name: car\nhost:\n  suite: 0\n"),
+              HasSubstr("p.yaml:3: host.suite: expected an integer >= 1"));
   EXPECT_EQ(error_of("name: car\npower: 3\n"), "p.yaml:2: platform.power: expected a map of keys");
 }
 
@@ -107,12 +113,15 @@ TEST(Platform, ShippedConfigsLoad) {
     EXPECT_TRUE(p->backend.gemm_overlap_tiles) << p->name;
     EXPECT_TRUE(p->backend.blocked_solvers) << p->name;
   }
-  // Car host scales calibrated on the paper's mix (docs/MODEL.md, Host CPU): 92.4 ms / 78.84 ms
-  // and (1000 / 8.6 − 92.4) ms / 13.27 ms of host CPU time; the drone's one factor k on both.
-  EXPECT_NEAR(car.host.frontend_time_scale, 92.4 / 78.84, 5e-3);
-  EXPECT_NEAR(car.host.backend_time_scale, (1000.0 / 8.6 - 92.4) / 13.27, 5e-3);
-  EXPECT_NEAR(drone.host.frontend_time_scale / car.host.frontend_time_scale,
-              drone.host.backend_time_scale / car.host.backend_time_scale, 5e-3);
+  // Both hosts state suite times of this build's suite (docs/MODEL.md, Host CPU); the drone's
+  // TX1 is one factor k slower than the car's Kaby Lake on both parts.
+  for (const Platform* p : {&car, &drone}) {
+    EXPECT_EQ(p->host.suite, trace::kHostSpeedSuite) << p->name;
+    EXPECT_FALSE(p->host.identity()) << p->name;
+  }
+  EXPECT_GT(drone.host.frontend_suite_ms, car.host.frontend_suite_ms);
+  EXPECT_NEAR(drone.host.frontend_suite_ms / car.host.frontend_suite_ms,
+              drone.host.backend_suite_ms / car.host.backend_suite_ms, 5e-3);
 }
 
 TEST(Platform, MissingFileIsNamed) {

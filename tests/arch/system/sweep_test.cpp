@@ -96,7 +96,7 @@ TEST(Extends, ErrorsNameTheFileAndLineThatWroteTheKey) {
 /// A platform on which the hand-built trace below runs (round numbers, regression scheduler).
 constexpr const char* kBase =
     "name: sweep_test\n"
-    "host: {frontend_time_scale: 1.0, backend_time_scale: 1.0}\n"
+    "host: {name: the trace host}\n"
     "backend: {clock_mhz: 100, gemm_block: 2, spm_bytes: 67108864}\n"
     "scheduler: {policy: oracle, training_fraction: 0}\n";
 

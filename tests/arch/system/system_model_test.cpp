@@ -20,12 +20,12 @@ namespace {
 using trace::BackendMode;
 
 /// Backend 100 MHz, 2x2 array, 64 MiB SPM; link 1 GB/s with 100 ns setup and latency and one
-/// chunk (a B-byte transfer takes B + 200 ns); frontend and backend host scales 1 and 2; power
-/// with round numbers.
+/// chunk (a B-byte transfer takes B + 200 ns); frontend and backend host scales 1 and 2 (the
+/// host's suite times over kMeta's: 10/10 ms and 8/4 ms); power with round numbers.
 Platform test_platform(const std::string& policy) {
   return Platform::parse(
       "name: test\n"
-      "host: {frontend_time_scale: 1.0, backend_time_scale: 2.0}\n"
+      "host: {frontend_suite_ms: 10.0, backend_suite_ms: 8.0}\n"
       "backend: {clock_mhz: 100, gemm_block: 2, spm_bytes: 67108864}\n"
       "link:\n  bandwidth_gb_per_s: 1.0\n  latency_ns: 100\n"
       "  dma: {setup_ns: 100, chunk_bytes: 4194304, max_outstanding: 1}\n"
@@ -79,7 +79,10 @@ std::vector<trace::FrameTrace> three_frames() {
   return frames;
 }
 
-const trace::TraceMeta kMeta = {{"resolution", "40x25"}, {"dataset", "hand"}};
+const trace::TraceMeta kMeta = {
+    {"resolution", "40x25"},
+    {"dataset", "hand"},
+    {"host_speed", R"({"suite": 1, "frontend_ms": 10.0, "backend_ms": 4.0, "samples": 1})"}};
 
 // Projection of M points: gemm 3 x M x 4 on the 2x2 array: ⌈3/2⌉·⌈M/2⌉ tiles x (4 + 2·2)
 // cycles at 100 MHz. Inputs (12 + 4M)·8 B, results 2M·8 B, each B + 200 ns on the link.

@@ -14,6 +14,7 @@
 #include "tests/support/temp_dir.hpp"
 #include "workloads/backend/kernel_recorder.hpp"
 #include "workloads/datasets/synthetic/generator.hpp"
+#include "workloads/trace/host_speed.hpp"
 #include "workloads/trace/reader.hpp"
 #include "workloads/trace/schema.hpp"
 
@@ -105,6 +106,11 @@ TEST(TraceRunner, EurocExcerptTenFrames) {
   EXPECT_THAT(meta.at("compiler_flags"), HasSubstr("-std=c++20"));
   EXPECT_EQ(std::stoi(meta.at("host_cores")),
             static_cast<int>(std::thread::hardware_concurrency()));
+  // The reference suite sampled before, every 25 frames and after: 3 + 0 + 2 samples here.
+  const trace::HostSpeed speed = trace::host_speed_of(meta, "euroc.db");
+  EXPECT_EQ(speed.suite, trace::kHostSpeedSuite);
+  EXPECT_EQ(speed.samples, 5);
+  EXPECT_GT(speed.frontend_ms, speed.backend_ms);
   const nlohmann::json params = nlohmann::json::parse(meta.at("pipeline_params"));
   EXPECT_EQ(params.at("frontend").at("features_per_image"), 1000);
   EXPECT_EQ(params.at("frontend").at("count_lk_iterations"), true);

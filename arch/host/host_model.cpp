@@ -1,0 +1,124 @@
+#include "arch/host/host_model.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "arch/common/yaml_fields.hpp"
+
+namespace edx::arch {
+namespace {
+
+/// Median of a small set (copied).
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+/// S_trace(f) for f = 0 .. frames-1: the median of the kLocalSamples samples nearest frame f's
+/// middle (f + 0.5; a sample's position is the number of frames traced before it). Positions
+/// ascend, so the nearest k form a window that only slides right as f grows.
+std::vector<double> local_speeds(const std::vector<std::int64_t>& positions,
+                                 const std::vector<double>& samples_ms) {
+  const std::size_t n = positions.size();
+  const std::size_t k = std::min(kLocalSamples, n);
+  const std::int64_t frames = n ? positions.back() : 0;
+  std::vector<double> speed(static_cast<std::size_t>(std::max<std::int64_t>(frames, 0)));
+  std::size_t left = 0;  // window [left, left + k)
+  for (std::int64_t f = 0; f < frames; ++f) {
+    const double middle = static_cast<double>(f) + 0.5;
+    // Slide while the sample after the window is nearer than the window's first.
+    while (left + k < n && std::abs(static_cast<double>(positions[left + k]) - middle) <
+                               std::abs(static_cast<double>(positions[left]) - middle)) {
+      ++left;
+    }
+    speed[static_cast<std::size_t>(f)] =
+        median(std::vector<double>(samples_ms.begin() + static_cast<std::ptrdiff_t>(left),
+                                   samples_ms.begin() + static_cast<std::ptrdiff_t>(left + k)));
+  }
+  return speed;
+}
+
+}  // namespace
+
+nlohmann::json HostConfig::to_json() const {
+  return {{"name", name},
+          {"suite", suite},
+          {"frontend_suite_ms", frontend_suite_ms},
+          {"provenance", provenance},
+          {"backend_suite_ms", backend_suite_ms},
+          {"backend_provenance", backend_provenance}};
+}
+
+HostConfig HostConfig::from_yaml(const YAML::Node& node, const std::string& where) {
+  HostConfig h;
+  YamlFields f(node, where, "host");
+  f.read("name", h.name);
+  f.read("suite", h.suite, 1);
+  f.read("frontend_suite_ms", h.frontend_suite_ms, 0.0);
+  f.read("provenance", h.provenance);
+  f.read("backend_suite_ms", h.backend_suite_ms, 0.0);
+  f.read("backend_provenance", h.backend_provenance);
+  f.finish();
+  if ((h.frontend_suite_ms > 0) != (h.backend_suite_ms > 0)) {
+    f.fail(h.frontend_suite_ms > 0 ? "backend_suite_ms" : "frontend_suite_ms",
+           "expected both suite times or neither (neither: the trace host is the target)");
+  }
+  return h;
+}
+
+double HostMapping::scale(const Part& part, std::int64_t frame_id) {
+  if (part.per_frame.empty()) return part.overall;
+  const auto last = static_cast<std::int64_t>(part.per_frame.size()) - 1;
+  return part.per_frame[static_cast<std::size_t>(std::clamp<std::int64_t>(frame_id, 0, last))];
+}
+
+nlohmann::json HostMapping::to_json() const {
+  return {{"frontend_scale", frontend_.overall},
+          {"backend_scale", backend_.overall},
+          {"frontend_basis", frontend_basis_},
+          {"backend_basis", backend_basis_},
+          {"per_frame", !frontend_.per_frame.empty()}};
+}
+
+HostMapping map_host(const HostConfig& host, const trace::TraceMeta& trace_meta,
+                     const std::string& trace_name) {
+  HostMapping m;
+  if (host.identity()) return m;
+  const trace::HostSpeed traced = trace::host_speed_of(trace_meta, trace_name);
+  if (traced.suite != host.suite) {
+    throw std::runtime_error(fmt::format(
+        "{}: host speed measured with reference suite v{}, but host '{}' states suite v{} times "
+        "(re-trace with the matching edx, or restate the host)",
+        trace_name, traced.suite, host.name, host.suite));
+  }
+  // t_platform(f) = t_trace(f) x S_platform / S_trace(f) (host_model.hpp).
+  const auto part = [&](double platform_ms, double overall_ms, const std::vector<double>& samples) {
+    HostMapping::Part p;
+    p.overall = platform_ms / overall_ms;
+    if (!traced.sample_frames.empty()) {
+      for (double s : local_speeds(traced.sample_frames, samples)) {
+        p.per_frame.push_back(platform_ms / s);
+      }
+    }
+    return p;
+  };
+  m.frontend_ = part(host.frontend_suite_ms, traced.frontend_ms, traced.frontend_samples_ms);
+  m.backend_ = part(host.backend_suite_ms, traced.backend_ms, traced.backend_samples_ms);
+  const std::string local = traced.sample_frames.empty()
+                                ? ""
+                                : fmt::format(", each frame by its {} nearest of {} samples",
+                                              std::min(kLocalSamples, traced.sample_frames.size()),
+                                              traced.sample_frames.size());
+  m.frontend_basis_ =
+      fmt::format("x{:.4g} = {:.4g} ms / {:.4g} ms on the suite v{}{} ({})", m.frontend_.overall,
+                  host.frontend_suite_ms, traced.frontend_ms, host.suite, local, host.provenance);
+  m.backend_basis_ = fmt::format("x{:.4g} = {:.4g} ms / {:.4g} ms on the suite v{}{} ({})",
+                                 m.backend_.overall, host.backend_suite_ms, traced.backend_ms,
+                                 host.suite, local, host.backend_provenance);
+  return m;
+}
+
+}  // namespace edx::arch

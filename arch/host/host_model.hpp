@@ -1,0 +1,86 @@
+#pragma once
+// The host CPU of a platform (DESIGN.md, "Host CPU"; docs/MODEL.md, "Host CPU"): it replays the
+// trace's measured host times, mapped from the machine that traced them to the platform's host
+// through the two machines' speeds on the same reference suite (trace/host_speed.hpp):
+//
+//   t_platform(f) = t_trace(f) x S_platform / S_trace(f)
+//
+// with S the suite's frontend part for frontend work and the backend part for the backend (each
+// kernel and the backend's whole time of a frame). S_platform is declared in the config with its
+// provenance (measured on that CPU with `edx host-speed`, derived from a datasheet ratio, or
+// calibrated against a paper figure: then say so). S_trace(f) is measured while tracing (meta
+// host_speed): the median of the kLocalSamples samples taken nearest frame f, so that a tracing
+// machine whose speed drifts during the trace (another tenant, a frequency change) is measured
+// beside the frames it slowed; a trace without per-sample data uses its overall medians.
+// A platform that declares no suite times replays the trace's host times as they are.
+//
+//   host: {name: ..., suite: 1, frontend_suite_ms: 172.1, provenance: "...",
+//          backend_suite_ms: 40.1, backend_provenance: "..."}
+#include <yaml-cpp/yaml.h>
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "workloads/trace/host_speed.hpp"
+
+namespace edx::arch {
+
+/// Samples of the tracing machine's speed a frame is mapped by (the nearest ones).
+inline constexpr std::size_t kLocalSamples = 9;
+
+struct HostConfig {
+  std::string name = "trace host";
+  /// Reference-suite version the times below are for (trace::kHostSpeedSuite when written).
+  int suite = trace::kHostSpeedSuite;
+  /// The suite's frontend part on this host, CPU ms; 0 (with backend_suite_ms 0): this host is
+  /// the tracing machine itself.
+  double frontend_suite_ms = 0;
+  /// Where frontend_suite_ms comes from.
+  std::string provenance = "identity: the trace host is the target";
+  /// The suite's backend part on this host, CPU ms.
+  double backend_suite_ms = 0;
+  std::string backend_provenance = "identity: the trace host is the target";
+
+  bool identity() const { return frontend_suite_ms == 0 && backend_suite_ms == 0; }
+  nlohmann::json to_json() const;
+  /// `host:` section; errors name `where` (file:line) and the key. Both suite times or neither.
+  static HostConfig from_yaml(const YAML::Node& node, const std::string& where);
+};
+
+/// The factors a trace's host times are multiplied by on a platform, per frame.
+class HostMapping {
+ public:
+  HostMapping() = default;
+  /// S_platform over the trace's speed around `frame_id` (0-based, the trace's frame order).
+  double frontend_scale(std::int64_t frame_id) const { return scale(frontend_, frame_id); }
+  double backend_scale(std::int64_t frame_id) const { return scale(backend_, frame_id); }
+  /// The factors at the trace's overall medians (what the summary prints).
+  double mean_frontend_scale() const { return frontend_.overall; }
+  double mean_backend_scale() const { return backend_.overall; }
+  /// e.g. "x1.86 = 172.1 ms / 92.6 ms on the suite v1 (calibrated: ...)".
+  const std::string& frontend_basis() const { return frontend_basis_; }
+  const std::string& backend_basis() const { return backend_basis_; }
+  nlohmann::json to_json() const;
+
+ private:
+  friend HostMapping map_host(const HostConfig&, const trace::TraceMeta&, const std::string&);
+  /// One part's factors: at the overall median, and per frame id (empty: the overall one).
+  struct Part {
+    double overall = 1.0;
+    std::vector<double> per_frame;
+  };
+  static double scale(const Part& part, std::int64_t frame_id);
+  Part frontend_, backend_;
+  std::string frontend_basis_ = "x1: the trace host is the target";
+  std::string backend_basis_ = "x1: the trace host is the target";
+};
+
+/// The mapping of a trace (its meta) onto `host`. Throws std::runtime_error naming `trace_name`
+/// when the platform states suite times and the trace has no usable host_speed, or the two
+/// suite versions differ.
+HostMapping map_host(const HostConfig& host, const trace::TraceMeta& trace_meta,
+                     const std::string& trace_name);
+
+}  // namespace edx::arch
