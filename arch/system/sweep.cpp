@@ -93,8 +93,13 @@ SweepParameter parse_parameter(const std::string& where, const YAML::Node& key_n
       fail(where, range, prefix + ".range", "expected step > 0 and to >= from");
     }
     // from + i·step for i = 0 .. floor((to − from)/step) (a relative 1e-9 slack keeps `to`).
-    const auto n = static_cast<std::size_t>(std::floor((to - from) / step * (1 + 1e-12) + 1e-9));
-    if (n > 100000) fail(where, range, prefix + ".range", "more than 100000 values");
+    // The count as a double first: (to - from) / step may overflow any integer (or be inf).
+    const double count = std::floor((to - from) / step * (1 + 1e-12) + 1e-9);
+    if (!(count < 100000)) {
+      fail(where, range, prefix + ".range",
+           fmt::format("{:.4g} values (at most 100000)", count + 1));
+    }
+    const auto n = static_cast<std::size_t>(count);
     for (std::size_t i = 0; i <= n; ++i) generated.push_back(from + double(i) * step);
   } else {
     const YAML::Node log_range = spec["log_range"];
@@ -281,8 +286,8 @@ SweepSpec SweepSpec::parse(const std::string& text, const std::string& where,
       const double samples =
           number(where, r["samples"] ? r["samples"] : r, "sampling.random.samples");
       const double seed = r["seed"] ? number(where, r["seed"], "sampling.random.seed") : 1.0;
-      if (samples < 1 || samples != std::round(samples)) {
-        fail(where, r["samples"], "sampling.random.samples", "expected an integer >= 1");
+      if (samples < 1 || samples != std::round(samples) || samples > kMaxSweepPoints) {
+        fail(where, r["samples"], "sampling.random.samples", "expected an integer from 1 to 10^6");
       }
       if (seed < 0 || seed != std::round(seed)) {
         fail(where, r["seed"], "sampling.random.seed", "expected an integer >= 0");
@@ -337,13 +342,22 @@ SweepSpec SweepSpec::parse(const std::string& text, const std::string& where,
       s.constraints.push_back(con);
     }
   }
-  // Every point must make a valid platform: check each parameter's values on the base.
+  // The size first: a grid is enumerated one point at a time (SweepPoints), but more than
+  // 10^6 points is refused before any other work.
+  if (!s.random && grid_size(s) > kMaxSweepPoints) {
+    fail(where, params, "parameters",
+         fmt::format("the grid has {:.4g} points (more than 10^6); use random sampling",
+                     grid_size(s)));
+  }
+  // Every point must make a valid platform: check each parameter's values on the base (loaded
+  // once; each check on a copy of it).
+  const PlatformSource base = PlatformSource::load(s.base);
   for (std::size_t p = 0; p < s.parameters.size(); ++p) {
     for (std::size_t v = 0; v < s.parameters[p].values.size(); ++v) {
       SweepPoint point;
       point.choice.assign(s.parameters.size(), 0);
       point.choice[p] = v;
-      sweep_platform(s, point);
+      sweep_platform(s, point, base);
     }
   }
   return s;
@@ -357,60 +371,82 @@ SweepSpec SweepSpec::load(const std::filesystem::path& path) {
   return parse(text.str(), path.string(), path.parent_path());
 }
 
-std::vector<SweepPoint> expand_sweep(const SweepSpec& spec) {
-  // Grid size, saturating (a random sample of a huge grid never enumerates it).
-  double grid = 1;
+double grid_size(const SweepSpec& spec) {
+  double grid = 1;  // a double: the product of a few large counts must not wrap
   for (const SweepParameter& p : spec.parameters) grid *= double(p.values.size());
-  const auto decode = [&](std::uint64_t index) {
-    SweepPoint point;
-    point.choice.assign(spec.parameters.size(), 0);
-    for (std::size_t p = spec.parameters.size(); p-- > 0;) {  // last parameter fastest
-      point.choice[p] = index % spec.parameters[p].values.size();
-      index /= spec.parameters[p].values.size();
-    }
-    return point;
-  };
-  std::vector<SweepPoint> points;
+  return grid;
+}
+
+SweepPoints::SweepPoints(const SweepSpec& spec) : spec_(&spec) {
+  const double grid = grid_size(spec);
   if (!spec.random) {
-    if (grid > 1e6)
-      throw std::runtime_error(
-          fmt::format("{}: parameters: the grid has {:.0f} "
-                      "points (more than 10^6); use random "
-                      "sampling",
-                      spec.file, grid));
-    for (std::uint64_t i = 0; i < std::uint64_t(grid); ++i) points.push_back(decode(i));
-  } else {
-    // Distinct grid points: one value per parameter drawn uniformly (top 53 bits of the
-    // stream scaled to the count), duplicates drawn again.
-    const std::size_t want = std::size_t(std::min(double(spec.samples), grid));
-    std::uint64_t state = spec.seed;
-    std::set<std::vector<std::size_t>> seen;
-    while (points.size() < want) {
-      SweepPoint point;
-      for (const SweepParameter& p : spec.parameters) {
-        const double u = double(splitmix64(state) >> 11) * 0x1.0p-53;
-        point.choice.push_back(
-            std::min(p.values.size() - 1, std::size_t(u * double(p.values.size()))));
-      }
-      if (seen.insert(point.choice).second) points.push_back(std::move(point));
+    if (grid > kMaxSweepPoints) {
+      throw std::runtime_error(fmt::format(
+          "{}: parameters: the grid has {:.4g} points (more than 10^6); use random sampling",
+          spec.file, grid));
     }
+    size_ = static_cast<std::size_t>(grid);
+    return;
   }
-  for (std::size_t i = 0; i < points.size(); ++i) points[i].index = i;
-  return points;
+  // Distinct grid points: one value per parameter drawn uniformly (top 53 bits of the stream
+  // scaled to the count), duplicates drawn again. At most 10^6 (the spec's cap), so the draws
+  // are kept; the grid itself is never enumerated.
+  const auto want = static_cast<std::size_t>(std::min(double(spec.samples), grid));
+  std::uint64_t state = spec.seed;
+  std::set<std::vector<std::size_t>> seen;
+  while (drawn_.size() < want) {
+    std::vector<std::size_t> choice;
+    for (const SweepParameter& p : spec.parameters) {
+      const double u = double(splitmix64(state) >> 11) * 0x1.0p-53;
+      choice.push_back(std::min(p.values.size() - 1, std::size_t(u * double(p.values.size()))));
+    }
+    if (seen.insert(choice).second) drawn_.push_back(std::move(choice));
+  }
+  size_ = drawn_.size();
+}
+
+SweepPoint SweepPoints::at(std::size_t index) const {
+  if (index >= size_) throw std::out_of_range("SweepPoints::at");
+  SweepPoint point;
+  point.index = index;
+  if (spec_->random) {
+    point.choice = drawn_[index];
+    return point;
+  }
+  point.choice.assign(spec_->parameters.size(), 0);
+  std::size_t rest = index;
+  for (std::size_t p = spec_->parameters.size(); p-- > 0;) {  // last parameter fastest
+    point.choice[p] = rest % spec_->parameters[p].values.size();
+    rest /= spec_->parameters[p].values.size();
+  }
+  return point;
 }
 
 Platform sweep_platform(const SweepSpec& spec, const SweepPoint& point) {
-  PlatformSource source = PlatformSource::load(spec.base);
+  return sweep_platform(spec, point, PlatformSource::load(spec.base));
+}
+
+Platform sweep_platform(const SweepSpec& spec, const SweepPoint& point,
+                        const PlatformSource& base) {
+  // A deep copy of the base, and copies of the spec's values: nodes of two documents are
+  // never linked, since yaml-cpp then merges their memory and keeps both alive (issue 21: a
+  // 10^9-point sweep took GBs before its first point).
+  PlatformSource source = base;
+  source.root = YAML::Clone(base.root);
   for (std::size_t p = 0; p < spec.parameters.size(); ++p) {
     const SweepParameter& param = spec.parameters[p];
-    // A value written in the spec keeps its line; a generated one gets the key's line.
-    YAML::Node value = param.values[point.choice[p]];
+    // A fresh node with the value's text (errors then take their line from the origin: the
+    // value's line in the spec, or the key's for a generated value).
+    const YAML::Node& value = param.values[point.choice[p]];
     std::string origin = spec.file;
-    if (value.Mark().is_null() && param.line > 0) {
+    if (!value.Mark().is_null()) {
+      origin = fmt::format("{}:{}", spec.file, value.Mark().line + 1);
+    } else if (param.line > 0) {
       origin = fmt::format("{}:{} (parameters.{} = {})", spec.file, param.line, param.key,
                            param.texts[point.choice[p]]);
     }
-    source.set(param.key, value, origin);
+    source.set(param.key, value.IsScalar() ? YAML::Node(value.Scalar()) : YAML::Clone(value),
+               origin);
   }
   return Platform::parse(source);
 }

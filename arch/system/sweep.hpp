@@ -76,13 +76,32 @@ struct SweepPoint {
   nlohmann::json parameters(const SweepSpec& spec) const;
 };
 
-/// The design points: the full grid (last parameter fastest), or `samples` distinct grid points
-/// drawn with the spec's seed (a splitmix64 stream: the same seed gives the same points).
-std::vector<SweepPoint> expand_sweep(const SweepSpec& spec);
+/// Most design points a sweep may have (grid size, or random samples).
+inline constexpr double kMaxSweepPoints = 1e6;
+
+/// Points of the full grid (the product of the parameters' value counts), as a double.
+double grid_size(const SweepSpec& spec);
+
+/// The design points, enumerated lazily: the full grid (index -> values, last parameter
+/// fastest), or `samples` distinct grid points drawn with the spec's seed (a splitmix64 stream:
+/// the same seed gives the same points; only the draws are stored). Memory does not grow with
+/// the grid. Throws when a grid has more than 10^6 points.
+class SweepPoints {
+ public:
+  explicit SweepPoints(const SweepSpec& spec);  ///< `spec` must outlive this
+  std::size_t size() const { return size_; }
+  SweepPoint at(std::size_t index) const;
+
+ private:
+  const SweepSpec* spec_;
+  std::size_t size_ = 0;
+  std::vector<std::vector<std::size_t>> drawn_;  ///< random sampling: the draws
+};
 
 /// The base platform with the point's values; errors name the spec (for a swept key) or the
-/// platform file that wrote the offending key.
+/// platform file that wrote the offending key. The second form starts from a loaded base.
 Platform sweep_platform(const SweepSpec& spec, const SweepPoint& point);
+Platform sweep_platform(const SweepSpec& spec, const SweepPoint& point, const PlatformSource& base);
 
 /// Named metrics of a run's summary (SystemResult::to_json()), or a JSON pointer
 /// ("/accelerated/modes/all/e2e_ms/p99"). Names: e2e_latency_mean, e2e_latency_p99,

@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <thread>
@@ -116,19 +117,12 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
   }
   const std::string thash = trace_hash(frames.size(), trace_meta);
 
-  // Platforms and run ids of every point (a bad value fails here, before any work).
-  const std::vector<SweepPoint> points = expand_sweep(spec);
-  std::vector<Platform> platforms;
+  // The points, enumerated lazily (a bad value failed in SweepSpec::parse, before any work).
+  const SweepPoints points(spec);
+  const PlatformSource base = PlatformSource::load(spec.base);
   SweepOutcome out;
   out.sweep_id = spec.name;
   out.total = points.size();
-  std::vector<SweepPointResult> results(points.size());
-  for (const SweepPoint& p : points) {
-    platforms.push_back(sweep_platform(spec, p));
-    results[p.index].index = p.index;
-    results[p.index].parameters = p.parameters(spec);
-    results[p.index].run_id = run_id_of(fnv1a_hex(platforms.back().to_json().dump()), thash);
-  }
 
   std::unique_ptr<SQLite::Database> db_handle;
   try {
@@ -163,55 +157,65 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
     stale.exec();
     t.commit();
   }
-  // Resume: points whose run is already in the database are evaluated from its summary.
-  std::vector<std::size_t> todo;
-  std::vector<bool> finished(points.size(), false);
-  {
-    SQLite::Statement q(db, "SELECT summary_json FROM runs WHERE run_id = ?");
-    for (SweepPointResult& r : results) {
-      q.bind(1, r.run_id);
-      if (q.executeStep()) {
-        evaluate(spec, nlohmann::json::parse(q.getColumn(0).getString()), r);
-        finished[r.index] = true;
-        ++out.skipped;
-      } else {
-        todo.push_back(r.index);
-      }
-      q.reset();
-    }
-    SQLite::Transaction t(db);
-    for (const SweepPointResult& r : results) {
-      if (finished[r.index]) put_point(db, out.sweep_id, r);
-    }
-    t.commit();
-  }
-  std::size_t done = out.skipped;
-  if (options.progress) {
-    for (const SweepPointResult& r : results) {
-      if (finished[r.index]) options.progress(done, points.size(), r);
-    }
-  }
 
-  // The pool: workers take the next point; frontend studies are shared between points with
-  // the same frontend_study_key (computed once, by the first worker asking).
-  std::mutex mutex;  // guards db, done, studies, the first error
+  // The pool: workers take the next point in index order, make its platform and run id, and
+  // either find its run in the database (resume: evaluated from the stored summary, not counted
+  // against the limit) or simulate it. Frontend studies are shared between points with the same
+  // frontend_study_key (computed once, by the first worker asking). Only finished points are
+  // kept: memory grows with the points run, not with the grid.
+  std::mutex mutex;  // guards db, the results, the counters, the studies, the first error
+  std::map<std::size_t, SweepPointResult> finished;
   std::map<std::string, std::shared_future<FrontendStudy>> studies;
   std::atomic<std::size_t> next{0};
-  std::size_t computed = 0;
+  std::size_t simulations = 0;  // claimed, toward the limit
+  bool limit_reached = false;
   std::exception_ptr error;
-  const std::size_t limit = options.limit > 0 ? options.limit : todo.size();
-  std::atomic<std::size_t> started{0};
+  const std::size_t limit = options.limit > 0 ? options.limit : points.size();
+  const auto finish = [&](SweepPointResult r, const SystemResult* simulated) {
+    std::lock_guard<std::mutex> lock(mutex);
+    SQLite::Transaction t(db);
+    if (simulated) write_results(db, *simulated, ResultsWriteOptions{options.per_frame});
+    put_point(db, out.sweep_id, r);
+    t.commit();
+    (simulated ? out.computed : out.skipped) += 1;
+    const std::size_t done = finished.size() + 1;
+    if (options.progress) options.progress(done, points.size(), r);
+    finished.emplace(r.index, std::move(r));
+  };
   const auto worker = [&] {
     for (;;) {
-      const std::size_t k = next++;
-      if (k >= todo.size() || started++ >= limit) return;
       {
         std::lock_guard<std::mutex> lock(mutex);
-        if (error) return;
+        if (error || limit_reached) return;
       }
-      SweepPointResult& r = results[todo[k]];
+      const std::size_t index = next++;
+      if (index >= points.size()) return;
       try {
-        const Platform& platform = platforms[r.index];
+        const SweepPoint point = points.at(index);
+        const Platform platform = sweep_platform(spec, point, base);
+        SweepPointResult r;
+        r.index = index;
+        r.parameters = point.parameters(spec);
+        r.run_id = run_id_of(fnv1a_hex(platform.to_json().dump()), thash);
+        std::optional<std::string> stored;
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          SQLite::Statement q(db, "SELECT summary_json FROM runs WHERE run_id = ?");
+          q.bind(1, r.run_id);
+          if (q.executeStep()) {
+            stored = q.getColumn(0).getString();
+          } else if (simulations >= limit) {
+            limit_reached = true;
+            return;
+          } else {
+            ++simulations;
+          }
+        }
+        if (stored) {
+          evaluate(spec, nlohmann::json::parse(*stored), r);
+          finish(std::move(r), nullptr);
+          continue;
+        }
         const std::string key = frontend_study_key(platform);
         std::shared_future<FrontendStudy> study;
         std::promise<FrontendStudy> mine;
@@ -236,15 +240,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
             simulate_system(platform, frames, trace_meta, trace_name, study.get());
         evaluate(spec, result.to_json(), r);
         r.computed = true;
-        std::lock_guard<std::mutex> lock(mutex);
-        SQLite::Transaction t(db);
-        write_results(db, result, ResultsWriteOptions{options.per_frame});
-        put_point(db, out.sweep_id, r);
-        t.commit();
-        finished[r.index] = true;
-        ++computed;
-        ++done;
-        if (options.progress) options.progress(done, points.size(), r);
+        finish(std::move(r), &result);
       } catch (...) {
         std::lock_guard<std::mutex> lock(mutex);
         if (!error) error = std::current_exception();
@@ -254,15 +250,12 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
   };
   std::vector<std::thread> pool;
   const int jobs =
-      std::max(1, std::min<int>(options.jobs, int(std::max<std::size_t>(1, todo.size()))));
+      std::max(1, std::min<int>(options.jobs, int(std::max<std::size_t>(1, points.size()))));
   for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
   for (std::thread& t : pool) t.join();
   if (error) std::rethrow_exception(error);
-  out.computed = computed;
 
-  for (SweepPointResult& r : results) {
-    if (finished[r.index]) out.points.push_back(r);
-  }
+  for (auto& [index, r] : finished) out.points.push_back(std::move(r));
   out.complete = out.points.size() == points.size();
   if (out.complete) {
     // The front over the feasible points.

@@ -7,6 +7,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -118,11 +119,13 @@ TEST(SweepSpec, GridRangesAndLogRanges) {
   ASSERT_EQ(s.parameters.size(), 3u);
   EXPECT_THAT(s.parameters[1].texts, ::testing::ElementsAre("100", "125", "150", "175", "200"));
   EXPECT_THAT(s.parameters[2].texts, ::testing::ElementsAre("1", "10", "100"));
-  const std::vector<SweepPoint> grid = expand_sweep(s);
+  const SweepPoints grid(s);
   ASSERT_EQ(grid.size(), 3u * 5u * 3u);
-  // Last parameter fastest: point 4 = (0, 1, 1).
-  EXPECT_EQ(grid[4].choice, (std::vector<std::size_t>{0, 1, 1}));
-  const Platform p = sweep_platform(s, grid[4]);
+  // Last parameter fastest: point 4 = (0, 1, 1); the last point = (2, 4, 2).
+  EXPECT_EQ(grid.at(4).choice, (std::vector<std::size_t>{0, 1, 1}));
+  EXPECT_EQ(grid.at(44).choice, (std::vector<std::size_t>{2, 4, 2}));
+  EXPECT_THROW(grid.at(45), std::out_of_range);
+  const Platform p = sweep_platform(s, grid.at(4));
   EXPECT_EQ(p.backend.gemm_block, 1);
   EXPECT_DOUBLE_EQ(p.backend.clock_mhz, 125);
   EXPECT_DOUBLE_EQ(p.link.link.bandwidth_gb_per_s, 10);
@@ -145,7 +148,8 @@ TEST(SweepSpec, RandomSamplingIsDistinctAndReproducible) {
                                                           "seed: {}}}}}\n",
                                                           samples, seed));
     std::vector<std::vector<std::size_t>> out;
-    for (const SweepPoint& p : expand_sweep(s)) out.push_back(p.choice);
+    const SweepPoints points(s);
+    for (std::size_t i = 0; i < points.size(); ++i) out.push_back(points.at(i).choice);
     return out;
   };
   const auto a = choices(7, 10), b = choices(7, 10), c = choices(8, 10);
@@ -154,6 +158,39 @@ TEST(SweepSpec, RandomSamplingIsDistinctAndReproducible) {
   EXPECT_NE(a, c);
   EXPECT_EQ(std::set<std::vector<std::size_t>>(a.begin(), a.end()).size(), 10u);
   EXPECT_EQ(choices(1, 1000).size(), 4u * 21u);  // capped at the grid, all distinct
+}
+
+TEST(SweepSpec, HugeGridsAreRefusedOrSampledWithoutEnumeratingThem) {
+  // Three parameters of 1000 values each: 10^9 grid points (issue 21: this hung and took GBs).
+  testing::TempDir dir;
+  const std::string params =
+      "parameters:\n"
+      "  backend.clock_mhz: {range: {from: 1, to: 1000, step: 1}}\n"
+      "  frontend.clock_mhz: {range: {from: 1, to: 1000, step: 1}}\n"
+      "  link.bandwidth_gb_per_s: {range: {from: 1, to: 1000, step: 1}}\n"
+      "objectives: [{minimize: dsp}]\n";
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(
+      error_of([&] { spec_of(dir, params); }),
+      "s.yaml:3: parameters: the grid has 1e+09 points (more than 10^6); use random sampling");
+  const SweepSpec sampled = spec_of(dir, params + "sampling: {random: {samples: 3, seed: 5}}\n");
+  const SweepPoints points(sampled);
+  ASSERT_EQ(points.size(), 3u);
+  EXPECT_EQ(sweep_platform(sampled, points.at(2)).name, "sweep_test");
+  // Parsing checks 3000 values on the base; nothing enumerates the grid (seconds, not minutes).
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 60.0);
+  // Counts that do not fit: samples beyond 10^6, a range of 1e300 / 1e-300 steps.
+  EXPECT_THAT(error_of([&] {
+                spec_of(dir, params + "sampling: {random: {samples: 99999999999999999999}}\n");
+              }),
+              HasSubstr("sampling.random.samples: expected an integer from 1 to 10^6"));
+  EXPECT_THAT(
+      error_of([&] {
+        spec_of(dir,
+                "parameters:\n  backend.clock_mhz: {range: {from: 1, to: 1e300, step: "
+                "1e-300}}\nobjectives: [{minimize: dsp}]\n");
+      }),
+      HasSubstr("s.yaml:3: parameters.backend.clock_mhz.range: inf values (at most 100000)"));
 }
 
 TEST(SweepSpec, BadInputIsOneLineWithFileLineAndKey) {
@@ -174,7 +211,7 @@ TEST(SweepSpec, BadInputIsOneLineWithFileLineAndKey) {
   EXPECT_THAT(err("parameters:\n  backend.gemm_blok: {values: [2]}\n" + obj),
               AllOf(StartsWith("s.yaml"), HasSubstr("backend.gemm_blok: unknown key")));
   EXPECT_THAT(err("parameters:\n  x: {values: [1]}\n" + obj + "sampling: {random: {samples: 0}}\n"),
-              StartsWith("s.yaml:5: sampling.random.samples: expected an integer >= 1"));
+              StartsWith("s.yaml:5: sampling.random.samples: expected an integer from 1 to 10^6"));
   for (const std::string& e : {err("parameters: {}\n" + obj), err("base: nowhere.yaml\n")}) {
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
   }
