@@ -1,6 +1,7 @@
 // `edx eval`: trajectory error (ATE, RPE, KITTI segment errors) of an estimate file against
 // ground truth. Parses arguments, calls edx::eval::evaluate and prints a table or JSON.
 #include <fmt/core.h>
+#include <spdlog/spdlog.h>
 
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -141,6 +142,12 @@ void run_eval(const EvalArguments& args, const CLI::App& command) {
 
   const eval::Trajectory gt = eval::read_trajectory(args.gt_path, format);
   const eval::Trajectory est = eval::read_trajectory(args.est_path, format);
+  for (const eval::Trajectory* t : {&gt, &est}) {
+    if (t->repeated_stamps_dropped > 0) {
+      spdlog::warn("{}:{}: {} pose(s) repeat the previous pose's stamp; the first of each kept",
+                   t->source, t->first_repeated_line, t->repeated_stamps_dropped);
+    }
+  }
   const eval::EvalResult result = eval::evaluate(gt, est, options);
   if (args.json) {
     fmt::print("{}\n", to_json(args, result).dump(2));

@@ -5,8 +5,13 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <exception>
 #include <string>
+#include <string_view>
+#include <system_error>
 
 #include "cli/commands.hpp"
 #include "cli/version.hpp"
@@ -64,8 +69,22 @@ int main(int argc, char** argv) {
     }
     fmt::print(stderr, "edx: {} (see edx --help)\n", message);
     return 2;
+  } catch (const std::system_error& e) {
+    // fmt::print to a full or closed standard output (commands print their results there).
+    if (std::string_view(e.what()).starts_with("cannot write to file")) {
+      fmt::print(stderr, "edx: error: standard output: write failed ({})\n", e.code().message());
+    } else {
+      fmt::print(stderr, "edx: error: {}\n", e.what());
+    }
+    return 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "edx: error: {}\n", e.what());
+    return 1;
+  }
+  // What the command printed must have reached standard output (a full device, a closed pipe):
+  // a result nobody received is a failure, not a success.
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    fmt::print(stderr, "edx: error: standard output: write failed ({})\n", std::strerror(errno));
     return 1;
   }
   return 0;

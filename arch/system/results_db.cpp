@@ -2,10 +2,16 @@
 
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <system_error>
+#include <vector>
+
+#include "sim_core/atomic_file.hpp"
 
 namespace edx::arch {
 namespace {
@@ -187,28 +193,68 @@ std::string run_id_of(const std::string& config_hash, const std::string& trace_h
 
 void create_results_tables(SQLite::Database& db) { db.exec(kSchema); }
 
+void require_results_database(SQLite::Database& db, const std::string& path) {
+  std::vector<std::string> tables;
+  SQLite::Statement q(db, "SELECT name FROM sqlite_master WHERE type = 'table' ORDER BY name");
+  while (q.executeStep()) tables.push_back(q.getColumn(0).getString());
+  const auto has = [&](const char* t) {
+    return std::find(tables.begin(), tables.end(), t) != tables.end();
+  };
+  if (tables.empty() || has("runs")) return;
+  if (has("meta") && has("frames") && has("kernels")) {
+    std::string version = "?";
+    try {
+      SQLite::Statement v(db, "SELECT value FROM meta WHERE key = 'schema_version'");
+      if (v.executeStep()) version = v.getColumn(0).getString();
+    } catch (const SQLite::Exception&) {
+    }
+    throw std::runtime_error(fmt::format(
+        "{}: is an edx trace (schema version {}), not a results database", path, version));
+  }
+  throw std::runtime_error(
+      fmt::format("{}: not an edx results database (it has tables {} but no 'runs')", path,
+                  fmt::join(tables, ", ")));
+}
+
 void write_results(SQLite::Database& db, const SystemResult& result,
                    const ResultsWriteOptions& options) {
   write_run(db, result, run_id_of(result.config_hash, result.trace_hash), options);
 }
 
 void write_results(const std::filesystem::path& path, const SystemResult& result) {
+  if (path.empty()) throw std::runtime_error("results: expected a results database path");
+  sim::require_regular_output(path, "results database");
+  // A new database is written beside the target and renamed into place when complete, so no
+  // failure or kill leaves a partial file under the target name; an existing one is written in
+  // one transaction (rolled back on any error).
   const bool existed = std::filesystem::exists(path);
+  std::filesystem::path target = path;
+  if (!existed) target += fmt::format(".tmp-{}", ::getpid());
   const std::string run_id = run_id_of(result.config_hash, result.trace_hash);
-  try {
-    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
-    db.exec("PRAGMA busy_timeout = 5000");
-    SQLite::Transaction transaction(db);  // rolled back by its destructor on an exception
-    db.exec(kSchema);
-    write_run(db, result, run_id, {});
-    transaction.commit();
-  } catch (const std::exception& e) {
-    if (!existed) {
-      std::error_code ignored;
-      std::filesystem::remove(path, ignored);
+  const auto remove_temporary = [&] {
+    if (existed) return;
+    std::error_code ignored;
+    for (const char* suffix : {"", "-journal", "-wal", "-shm"}) {
+      std::filesystem::remove(target.string() + suffix, ignored);
     }
+  };
+  try {
+    {
+      SQLite::Database db(target.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+      db.exec("PRAGMA busy_timeout = 5000");
+      require_results_database(db, path.string());
+      SQLite::Transaction transaction(db);  // rolled back by its destructor on an exception
+      db.exec(kSchema);
+      write_run(db, result, run_id, {});
+      transaction.commit();
+    }
+    if (!existed) std::filesystem::rename(target, path);
+  } catch (const std::exception& e) {
+    remove_temporary();
+    const std::string message = e.what();
+    if (message.starts_with(path.string() + ": ")) throw std::runtime_error(message);
     throw std::runtime_error(
-        fmt::format("{}: cannot write the results: {}", path.string(), e.what()));
+        fmt::format("{}: cannot write the results: {}", path.string(), message));
   }
 }
 

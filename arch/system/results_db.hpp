@@ -32,6 +32,11 @@ class Database;
 
 namespace edx::arch {
 
+/// Checks that `db` (opened from `path`) is a results database or empty, before anything is
+/// written into it; throws std::runtime_error naming the file otherwise ("x.db: is an edx trace
+/// (schema version 3), not a results database").
+void require_results_database(SQLite::Database& db, const std::string& path);
+
 /// What a run writes: per_frame = false leaves out the frames and offload rows (a sweep's
 /// points keep the summaries, latency, throughput, energy, schedule and resources).
 struct ResultsWriteOptions {

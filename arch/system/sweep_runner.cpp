@@ -3,9 +3,12 @@
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <signal.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <future>
 #include <iterator>
@@ -32,7 +35,42 @@ CREATE TABLE IF NOT EXISTS sweeps (sweep_id TEXT PRIMARY KEY, spec TEXT NOT NULL
 CREATE TABLE IF NOT EXISTS sweep_points (sweep_id TEXT NOT NULL, point INTEGER NOT NULL,
   run_id TEXT NOT NULL, parameters_json TEXT NOT NULL, metrics_json TEXT NOT NULL,
   feasible INTEGER NOT NULL, pareto INTEGER NOT NULL DEFAULT 0, PRIMARY KEY (sweep_id, point));
+CREATE TABLE IF NOT EXISTS sweep_locks (sweep_id TEXT PRIMARY KEY, pid INTEGER NOT NULL,
+  host TEXT NOT NULL, started TEXT NOT NULL);
 )sql";
+
+std::string host_name() {
+  char name[256] = {};
+  if (::gethostname(name, sizeof name - 1) != 0) return "unknown";
+  return name;
+}
+
+/// Takes the sweep's lock row (inside the caller's write transaction): one process runs a sweep
+/// on a database at a time. A lock held by a live process is refused with a line naming it; a
+/// lock left by a process of this host that is gone (killed) is taken over.
+void take_sweep_lock(SQLite::Database& db, const std::string& db_name,
+                     const std::string& sweep_id) {
+  const std::string host = host_name();
+  SQLite::Statement q(db, "SELECT pid, host, started FROM sweep_locks WHERE sweep_id = ?");
+  q.bind(1, sweep_id);
+  if (q.executeStep()) {
+    const auto pid = static_cast<pid_t>(q.getColumn(0).getInt64());
+    const std::string holder = q.getColumn(1).getString();
+    const bool alive = holder != host || ::kill(pid, 0) == 0 || errno == EPERM;
+    if (alive && !(holder == host && pid == ::getpid())) {
+      throw std::runtime_error(fmt::format(
+          "{}: sweep '{}' is being run by process {} on {} since {} (wait for it, or delete its "
+          "row from sweep_locks if that process is gone)",
+          db_name, sweep_id, pid, holder, q.getColumn(2).getString()));
+    }
+  }
+  q.reset();
+  SQLite::Statement put(db, "INSERT OR REPLACE INTO sweep_locks VALUES (?, ?, ?, datetime('now'))");
+  put.bind(1, sweep_id);
+  put.bind(2, static_cast<std::int64_t>(::getpid()));
+  put.bind(3, host);
+  put.exec();
+}
 
 /// Objectives and constraint metrics of a run summary; feasibility.
 void evaluate(const SweepSpec& spec, const nlohmann::json& summary, SweepPointResult& r) {
@@ -111,6 +149,10 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
                        const std::vector<trace::FrameTrace>& frames,
                        const trace::TraceMeta& trace_meta, const std::string& trace_name) {
   const auto start = std::chrono::steady_clock::now();
+  // Everything that can be checked is checked before the results database is touched.
+  if (options.db.empty()) throw std::runtime_error("sweep: expected a results database path");
+  if (frames.empty())
+    throw std::runtime_error(fmt::format("{}: the trace has no frames", trace_name));
   const auto resolution = trace_meta.find("resolution");
   if (resolution == trace_meta.end()) {
     throw std::runtime_error(fmt::format("{}: trace meta has no resolution", trace_name));
@@ -120,10 +162,25 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
   // The points, enumerated lazily (a bad value failed in SweepSpec::parse, before any work).
   const SweepPoints points(spec);
   const PlatformSource base = PlatformSource::load(spec.base);
+  map_host(Platform::parse(base).host, trace_meta, trace_name);  // the trace's host speed
   SweepOutcome out;
   out.sweep_id = spec.name;
   out.total = points.size();
 
+  sim::require_regular_output(options.db, "results database");
+  // A database this sweep creates is removed again if the sweep fails before its first point
+  // is stored (after that it is kept: a re-run resumes from it).
+  struct RemoveNewDatabase {
+    std::filesystem::path path;
+    bool keep = false;
+    ~RemoveNewDatabase() {
+      if (keep) return;
+      std::error_code ignored;
+      for (const char* suffix : {"", "-journal", "-wal", "-shm"}) {
+        std::filesystem::remove(path.string() + suffix, ignored);
+      }
+    }
+  } new_database{options.db, std::filesystem::exists(options.db)};
   std::unique_ptr<SQLite::Database> db_handle;
   try {
     db_handle = std::make_unique<SQLite::Database>(options.db.string(),
@@ -133,15 +190,19 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
         fmt::format("{}: cannot open the results database: {}", options.db.string(), e.what()));
   }
   SQLite::Database& db = *db_handle;
+  db.exec("PRAGMA busy_timeout = 5000");
+  require_results_database(db, options.db.string());
   // WAL with synchronous = NORMAL: a commit is not fsynced, but survives the process being
   // killed (only a power cut can lose the last points; the file stays consistent).
   db.exec("PRAGMA journal_mode = WAL");
   db.exec("PRAGMA synchronous = NORMAL");
-  db.exec("PRAGMA busy_timeout = 5000");
   {
-    SQLite::Transaction t(db);
+    // IMMEDIATE: two processes starting at once are serialized here (the second waits for the
+    // first's lock row, then sees it).
+    SQLite::Transaction t(db, SQLite::TransactionBehavior::IMMEDIATE);
     create_results_tables(db);
     db.exec(kSweepSchema);
+    take_sweep_lock(db, options.db.string(), out.sweep_id);
     SQLite::Statement sweep(db, "INSERT OR REPLACE INTO sweeps VALUES (?, ?, ?, ?, ?, ?)");
     sweep.bind(1, out.sweep_id);
     sweep.bind(2, spec.file);
@@ -157,6 +218,21 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
     stale.exec();
     t.commit();
   }
+
+  // The lock row goes when this run ends, however it ends (a kill leaves it; see above).
+  struct ReleaseLock {
+    SQLite::Database& db;
+    std::string sweep_id;
+    ~ReleaseLock() {
+      try {
+        SQLite::Statement drop(db, "DELETE FROM sweep_locks WHERE sweep_id = ? AND pid = ?");
+        drop.bind(1, sweep_id);
+        drop.bind(2, static_cast<std::int64_t>(::getpid()));
+        drop.exec();
+      } catch (const SQLite::Exception&) {
+      }
+    }
+  } release_lock{db, out.sweep_id};
 
   // The pool: workers take the next point in index order, make its platform and run id, and
   // either find its run in the database (resume: evaluated from the stored summary, not counted
@@ -177,6 +253,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
     if (simulated) write_results(db, *simulated, ResultsWriteOptions{options.per_frame});
     put_point(db, out.sweep_id, r);
     t.commit();
+    new_database.keep = true;
     (simulated ? out.computed : out.skipped) += 1;
     const std::size_t done = finished.size() + 1;
     if (options.progress) options.progress(done, points.size(), r);

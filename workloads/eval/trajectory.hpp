@@ -31,6 +31,10 @@ struct Trajectory {
   std::string source;  ///< the file name used in error messages
   StampKind stamp_kind = StampKind::kFrameIndex;
   std::vector<StampedPose> poses;  ///< strictly increasing frame_index (kFrameIndex) or time_s
+  /// Rows dropped because their stamp repeated the previous row's (the first of each run of
+  /// equal stamps is kept; docs/EVAL.md), and the line of the first one (0: none).
+  std::size_t repeated_stamps_dropped = 0;
+  std::size_t first_repeated_line = 0;
 };
 
 }  // namespace edx::eval

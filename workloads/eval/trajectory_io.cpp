@@ -267,7 +267,15 @@ Trajectory parse_trajectory(std::istream& in, const std::string& source, Traject
         break;
     }
     if (previous_key && key.value == previous_key->value) {
-      fail_at(source, line, fmt::format("duplicate {} (also on line {})", key.text, previous_line));
+      // A frame index names one frame: a repeat is an error. Real ground truth repeats
+      // timestamps (e.g. the TUM RGB-D files): keep the first pose of a stamp, drop the rest,
+      // and count them (docs/EVAL.md). Going back in time stays an error.
+      if (format == TrajectoryFormat::kKitti) {
+        fail_at(source, line,
+                fmt::format("duplicate {} (also on line {})", key.text, previous_line));
+      }
+      if (trajectory.repeated_stamps_dropped++ == 0) trajectory.first_repeated_line = line;
+      continue;
     }
     if (previous_key && key.value < previous_key->value) {
       fail_at(source, line,

@@ -93,11 +93,7 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
   const frontend::TracingThreads threads(options.frontend.parallel_images);
   options.frontend.validate();
   options.mode_switch.validate();
-  if (options.out.empty()) throw std::runtime_error("no output trace file given");
-  if (fs::exists(options.out) && !options.overwrite) {
-    throw std::runtime_error(fmt::format("{}: output exists (refusing to overwrite; use --force)",
-                                         options.out.string()));
-  }
+  trace::TraceWriter::check_output(options.out, options.overwrite);  // before any work
   const MixPlan& plan = options.plan;
   fs::create_directories(options.data_dir);
   generate_mix_data(plan, options.data_dir, [&](std::string_view run, int done, int total) {

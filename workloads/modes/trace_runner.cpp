@@ -58,12 +58,7 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
   const auto run_start = std::chrono::steady_clock::now();
   const frontend::TracingThreads threads(options.frontend.parallel_images);
   options.frontend.validate();
-  if (options.out.empty()) throw std::runtime_error("no output trace file given");
-  // Refuse an existing output before any work (TraceWriter checks again when it opens).
-  if (fs::exists(options.out) && !options.overwrite) {
-    throw std::runtime_error(fmt::format("{}: output exists (refusing to overwrite; use --force)",
-                                         options.out.string()));
-  }
+  trace::TraceWriter::check_output(options.out, options.overwrite);  // before any work
   const std::unique_ptr<datasets::Dataset> dataset =
       datasets::open_dataset(options.dataset_path, options.format, options.dataset);
   std::size_t frames = dataset->frame_count();

@@ -31,13 +31,24 @@ void bind_pose(SQLite::Statement& statement, int first, const std::optional<Pose
 
 }  // namespace
 
+void TraceWriter::check_output(const std::filesystem::path& path, bool overwrite) {
+  namespace fs = std::filesystem;
+  if (path.empty()) throw std::runtime_error("no output trace file given");
+  // A device, FIFO or directory is never replaced by the rename of finish().
+  if (fs::exists(path) && !fs::is_regular_file(path)) {
+    throw std::runtime_error(fmt::format(
+        "{}: not a regular file (a trace is a SQLite file; give a file path)", path.string()));
+  }
+  if (fs::exists(path) && !overwrite) {
+    throw std::runtime_error(
+        fmt::format("{}: output exists (refusing to overwrite; use --force)", path.string()));
+  }
+}
+
 TraceWriter::TraceWriter(std::filesystem::path path, TraceMeta meta, TraceWriterOptions options)
     : path_(std::move(path)), options_(options) {
   namespace fs = std::filesystem;
-  if (fs::exists(path_) && !options_.overwrite) {
-    throw std::runtime_error(
-        fmt::format("{}: output exists (refusing to overwrite; use --force)", path_.string()));
-  }
+  check_output(path_, options_.overwrite);
   for (const auto& key : kRequiredMetaKeys) {
     if (!meta.contains(std::string(key))) {
       throw std::runtime_error(

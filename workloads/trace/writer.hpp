@@ -23,6 +23,9 @@ class TraceWriter {
   /// is off, or if `meta` lacks a required key (schema.hpp).
   TraceWriter(std::filesystem::path path, TraceMeta meta, TraceWriterOptions options = {});
   ~TraceWriter();
+  /// The output checks of the constructor, for runners to make before any work: an empty path,
+  /// an existing path that is not a regular file, an existing file without `overwrite`.
+  static void check_output(const std::filesystem::path& path, bool overwrite);
   TraceWriter(const TraceWriter&) = delete;
   TraceWriter& operator=(const TraceWriter&) = delete;
 

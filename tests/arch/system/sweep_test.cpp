@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -288,6 +290,58 @@ TEST(Sweep, RunsStoresResumesAndExports) {
               StartsWith("run_id,variant,fps_without_pipelining,fps_with_pipelining\n"));
   EXPECT_THAT(error_of([&] { export_csv(dir.path() / "r.db", "nope", "", dir.path() / "x.csv"); }),
               HasSubstr("--table: no table 'nope'"));
+}
+
+TEST(Sweep, AFailureBeforeTheFirstPointLeavesNoNewDatabase) {
+  testing::TempDir dir;
+  write_sweep_trace(dir.path() / "t.db");
+  // A JSON-pointer objective that names nothing is found only on the first result.
+  const SweepSpec spec =
+      spec_of(dir,
+              "trace: t.db\nparameters:\n  backend.gemm_block: {values: [1, 2]}\n"
+              "objectives: [{minimize: /accelerated/nothing}]\n");
+  SweepOptions options;
+  options.db = dir.path() / "r.db";
+  EXPECT_THAT(error_of([&] { run_sweep(spec, options); }), HasSubstr("/accelerated/nothing"));
+  for (const char* suffix : {"", "-wal", "-shm", "-journal"}) {
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / (std::string("r.db") + suffix))) << suffix;
+  }
+  options.db.clear();
+  EXPECT_THAT(error_of([&] { run_sweep(spec, options); }),
+              HasSubstr("expected a results database path"));
+}
+
+TEST(Sweep, OneProcessRunsASweepOnADatabaseAtATime) {
+  testing::TempDir dir;
+  write_sweep_trace(dir.path() / "t.db");
+  const SweepSpec spec = spec_of(dir,
+                                 "name: blocks\ntrace: t.db\n"
+                                 "parameters:\n  backend.gemm_block: {values: [1, 2]}\n"
+                                 "objectives: [{minimize: dsp}]\n");
+  SweepOptions options;
+  options.db = dir.path() / "r.db";
+  ASSERT_EQ(run_sweep(spec, options).computed, 2u);
+  char host[256] = {};
+  ASSERT_EQ(::gethostname(host, sizeof host - 1), 0);
+  const auto lock_by = [&](pid_t pid) {
+    SQLite::Database db(options.db.string(), SQLite::OPEN_READWRITE);
+    SQLite::Statement put(db, "INSERT OR REPLACE INTO sweep_locks VALUES ('blocks', ?, ?, 'then')");
+    put.bind(1, static_cast<std::int64_t>(pid));
+    put.bind(2, std::string(host));
+    put.exec();
+  };
+  // A live process holds it (pid 1 is always alive): refused, naming the holder.
+  lock_by(1);
+  EXPECT_THAT(error_of([&] { run_sweep(spec, options); }),
+              HasSubstr("r.db: sweep 'blocks' is being run by process 1 on "));
+  // A process that is gone (a child that has exited): taken over, and released at the end.
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ::waitpid(child, nullptr, 0);
+  lock_by(child);
+  EXPECT_EQ(run_sweep(spec, options).skipped, 2u);
+  SQLite::Database db(options.db.string());
+  EXPECT_EQ(db.execAndGet("SELECT count(*) FROM sweep_locks").getInt(), 0);
 }
 
 // ---- the example sweeps (not run by default: EDX_SWEEP_TRACE=vio.db, ~1 min) ----

@@ -146,8 +146,16 @@ TEST(TrajectoryIoErrors, UnsortedAndDuplicateTumTimestamps) {
   const std::string pose = " 0 0 0 0 0 0 1\n";
   EXPECT_EQ(read_error("est.tum", "0.2" + pose + "0.1" + pose, TrajectoryFormat::kTum),
             ":2: timestamp 0.1 s comes after timestamp 0.2 s on line 1: poses must be sorted");
-  EXPECT_EQ(read_error("est.tum", "0.1" + pose + "# comment\n0.1" + pose, TrajectoryFormat::kTum),
-            ":3: duplicate timestamp 0.1 s (also on line 1)");
+  // Repeated stamps (as in the TUM RGB-D ground truth): the first pose of a stamp is kept.
+  std::istringstream repeated(
+      "0.1 1 0 0 0 0 0 1\n# comment\n0.1 2 0 0 0 0 0 1\n0.1 3 0 0 0 0 0 1\n"
+      "0.2 4 0 0 0 0 0 1\n");
+  const Trajectory t = parse_trajectory(repeated, "gt.tum", TrajectoryFormat::kTum);
+  ASSERT_EQ(t.poses.size(), 2u);
+  EXPECT_DOUBLE_EQ(t.poses[0].pose.translation().x(), 1.0);
+  EXPECT_DOUBLE_EQ(t.poses[1].pose.translation().x(), 4.0);
+  EXPECT_EQ(t.repeated_stamps_dropped, 2u);
+  EXPECT_EQ(t.first_repeated_line, 3u);
 }
 
 TEST(TrajectoryIoErrors, UnsortedAndDuplicateEurocTimestamps) {
@@ -159,9 +167,11 @@ TEST(TrajectoryIoErrors, UnsortedAndDuplicateEurocTimestamps) {
                        TrajectoryFormat::kEuroc),
             ":3: timestamp 1403715273262142976 ns comes after timestamp 1403715273262142977 ns "
             "on line 2: poses must be sorted");
-  EXPECT_EQ(read_error("gt.csv", header + "100,0,0,0,1,0,0,0\n100,0,0,0,1,0,0,0\n",
-                       TrajectoryFormat::kEuroc),
-            ":3: duplicate timestamp 100 ns (also on line 2)");
+  std::istringstream repeated(header + "100,0,0,0,1,0,0,0\n100,5,0,0,1,0,0,0\n");
+  const Trajectory t = parse_trajectory(repeated, "gt.csv", TrajectoryFormat::kEuroc);
+  EXPECT_EQ(t.poses.size(), 1u);
+  EXPECT_EQ(t.repeated_stamps_dropped, 1u);
+  EXPECT_EQ(t.first_repeated_line, 3u);
 }
 
 TEST(TrajectoryIoErrors, TumAndEurocShortRows) {
