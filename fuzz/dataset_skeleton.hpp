@@ -1,0 +1,44 @@
+#pragma once
+// A minimal valid dataset on disk (two 96x64 stereo frames) for the dataset fuzz targets: the
+// fuzz input replaces one of its text files (the first byte picks which), the reader opens it,
+// and the file is restored afterwards.
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
+
+#include "fuzz/fuzz_input.hpp"
+
+namespace edx::fuzz {
+
+struct DatasetSkeleton {
+  std::filesystem::path root;                   ///< what the reader opens
+  std::vector<std::string> files;               ///< replaceable text files, relative to root
+  std::map<std::string, std::string> contents;  ///< their valid contents
+
+  /// Writes every file and a 96x64 gray image per `images` entry (relative paths).
+  void write(const std::vector<std::string>& images) const {
+    for (const auto& [file, text] : contents) {
+      std::filesystem::create_directories((root / file).parent_path());
+      write_bytes(root / file, text);
+    }
+    cv::Mat image(64, 96, CV_8U);
+    cv::randu(image, 0, 255);
+    for (const std::string& relative : images) {
+      std::filesystem::create_directories((root / relative).parent_path());
+      cv::imwrite((root / relative).string(), image);
+    }
+  }
+  /// Replaces the file the first byte selects with the rest of the input; returns it.
+  std::string replace(const std::uint8_t* data, std::size_t size) const {
+    const std::string& file = files[data[0] % files.size()];
+    write_bytes(root / file, as_text(data + 1, size - 1));
+    return file;
+  }
+  void restore(const std::string& file) const { write_bytes(root / file, contents.at(file)); }
+};
+
+}  // namespace edx::fuzz
