@@ -21,6 +21,10 @@ void add_sweep_command(CLI::App& app);
 void add_export_command(CLI::App& app);
 /// `edx report`: HTML report with gnuplot plots of a results database.
 void add_report_command(CLI::App& app);
+/// Checks shared by every subcommand's options of one kind (issue 21): a path option
+/// (--out, --db, --trace, --config, ...) must not be empty, a --seed must not be negative (a
+/// uint64 would take -1 as 2^64-1). Call after adding the subcommands.
+void check_common_options(CLI::App& app);
 /// `edx host-speed`: the machine-speed reference suite's times on this machine.
 void add_host_speed_command(CLI::App& app);
 /// `edx check`: a run against the paper's Edx-Car figures (reports/paper_targets.yaml).

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 namespace edx::arch {
@@ -15,6 +16,30 @@ std::string line_of(const YAML::Node& node) {
 
 }  // namespace
 
+/// A key written twice in one map is an error (yaml-cpp keeps both, and lookups would see only
+/// the first): "file:line: key: written twice (also on line N)".
+static void refuse_duplicate_keys(const YAML::Node& node, const std::string& where,
+                                  const std::string& prefix) {
+  if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      refuse_duplicate_keys(node[i], where, fmt::format("{}[{}]", prefix, i));
+    }
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::map<std::string, int> lines;
+  for (const auto& item : node) {
+    const std::string key = item.first.IsScalar() ? item.first.Scalar() : std::string();
+    const std::string path = prefix.empty() ? key : prefix + "." + key;
+    const int line = item.first.Mark().line + 1;
+    if (const auto [it, inserted] = lines.emplace(key, line); !inserted) {
+      throw std::runtime_error(
+          fmt::format("{}:{}: {}: written twice (also on line {})", where, line, path, it->second));
+    }
+    refuse_duplicate_keys(item.second, where, path);
+  }
+}
+
 YAML::Node load_yaml_map(const std::string& text, const std::string& where,
                          const std::string& what) {
   YAML::Node root;
@@ -25,6 +50,7 @@ YAML::Node load_yaml_map(const std::string& text, const std::string& where,
         fmt::format("{}:{}: not valid YAML: {}", where, e.mark.line + 1, e.msg));
   }
   if (!root.IsMap()) throw std::runtime_error(fmt::format("{}: expected a map of {}", where, what));
+  refuse_duplicate_keys(root, where, "");
   return root;
 }
 

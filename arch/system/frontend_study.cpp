@@ -73,6 +73,11 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   if (resolution == trace_meta.end()) {
     throw std::runtime_error(fmt::format("{}: trace meta has no resolution", trace_name));
   }
+  if (timeline.timeline && timeline.timeline_first >= frames.size()) {
+    throw std::runtime_error(
+        fmt::format("{}: the timeline's first frame {} is past the trace's last ({} frames)",
+                    trace_name, timeline.timeline_first, frames.size()));
+  }
   FrontendStudy study;
   study.platform = platform.name;
   study.host = platform.host;

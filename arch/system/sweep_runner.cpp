@@ -240,6 +240,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
   // frontend_study_key (computed once, by the first worker asking). Only finished points are
   // kept: memory grows with the points run, not with the grid.
   std::mutex mutex;  // guards db, the results, the counters, the studies, the first error
+  std::mutex yaml_mutex;  // guards the YAML trees of the spec and the base
   std::map<std::size_t, SweepPointResult> finished;
   std::map<std::string, std::shared_future<FrontendStudy>> studies;
   std::atomic<std::size_t> next{0};
@@ -269,7 +270,12 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
       if (index >= points.size()) return;
       try {
         const SweepPoint point = points.at(index);
-        const Platform platform = sweep_platform(spec, point, base);
+        // yaml-cpp nodes are not safe to read from two threads (even const access may touch
+        // their shared memory), and the base and the spec's values are shared: one at a time.
+        const Platform platform = [&] {
+          std::lock_guard<std::mutex> lock(yaml_mutex);
+          return sweep_platform(spec, point, base);
+        }();
         SweepPointResult r;
         r.index = index;
         r.parameters = point.parameters(spec);

@@ -280,6 +280,7 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
   }
   host_speed.finish();
   writer.set_meta("host_speed", trace::to_meta_value(host_speed.result()));
+  writer.set_meta("frames", std::to_string(writer.frames_written()));  // the rows, checked on read
   writer.finish();
 
   summary.frames = static_cast<std::size_t>(frame_id);

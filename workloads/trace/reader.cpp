@@ -130,6 +130,14 @@ TraceReader::TraceReader(std::filesystem::path path) : path_(std::move(path)) {
     }
     frame_count_ =
         static_cast<std::size_t>(db.execAndGet("SELECT COUNT(*) FROM frames").getInt64());
+    // meta.frames, when the writer recorded it, must match the rows (a truncated trace).
+    if (const auto frames = meta_.find("frames"); frames != meta_.end()) {
+      if (frames->second != std::to_string(frame_count_)) {
+        throw std::runtime_error(
+            fmt::format("{}: meta.frames says {} but the trace has {} frame rows", file,
+                        frames->second, frame_count_));
+      }
+    }
   } catch (const SQLite::Exception& e) {
     throw std::runtime_error(fmt::format("{}: cannot read trace: {}", file, e.what()));
   }

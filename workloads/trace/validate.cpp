@@ -5,6 +5,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <string_view>
 
 namespace edx::trace {
 namespace {
@@ -13,8 +14,17 @@ namespace {
   throw std::runtime_error(fmt::format("{}: {}", where, what));
 }
 
-void require_non_negative(std::int64_t value, const char* name, const std::string& where) {
+// Bounds no real run reaches, so that a corrupt value is named here instead of overflowing a
+// model's arithmetic later (issue 21: a 9e18 ns kernel gave R^2 -9e24; sizes of 2e9 a negative
+// BRAM count): a host time of 10^4 s, a count of 10^12, a matrix dimension of 10^7.
+constexpr std::int64_t kMaxHostNs = 10'000'000'000'000;
+constexpr std::int64_t kMaxCount = 1'000'000'000'000;
+constexpr std::int64_t kMaxDimension = 10'000'000;
+
+void require_non_negative(std::int64_t value, const char* name, const std::string& where,
+                          std::int64_t max = kMaxCount) {
   if (value < 0) fail(where, fmt::format("{} is negative ({})", name, value));
+  if (value > max) fail(where, fmt::format("{} is {}, above the plausible {}", name, value, max));
 }
 
 void validate_pose(const std::optional<PoseArray>& pose, const char* name,
@@ -38,7 +48,10 @@ void validate_task(const TaskRecord& task, const std::string& where) {
       {task.comparisons, "comparisons"}, {task.windows, "windows"},
       {task.window_size, "window_size"}, {task.search_range, "search_range"},
       {task.points, "points"},           {task.iterations, "iterations"}};
-  for (const auto& [value, name] : counts) require_non_negative(value, name, where);
+  for (const auto& [value, name] : counts) {
+    require_non_negative(value, name, where,
+                         name == std::string_view("host_ns") ? kMaxHostNs : kMaxCount);
+  }
   if (task.per_level.empty()) return;
   std::int64_t pixels = 0;
   for (const LevelWork& level : task.per_level) {
@@ -55,10 +68,10 @@ void validate_task(const TaskRecord& task, const std::string& where) {
 
 void validate_kernel(const KernelRecord& kernel, const std::string& where) {
   if (kernel.kernel.empty()) fail(where, "kernel name is empty");
-  require_non_negative(kernel.host_ns, "host_ns", where);
-  require_non_negative(kernel.m, "m", where);
-  require_non_negative(kernel.n, "n", where);
-  require_non_negative(kernel.k, "k", where);
+  require_non_negative(kernel.host_ns, "host_ns", where, kMaxHostNs);
+  require_non_negative(kernel.m, "m", where, kMaxDimension);
+  require_non_negative(kernel.n, "n", where, kMaxDimension);
+  require_non_negative(kernel.k, "k", where, kMaxDimension);
   const auto detail = nlohmann::json::parse(kernel.detail_json, nullptr, false);
   if (detail.is_discarded() || !detail.is_object()) {
     fail(where, fmt::format("detail is not a JSON object: '{}'", kernel.detail_json));
@@ -66,10 +79,10 @@ void validate_kernel(const KernelRecord& kernel, const std::string& where) {
   for (std::size_t i = 0; i < kernel.ops.size(); ++i) {
     const OpRecord& op = kernel.ops[i];
     const std::string op_where = fmt::format("{}, op {}", where, i);
-    require_non_negative(op.m, "m", op_where);
-    require_non_negative(op.n, "n", op_where);
-    require_non_negative(op.k, "k", op_where);
-    require_non_negative(op.host_ns, "host_ns", op_where);
+    require_non_negative(op.m, "m", op_where, kMaxDimension);
+    require_non_negative(op.n, "n", op_where, kMaxDimension);
+    require_non_negative(op.k, "k", op_where, kMaxDimension);
+    require_non_negative(op.host_ns, "host_ns", op_where, kMaxHostNs);
     if ((op.flags & ~op_flags::kAll) != 0) {
       fail(op_where, fmt::format("unknown flag bits 0x{:x}", op.flags & ~op_flags::kAll));
     }
@@ -82,8 +95,8 @@ void validate_frame(const FrameTrace& trace, const std::string& where) {
   const FrameRecord& frame = trace.frame;
   const std::string frame_where = fmt::format("{}: frame {}", where, frame.frame_id);
   require_non_negative(frame.frame_id, "frame_id", frame_where);
-  require_non_negative(frame.frontend_host_ns, "frontend_host_ns", frame_where);
-  require_non_negative(frame.backend_host_ns, "backend_host_ns", frame_where);
+  require_non_negative(frame.frontend_host_ns, "frontend_host_ns", frame_where, kMaxHostNs);
+  require_non_negative(frame.backend_host_ns, "backend_host_ns", frame_where, kMaxHostNs);
   if (frame.sequence.empty()) fail(frame_where, "sequence is empty");
   if (frame.backend_status.empty()) fail(frame_where, "backend_status is empty");
   if (frame.mode != BackendMode::None && frame.estimated_pose == std::nullopt &&

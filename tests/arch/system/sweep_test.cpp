@@ -207,6 +207,10 @@ TEST(SweepSpec, BadInputIsOneLineWithFileLineAndKey) {
                 "speed}]\n"),
             "s.yaml:4: objectives[0]: unknown metric 'speed' (docs/SWEEPS.md lists them)");
   EXPECT_THAT(err("paramters: {}\n" + obj), StartsWith("s.yaml:2: sweep.paramters: unknown key"));
+  EXPECT_EQ(err("parameters:\n  backend.gemm_block: {values: [1]}\n  backend.gemm_block: {values: "
+                "[2]}\n" +
+                obj),
+            "s.yaml:4: parameters.backend.gemm_block: written twice (also on line 3)");
   // A value the platform rejects names the spec's line of that value.
   EXPECT_EQ(err("parameters:\n  backend.gemm_block:\n    values: [2, fast]\n" + obj),
             "s.yaml:4: backend.gemm_block: expected an integer >= 1, got 'fast'");

@@ -133,6 +133,31 @@ TEST_F(TraceTest, WriterRejectsBadFrames) {
   bad.kernels[1].ops[0].flags = 1u << 20;
   EXPECT_THAT([&] { writer.append(bad); },
               ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("unknown flag bits")));
+  // Values no run reaches are named before they overflow a model (issue 21).
+  bad = sample_frame(0);
+  bad.kernels[1].host_ns = 9'000'000'000'000'000'000;
+  EXPECT_THAT([&] { writer.append(bad); },
+              ::testing::ThrowsMessage<std::runtime_error>(
+                  HasSubstr("host_ns is 9000000000000000000, above the plausible 10000000000000")));
+  bad = sample_frame(0);
+  bad.kernels[1].ops[0].m = 2'000'000'000;
+  EXPECT_THAT([&] { writer.append(bad); },
+              ::testing::ThrowsMessage<std::runtime_error>(
+                  HasSubstr("op 0: m is 2000000000, above the plausible 10000000")));
+}
+
+TEST_F(TraceTest, ReaderRefusesAFrameCountThatDisagreesWithTheRows) {
+  TraceMeta meta = sample_meta();
+  meta["frames"] = "5";
+  const fs::path path = dir_ / "trace.db";
+  {
+    TraceWriter writer(path, meta);
+    for (int i = 0; i < 3; ++i) writer.append(sample_frame(i));
+    writer.finish();
+  }
+  EXPECT_THAT([&] { TraceReader{path}; },
+              ::testing::ThrowsMessage<std::runtime_error>(::testing::HasSubstr(
+                  "trace.db: meta.frames says 5 but the trace has 3 frame rows")));
 }
 
 TEST_F(TraceTest, WriterRequiresMetadata) {
