@@ -3,6 +3,7 @@
 // fuzz input replaces one of its text files (the first byte picks which), the reader opens it,
 // and the file is restored afterwards.
 #include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <map>
 #include <opencv2/core.hpp>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "fuzz/fuzz_input.hpp"
+#include "workloads/datasets/dataset.hpp"
 
 namespace edx::fuzz {
 
@@ -19,8 +21,10 @@ struct DatasetSkeleton {
   std::vector<std::string> files;               ///< replaceable text files, relative to root
   std::map<std::string, std::string> contents;  ///< their valid contents
 
-  /// Writes every file and a 96x64 gray image per `images` entry (relative paths).
-  void write(const std::vector<std::string>& images) const {
+  /// Lists the files, writes every file and a 96x64 gray image per `images` entry (relative).
+  void write(const std::vector<std::string>& images) {
+    files.clear();
+    for (const auto& [file, text] : contents) files.push_back(file);
     for (const auto& [file, text] : contents) {
       std::filesystem::create_directories((root / file).parent_path());
       write_bytes(root / file, text);
@@ -39,6 +43,18 @@ struct DatasetSkeleton {
     return file;
   }
   void restore(const std::string& file) const { write_bytes(root / file, contents.at(file)); }
+  /// One fuzz input: replace a file, open the dataset as `format` and read its first frame (a
+  /// std::exception is a valid rejection), restore the file.
+  void run(const std::uint8_t* data, std::size_t size, datasets::DatasetFormat format) const {
+    if (size == 0) return;
+    const std::string replaced = replace(data, size);
+    try {
+      const auto dataset = datasets::open_dataset(root, format);
+      if (dataset->frame_count() > 0) (void)dataset->load_frame(0);
+    } catch (const std::exception&) {
+    }
+    restore(replaced);
+  }
 };
 
 }  // namespace edx::fuzz
