@@ -54,6 +54,13 @@ YAML::Node load_yaml_map(const std::string& text, const std::string& where,
   return root;
 }
 
+/// What a value is, for "got ..." in errors: its text, or what kind of node it is.
+static std::string described(const YAML::Node& v) {
+  if (v.IsScalar()) return v.Scalar();
+  if (v.IsNull()) return "nothing (~ or an empty value)";
+  return v.IsMap() ? "a map" : "a list";
+}
+
 YamlFields::YamlFields(const YAML::Node& node, std::string where, std::string prefix)
     : node_(node), where_(std::move(where)), prefix_(std::move(prefix)) {
   if (node_ && !node_.IsNull() && !node_.IsMap()) {
@@ -75,9 +82,7 @@ void YamlFields::read(const std::string& key, double& value, double min_exclusiv
   double parsed = 0;
   if (!v.IsScalar() || !YAML::convert<double>::decode(v, parsed) || !std::isfinite(parsed) ||
       parsed <= min_exclusive) {
-    fail(key,
-         fmt::format("expected a number > {}, got '{}'", min_exclusive,
-                     v.IsScalar() ? v.Scalar() : "a " + std::string(v.IsMap() ? "map" : "list")));
+    fail(key, fmt::format("expected a number > {}, got '{}'", min_exclusive, described(v)));
   }
   value = parsed;
 }
@@ -88,9 +93,7 @@ void YamlFields::read(const std::string& key, int& value, int min_inclusive) {
   const YAML::Node v = node_[key];
   int parsed = 0;
   if (!v.IsScalar() || !YAML::convert<int>::decode(v, parsed) || parsed < min_inclusive) {
-    fail(key,
-         fmt::format("expected an integer >= {}, got '{}'", min_inclusive,
-                     v.IsScalar() ? v.Scalar() : "a " + std::string(v.IsMap() ? "map" : "list")));
+    fail(key, fmt::format("expected an integer >= {}, got '{}'", min_inclusive, described(v)));
   }
   value = parsed;
 }
@@ -101,7 +104,7 @@ void YamlFields::read(const std::string& key, bool& value) {
   const YAML::Node v = node_[key];
   bool parsed = false;
   if (!v.IsScalar() || !YAML::convert<bool>::decode(v, parsed)) {
-    fail(key, fmt::format("expected true or false, got '{}'", v.IsScalar() ? v.Scalar() : "?"));
+    fail(key, fmt::format("expected true or false, got '{}'", described(v)));
   }
   value = parsed;
 }

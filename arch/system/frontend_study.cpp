@@ -9,13 +9,13 @@
 namespace edx::arch {
 namespace {
 
-std::pair<int, int> parse_wxh(const std::string& text) {
+std::pair<int, int> parse_wxh(const std::string& text, const std::string& trace_name) {
   int w = 0, h = 0;
   char x = 0, extra = 0;
   if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' || w <= 0 ||
       h <= 0) {
-    throw std::runtime_error(
-        fmt::format("trace meta.resolution: expected WxH (e.g. 1280x720), got '{}'", text));
+    throw std::runtime_error(fmt::format(
+        "{}: meta.resolution: expected WxH (e.g. 1280x720), got '{}'", trace_name, text));
   }
   return {w, h};
 }
@@ -78,12 +78,19 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
         fmt::format("{}: the timeline's first frame {} is past the trace's last ({} frames)",
                     trace_name, timeline.timeline_first, frames.size()));
   }
+  for (const trace::FrameTrace& f : frames) {
+    if (f.tasks.empty()) {
+      throw std::runtime_error(fmt::format(
+          "{}: frame {}: no frontend task rows (the frontend model needs a frontend trace)",
+          trace_name, f.frame.frame_id));
+    }
+  }
   FrontendStudy study;
   study.platform = platform.name;
   study.host = platform.host;
   study.host_mapping = map_host(platform.host, trace_meta, trace_name);
   study.frames = frames.size();
-  std::tie(study.width, study.height) = parse_wxh(resolution->second);
+  std::tie(study.width, study.height) = parse_wxh(resolution->second, trace_name);
   const std::int64_t level0 = static_cast<std::int64_t>(study.width) * study.height;
 
   std::vector<double> cpu;

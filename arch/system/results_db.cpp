@@ -195,8 +195,12 @@ void create_results_tables(SQLite::Database& db) { db.exec(kSchema); }
 
 void require_results_database(SQLite::Database& db, const std::string& path) {
   std::vector<std::string> tables;
-  SQLite::Statement q(db, "SELECT name FROM sqlite_master WHERE type = 'table' ORDER BY name");
-  while (q.executeStep()) tables.push_back(q.getColumn(0).getString());
+  try {
+    SQLite::Statement q(db, "SELECT name FROM sqlite_master WHERE type = 'table' ORDER BY name");
+    while (q.executeStep()) tables.push_back(q.getColumn(0).getString());
+  } catch (const SQLite::Exception& e) {
+    throw std::runtime_error(fmt::format("{}: not a readable SQLite database: {}", path, e.what()));
+  }
   const auto has = [&](const char* t) {
     return std::find(tables.begin(), tables.end(), t) != tables.end();
   };

@@ -239,7 +239,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
   // against the limit) or simulate it. Frontend studies are shared between points with the same
   // frontend_study_key (computed once, by the first worker asking). Only finished points are
   // kept: memory grows with the points run, not with the grid.
-  std::mutex mutex;  // guards db, the results, the counters, the studies, the first error
+  std::mutex mutex;       // guards db, the results, the counters, the studies, the first error
   std::mutex yaml_mutex;  // guards the YAML trees of the spec and the base
   std::map<std::size_t, SweepPointResult> finished;
   std::map<std::string, std::shared_future<FrontendStudy>> studies;
@@ -397,11 +397,10 @@ std::string format_sweep(const SweepSpec& spec, const SweepOutcome& o) {
   return text;
 }
 
-std::size_t export_csv(const std::filesystem::path& db_path, const std::string& table,
-                       const std::string& sweep, const std::filesystem::path& out) {
-  if (!std::filesystem::is_regular_file(db_path)) {
-    throw std::runtime_error(fmt::format("{}: no such results database", db_path.string()));
-  }
+namespace {
+
+std::size_t export_csv_from(const std::filesystem::path& db_path, const std::string& table,
+                            const std::string& sweep, const std::filesystem::path& out) {
   SQLite::Database db(db_path.string(), SQLite::OPEN_READONLY);
   std::string csv;
   std::size_t rows = 0;
@@ -467,6 +466,21 @@ std::size_t export_csv(const std::filesystem::path& db_path, const std::string& 
   }
   sim::write_file_atomically(out, csv);
   return rows;
+}
+
+}  // namespace
+
+std::size_t export_csv(const std::filesystem::path& db_path, const std::string& table,
+                       const std::string& sweep, const std::filesystem::path& out) {
+  if (!std::filesystem::is_regular_file(db_path)) {
+    throw std::runtime_error(fmt::format("{}: no such results database", db_path.string()));
+  }
+  try {
+    return export_csv_from(db_path, table, sweep, out);
+  } catch (const SQLite::Exception& e) {
+    throw std::runtime_error(
+        fmt::format("{}: not a readable edx results database: {}", db_path.string(), e.what()));
+  }
 }
 
 }  // namespace edx::arch

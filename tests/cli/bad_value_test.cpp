@@ -57,5 +57,30 @@ TEST(BadValue, ATimelinePastTheTraceAndAKeyWrittenTwiceAreErrors) {
                            "line 3)\n");
 }
 
+TEST(BadValue, FilesThatAreNotDatabasesAreNamedAndLeftAlone) {
+  const TempDir dir;
+  const fs::path junk = dir.path() / "junk.db";
+  std::ofstream(junk) << "hello\n";
+  const fs::path spec = dir.path() / "s.yaml";
+  std::ofstream(spec) << "base: " << EDX_SOURCE_DIR
+                      << "/configs/edx_car.yaml\ntrace: " << EDX_SOURCE_DIR
+                      << "/tests/data/golden/golden_mix.db\n"
+                      << "parameters:\n  backend.gemm_block: {values: [2, 4]}\n"
+                      << "objectives: [{minimize: dsp}]\n";
+  const CommandResult sweep =
+      run_command(fmt::format("{} sweep '{}' --db '{}'", edx(), spec.string(), junk.string()));
+  EXPECT_EQ(sweep.exit_code, 1);
+  EXPECT_EQ(sweep.err, "edx: error: " + junk.string() +
+                           ": not a readable SQLite database: file is not a database\n");
+  const CommandResult exported =
+      run_command(fmt::format("{} export '{}' --table runs --out '{}'", edx(), junk.string(),
+                              (dir.path() / "x.csv").string()));
+  EXPECT_EQ(exported.exit_code, 1);
+  EXPECT_EQ(exported.err, "edx: error: " + junk.string() +
+                              ": not a readable edx results database: file is not a database\n");
+  EXPECT_FALSE(fs::exists(dir.path() / "x.csv"));
+  EXPECT_EQ(read_text_file(junk), "hello\n");
+}
+
 }  // namespace
 }  // namespace edx::testing

@@ -296,6 +296,10 @@ Trajectory parse_trajectory(std::istream& in, const std::string& source, Traject
 
 Trajectory read_trajectory(const std::filesystem::path& path, TrajectoryFormat format,
                            const ReadOptions& options) {
+  if (std::filesystem::is_directory(path)) {
+    throw std::runtime_error(
+        fmt::format("{}: is a directory (expected a trajectory file)", path.string()));
+  }
   std::ifstream in(path);
   if (!in) {
     throw std::runtime_error(fmt::format("{}: cannot open trajectory file", path.string()));

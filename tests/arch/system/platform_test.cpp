@@ -44,6 +44,9 @@ TEST(Platform, BadInputNamesFileLineAndKey) {
   EXPECT_EQ(error_of("name: car\nfrontend:\n  fd_stencil: 4\n"),
             "p.yaml:3: frontend.fd_stencil: expected an odd size >= 3");
   EXPECT_EQ(error_of("name: car\nhost: 3\n"), "p.yaml:2: platform.host: expected a map of keys");
+  EXPECT_EQ(error_of("name: car\nbackend:\n  gemm_block: ~\n"),
+            "p.yaml:3: backend.gemm_block: expected an integer >= 1, got 'nothing (~ or an empty "
+            "value)'");
   EXPECT_EQ(error_of("name: car\nbackend_units: {}\n"),
             "p.yaml:2: platform.backend_units: unknown key");
   EXPECT_THAT(error_of("frontend: {}\n"), HasSubstr("platform.name: required"));

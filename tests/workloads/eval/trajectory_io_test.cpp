@@ -174,6 +174,17 @@ TEST(TrajectoryIoErrors, UnsortedAndDuplicateEurocTimestamps) {
   EXPECT_EQ(t.first_repeated_line, 3u);
 }
 
+TEST(TrajectoryIoErrors, ADirectoryIsNamedAsSuch) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path();
+  try {
+    read_trajectory(dir, TrajectoryFormat::kTum);
+    FAIL() << "a directory was read as a trajectory";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              dir.string() + ": is a directory (expected a trajectory file)");
+  }
+}
+
 TEST(TrajectoryIoErrors, TumAndEurocShortRows) {
   EXPECT_EQ(read_error("est.tum", "0.1 1 2 3 0 0 1\n", TrajectoryFormat::kTum),
             ":1: expected 8 numbers (t x y z qx qy qz qw), got 7");
