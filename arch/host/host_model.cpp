@@ -10,13 +10,6 @@
 namespace edx::arch {
 namespace {
 
-/// Median of a small set (copied).
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
 /// S_trace(f) for f = 0 .. frames-1: the median of the kLocalSamples samples nearest frame f's
 /// middle (f + 0.5; a sample's position is the number of frames traced before it). Positions
 /// ascend, so the nearest k form a window that only slides right as f grows.
@@ -34,9 +27,9 @@ std::vector<double> local_speeds(const std::vector<std::int64_t>& positions,
                                std::abs(static_cast<double>(positions[left]) - middle)) {
       ++left;
     }
-    speed[static_cast<std::size_t>(f)] =
-        median(std::vector<double>(samples_ms.begin() + static_cast<std::ptrdiff_t>(left),
-                                   samples_ms.begin() + static_cast<std::ptrdiff_t>(left + k)));
+    speed[static_cast<std::size_t>(f)] = trace::median_of(
+        std::vector<double>(samples_ms.begin() + static_cast<std::ptrdiff_t>(left),
+                            samples_ms.begin() + static_cast<std::ptrdiff_t>(left + k)));
   }
   return speed;
 }

@@ -269,7 +269,8 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   r.frontend.platform = platform.name;
 
   // Every accelerable kernel: host time, accelerator time (units + link), SPM check.
-  const HostMapping host = map_host(platform.host, trace_meta, trace_path);
+  // The study's mapping: frontend_study_key includes the host, so it is this platform's.
+  const HostMapping& host = r.frontend.host_mapping;
   std::vector<KernelInvocation> invocations;
   std::vector<KernelAccelResult> accel;
   std::vector<KernelTransfer> transfers;

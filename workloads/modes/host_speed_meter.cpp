@@ -26,13 +26,6 @@ constexpr int kMotionX = 5, kMotionY = 3;  ///< second frame's shift against the
 /// Keeps the optimizer from dropping work whose result is not otherwise used.
 volatile double g_sink = 0;
 
-double median(std::vector<double> values) {
-  if (values.empty()) throw std::logic_error("HostSpeedMeter: no samples");
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
 /// The scene the four views are cut from, in integer arithmetic only (bit-identical on every
 /// machine): a bilinear value-noise background on a 32 px grid, 1800 filled rectangles and
 /// circles of random grey, +-8 grey levels of pixel noise, then OpenCV's bit-exact 8-bit
@@ -206,10 +199,16 @@ void HostSpeedMeter::finish() {
   for (int i = 0; i < options_.final_samples; ++i) sample();
 }
 
+void HostSpeedMeter::finish_into(trace::TraceWriter& writer) {
+  finish();
+  writer.set_meta("host_speed", trace::to_meta_value(result()));
+  writer.set_meta("frames", std::to_string(writer.frames_written()));  // the rows, checked on read
+}
+
 trace::HostSpeed HostSpeedMeter::result() const {
   trace::HostSpeed speed;
-  speed.frontend_ms = median(frontend_ms_);
-  speed.backend_ms = median(backend_ms_);
+  speed.frontend_ms = trace::median_of(frontend_ms_);
+  speed.backend_ms = trace::median_of(backend_ms_);
   speed.samples = static_cast<int>(frontend_ms_.size());
   speed.inputs = fingerprint(images_);
   speed.sample_frames = sample_frames_;

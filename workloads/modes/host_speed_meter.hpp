@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "workloads/trace/host_speed.hpp"
+#include "workloads/trace/writer.hpp"
 
 namespace edx::modes {
 
@@ -52,9 +53,11 @@ class HostSpeedMeter {
   void after_frame(std::int64_t frame_cpu_ns);
   /// The final samples; result() is complete after this.
   void finish();
+  /// finish(), then the trace's meta host_speed and frames (the rows written) into `writer`.
+  void finish_into(trace::TraceWriter& writer);
   /// Runs one pass of both parts and records their CPU times.
   void sample();
-  /// Medians over the samples so far (throws std::logic_error when there are none).
+  /// Medians over the samples so far (throws std::invalid_argument when there are none).
   trace::HostSpeed result() const;
   const std::vector<double>& frontend_samples_ms() const { return frontend_ms_; }
   const std::vector<double>& backend_samples_ms() const { return backend_ms_; }

@@ -278,9 +278,7 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
     }
     summary.segments.push_back(std::move(segment_summary));
   }
-  host_speed.finish();
-  writer.set_meta("host_speed", trace::to_meta_value(host_speed.result()));
-  writer.set_meta("frames", std::to_string(writer.frames_written()));  // the rows, checked on read
+  host_speed.finish_into(writer);
   writer.finish();
 
   summary.frames = static_cast<std::size_t>(frame_id);

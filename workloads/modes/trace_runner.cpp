@@ -193,9 +193,7 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
     stereo.push_back(result.stats.stereo_matches);
     if (progress) progress(i + 1, frames);
   }
-  host_speed.finish();
-  writer.set_meta("host_speed", trace::to_meta_value(host_speed.result()));
-  writer.set_meta("frames", std::to_string(writer.frames_written()));  // the rows, checked on read
+  host_speed.finish_into(writer);
   writer.finish();
   if (options.map_out) {
     const backend::slam::Map map = map_builder->map();

@@ -2,15 +2,15 @@
 // The host clocks of a trace (DESIGN.md: "host times are load-free (CPU time of the work)").
 // A wall clock counts whatever else the machine runs while the work waits for a core; a CPU-time
 // clock counts only the work, so a trace made on a busy machine records the same times as one
-// made on a quiet one (test: tests/workloads/trace/host_clock_test.cpp).
+// made on a quiet one (test: tests/workloads/modes/host_time_load_test.cpp).
 //
-//   thread_cpu_ns():  CPU time of the calling thread (CLOCK_THREAD_CPUTIME_ID): tasks, kernels
-//                     and ops, each of which runs on one thread (the pipeline runs OpenCV
-//                     single-threaded while tracing unless --parallel; with --parallel, OpenCV
-//                     calls nested in a task run serially on the task's thread)
-//   process_cpu_ns(): CPU time of every thread of the process (CLOCK_PROCESS_CPUTIME_ID): a
-//                     frame's frontend and backend totals, which with --parallel span threads
-// Both tick in nanoseconds on Linux (the scheduler's clock, read at the call).
+//   thread_cpu_ns(): CPU time of the calling thread (CLOCK_THREAD_CPUTIME_ID), in nanoseconds on
+//                    Linux. Tasks, kernels and ops each run on one thread (OpenCV runs
+//                    single-threaded while tracing unless --parallel; with --parallel, OpenCV
+//                    calls nested in a task run serially on the task's thread). A frame's
+//                    frontend total adds its concurrent chains' thread times to the caller's
+//                    (frontend::FrameWorkClock); its backend total is the caller's
+//                    (modes::run_backend_timed).
 #include <cstdint>
 #include <ctime>
 
@@ -26,7 +26,5 @@ inline std::int64_t read_clock(clockid_t id) {
 
 /// CPU time of the calling thread, ns (arbitrary origin: only differences mean something).
 inline std::int64_t thread_cpu_ns() { return detail::read_clock(CLOCK_THREAD_CPUTIME_ID); }
-/// CPU time of the whole process (all threads), ns.
-inline std::int64_t process_cpu_ns() { return detail::read_clock(CLOCK_PROCESS_CPUTIME_ID); }
 
 }  // namespace edx::trace

@@ -2,10 +2,18 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
 namespace edx::trace {
+
+double median_of(std::vector<double> samples) {
+  if (samples.empty()) throw std::invalid_argument("median of no samples");
+  std::sort(samples.begin(), samples.end());
+  const std::size_t n = samples.size();
+  return n % 2 ? samples[n / 2] : 0.5 * (samples[n / 2 - 1] + samples[n / 2]);
+}
 
 std::string to_meta_value(const HostSpeed& speed) {
   return nlohmann::json{{"suite", speed.suite},
@@ -64,6 +72,15 @@ HostSpeed host_speed_of(const TraceMeta& meta, const std::string& file) {
     if (speed.frontend_samples_ms.size() != speed.sample_frames.size() ||
         speed.backend_samples_ms.size() != speed.sample_frames.size()) {
       throw fail("expected sample arrays of one length");
+    }
+    for (std::size_t i = 0; i < speed.sample_frames.size(); ++i) {
+      if (speed.sample_frames[i] < 0 ||
+          (i > 0 && speed.sample_frames[i] < speed.sample_frames[i - 1])) {
+        throw fail("expected sample_frames non-negative and non-decreasing");
+      }
+      if (!(speed.frontend_samples_ms[i] > 0) || !(speed.backend_samples_ms[i] > 0)) {
+        throw fail("expected every sample > 0 ms");
+      }
     }
   }
   return speed;

@@ -31,11 +31,16 @@ struct HostSpeed {
   bool operator==(const HostSpeed&) const = default;
 };
 
+/// Median of samples (the mean of the middle two for an even count); throws
+/// std::invalid_argument when there are none.
+double median_of(std::vector<double> samples);
+
 /// The meta value (compact JSON).
 std::string to_meta_value(const HostSpeed& speed);
 
 /// Parses meta `host_speed` of the trace `file`; throws std::runtime_error naming the file and
-/// the key when it is missing or malformed (times must be > 0, suite >= 1).
+/// the key when it is missing or malformed (times must be > 0, suite >= 1, sample positions
+/// non-negative and non-decreasing).
 HostSpeed host_speed_of(const TraceMeta& meta, const std::string& file);
 
 }  // namespace edx::trace

@@ -104,6 +104,16 @@ TEST(HostModel, ErrorsNameTheTraceAndWhatIsWrong) {
       error_of(meta_with(R"({"suite": 1, "frontend_ms": 0, "backend_ms": 1, "samples": 1})"),
                host(1, 1)),
       HasSubstr("expected frontend_ms and backend_ms > 0"));
+  EXPECT_THAT(error_of(meta_with(R"({"suite": 1, "frontend_ms": 1, "backend_ms": 1, "samples": 2,
+                "sample_frames": [5, 3], "frontend_samples_ms": [1, 1],
+                "backend_samples_ms": [1, 1]})"),
+                       host(1, 1)),
+              HasSubstr("expected sample_frames non-negative and non-decreasing"));
+  EXPECT_THAT(error_of(meta_with(R"({"suite": 1, "frontend_ms": 1, "backend_ms": 1, "samples": 2,
+                "sample_frames": [0, 3], "frontend_samples_ms": [1, 0],
+                "backend_samples_ms": [1, 1]})"),
+                       host(1, 1)),
+              HasSubstr("expected every sample > 0 ms"));
   HostConfig v2 = host(1, 1);
   v2.suite = 2;
   EXPECT_THAT(
