@@ -1,6 +1,6 @@
 // `edx-bench system`: wall time of the whole-system model (arch/system simulate_system: frontend
 // DES twice, memory plan, backend replay, scheduler, energy, resources) on a trace stretched to
-// N frames in memory, against the issue's goal of 2000 frames in <= 0.2 s. Reading the trace and
+// N frames in memory, against the goal of 2000 frames in <= 0.1 s (issue 18). Reading the trace and
 // writing results are not timed.
 #include <fmt/core.h>
 
@@ -26,6 +26,7 @@ void add_system_bench(CLI::App& app) {
     std::string config = std::string(EDX_SOURCE_DIR) + "/configs/edx_car.yaml";
     std::size_t frames = 2000;
     int repeats = 5;
+    std::string model = "des";
     bool json = false;
   };
   auto args = std::make_shared<Args>();
@@ -40,6 +41,9 @@ void add_system_bench(CLI::App& app) {
   sub->add_option("--repeats", args->repeats, "timed runs (the median is reported)")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
+  sub->add_option("--model", args->model, "des (the whole-system DES) or analytical")
+      ->check(CLI::IsMember({"des", "analytical"}))
+      ->capture_default_str();
   sub->add_flag("--json", args->json, "print only a JSON object");
   sub->callback([args] {
     const arch::Platform platform = arch::Platform::load(args->config);
@@ -51,7 +55,9 @@ void add_system_bench(CLI::App& app) {
     arch::SystemResult result;
     for (int r = 0; r < args->repeats; ++r) {
       const auto start = std::chrono::steady_clock::now();
-      result = arch::simulate_system(platform, frames, reader.meta(), args->trace);
+      arch::SystemSimOptions options;
+      options.model = arch::parse_system_model(args->model);
+      result = arch::simulate_system(platform, frames, reader.meta(), args->trace, options);
       seconds.push_back(
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     }
@@ -60,19 +66,20 @@ void add_system_bench(CLI::App& app) {
     const nlohmann::json j = {{"trace", args->trace},
                               {"config", args->config},
                               {"frames", args->frames},
+                              {"model", args->model},
                               {"accelerable_invocations", result.decisions.size()},
                               {"repeats", args->repeats},
                               {"median_s", median},
                               {"min_s", seconds.front()},
                               {"max_s", seconds.back()},
-                              {"goal_s_per_2000_frames", 0.2},
+                              {"goal_s_per_2000_frames", 0.1},
                               {"s_per_2000_frames", median * 2000.0 / double(args->frames)}};
     if (args->json) {
       fmt::print("{}\n", j.dump(2));
     } else {
       fmt::print(
           "system model: {} frames ({} accelerable kernel invocations) in {:.3f} s median of {} "
-          "(min {:.3f}, max {:.3f}); {:.3f} s per 2000 frames (goal <= 0.2 s)\n",
+          "(min {:.3f}, max {:.3f}); {:.3f} s per 2000 frames (goal <= 0.1 s)\n",
           args->frames, result.decisions.size(), median, args->repeats, seconds.front(),
           seconds.back(), median * 2000.0 / double(args->frames));
     }

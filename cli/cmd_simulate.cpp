@@ -23,6 +23,7 @@ struct SimulateArguments {
   std::string out;
   std::size_t timeline_first = 0;
   std::size_t timeline_frames = 10;
+  std::string model = "des";
   bool json = false;
 };
 
@@ -30,14 +31,15 @@ void run(const SimulateArguments& args) {
   const arch::Platform platform = arch::Platform::load(args.config);
   const trace::TraceReader reader(args.trace);
   const std::vector<trace::FrameTrace> frames = reader.read_all();
-  arch::FrontendSimOptions timeline;
+  arch::SystemSimOptions options;
+  options.model = arch::parse_system_model(args.model);
   if (!args.timeline.empty()) {
-    timeline.timeline = args.timeline;
-    timeline.timeline_first = args.timeline_first;
-    timeline.timeline_count = args.timeline_frames;
+    options.timeline = args.timeline;
+    options.timeline_first = args.timeline_first;
+    options.timeline_count = args.timeline_frames;
   }
   const arch::SystemResult result =
-      arch::simulate_system(platform, frames, reader.meta(), args.trace, timeline);
+      arch::simulate_system(platform, frames, reader.meta(), args.trace, options);
   if (!args.out.empty()) arch::write_results(args.out, result);
   if (args.json) {
     fmt::print(
@@ -65,10 +67,16 @@ void add_simulate_command(CLI::App& app) {
                   "Results database (SQLite) to add the run to; the same config and trace "
                   "replace their earlier run");
   cmd->add_option("--timeline", args->timeline,
-                  "Write a Perfetto timeline (Chrome trace JSON) of the pipelined frontend");
+                  "Write a Perfetto timeline (Chrome trace JSON) of the whole system's streamed "
+                  "run (model des; the pipelined frontend with --model analytical)");
   cmd->add_option("--timeline-first", args->timeline_first, "First frame of the timeline");
   cmd->add_option("--timeline-frames", args->timeline_frames, "Frames in the timeline")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--model", args->model,
+                  "des: the whole-system discrete-event simulation; analytical: the closed-form "
+                  "model it reduces to without contention (cross-check)")
+      ->check(CLI::IsMember({"des", "analytical"}))
+      ->capture_default_str();
   cmd->add_flag("--json", args->json, "Print the figures as JSON (only JSON on stdout)");
   cmd->callback([args] { run(*args); });
 }

@@ -105,7 +105,7 @@ fi
 step "simulate Edx-Car and Edx-Drone against their CPU-only baselines"
 rm -f "$results" "$results-wal" "$results-shm"
 run simulate --config "$root/configs/edx_car.yaml" --trace "$traces/car_mix.db" --out "$results" \
-  --timeline "$out/car_frontend_timeline.json"
+  --timeline "$out/car_system_timeline.json"
 run simulate --config "$root/configs/edx_drone.yaml" --trace "$traces/drone_mix.db" \
   --out "$results"
 for excerpt in "${excerpts[@]}"; do
@@ -134,7 +134,7 @@ printf '\ndemo: done in %ds\n' $((SECONDS - start_s)) >&2
 printf 'demo: report   %s\n' "$report/index.html"
 printf 'demo: results  %s (CSV of the sweep: %s)\n' "$results" "$out/gemm_block.csv"
 printf 'demo: traces   %s\n' "$traces"
-printf 'demo: timeline %s (open in https://ui.perfetto.dev)\n' "$out/car_frontend_timeline.json"
+printf 'demo: timeline %s (open in https://ui.perfetto.dev)\n' "$out/car_system_timeline.json"
 if ((check_status == 1)); then
   printf 'demo: the paper check has misses (table above; docs/MODEL.md discusses them)\n'
 fi

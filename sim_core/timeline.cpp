@@ -38,6 +38,10 @@ void Timeline::span(TrackId track, std::string name, Time begin, Time end, nlohm
   spans_.push_back(Span{track, std::move(name), begin, end, std::move(args)});
 }
 
+void Timeline::retain(Time begin, Time end) {
+  std::erase_if(spans_, [&](const Span& s) { return s.end < begin || s.begin > end; });
+}
+
 nlohmann::json Timeline::to_json() const {
   nlohmann::json events = nlohmann::json::array();
   // pid = group index + 1, tid = track index + 1 (0 is avoided: some viewers treat it specially).

@@ -40,6 +40,9 @@ class Timeline {
   /// null). Throws std::invalid_argument for an unknown track, end < begin or non-object args.
   void span(TrackId track, std::string name, Time begin, Time end, nlohmann::json args = nullptr);
 
+  /// Drops the spans that do not overlap [begin, end] (keeps a window of a long run); tracks stay.
+  void retain(Time begin, Time end);
+
   /// Number of recorded spans.
   std::size_t span_count() const noexcept { return spans_.size(); }
   /// Number of tracks.

@@ -19,23 +19,31 @@ BackendAccelerator::BackendAccelerator(sim::Simulator& sim, BackendConfig config
 sim::Task<void> BackendAccelerator::run(const trace::KernelRecord& kernel) {
   const KernelAccelResult plan = accelerate_kernel(kernel, config_);
   if (!plan.fits_spm) throw std::runtime_error(plan.message);
+  co_await run(plan);
+}
+
+sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::string label) {
+  if (!plan.fits_spm) throw std::runtime_error(plan.message);
   const sim::Time start = sim_->now();
+  // A kernel issued between clock edges starts on the next one.
+  if (clock_.next_edge(start) != start) co_await sim_->cycles(clock_, 0);
   for (const OpTiming& t : plan.ops) {
     sim::Lease lease = co_await units_[static_cast<std::size_t>(t.unit)]->acquire();
     const sim::Time begin = sim_->now();
     if (t.cycles > 0) co_await sim_->cycles(clock_, static_cast<std::uint64_t>(t.cycles));
     ops_.add();
     if (timeline_ != nullptr) {
-      timeline_->span(unit_tracks_[static_cast<std::size_t>(t.unit)],
-                      fmt::format("{} {} {}x{}x{}", plan.kernel, trace::to_string(t.op.op), t.op.m,
-                                  t.op.n, t.op.k),
-                      begin, sim_->now(), {{"cycles", t.cycles}, {"spm_bytes", t.spm_bytes}});
+      if (label.empty()) label = plan.kernel;
+      timeline_->span(
+          unit_tracks_[static_cast<std::size_t>(t.unit)],
+          fmt::format("{} {} {}x{}x{}", label, trace::to_string(t.op.op), t.op.m, t.op.n, t.op.k),
+          begin, sim_->now(), {{"cycles", t.cycles}, {"spm_bytes", t.spm_bytes}});
     }
   }
   kernels_.add();
   latency_us_.add(sim::to_us(sim_->now() - start));
   if (timeline_ != nullptr) {
-    timeline_->span(kernel_track_, plan.kernel, start, sim_->now(),
+    timeline_->span(kernel_track_, label.empty() ? plan.kernel : label, start, sim_->now(),
                     {{"cycles", plan.cycles}, {"ops", plan.ops.size()}});
   }
 }

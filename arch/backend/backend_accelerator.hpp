@@ -35,6 +35,9 @@ class BackendAccelerator {
   /// Runs `kernel` (which must stay alive until the returned task completes, as it does in
   /// `co_await accel.run(kernel)`). Throws std::runtime_error when it does not fit the SPM.
   sim::Task<void> run(const trace::KernelRecord& kernel);
+  /// Runs a kernel already replayed by accelerate_kernel() on this accelerator's config (which
+  /// must fit the SPM and outlive the task). `label` names its spans (e.g. "f12 projection").
+  sim::Task<void> run(const KernelAccelResult& plan, std::string label = {});
 
   /// Registers <prefix>.<unit>.busy (time-weighted 0/1: its mean is the unit's utilization) for
   /// the five units, <prefix>.kernels and <prefix>.ops (counters) and <prefix>.kernel_latency_us

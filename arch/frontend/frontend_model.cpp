@@ -21,38 +21,6 @@ using sim::Simulator;
 using trace::Image;
 using trace::Task;
 
-/// The seven task units; the feature-extraction engine (FD, IF, FC) serves both images.
-struct Units {
-  explicit Units(Simulator& sim)
-      : fd(sim, 1, "FD"),
-        if_(sim, 1, "IF"),
-        fc(sim, 1, "FC"),
-        mo(sim, 1, "MO"),
-        dr(sim, 1, "DR"),
-        dc(sim, 1, "DC"),
-        lss(sim, 1, "LSS") {}
-  Resource& of(Task task) {
-    switch (task) {
-      case Task::FD:
-        return fd;
-      case Task::IF:
-        return if_;
-      case Task::FC:
-        return fc;
-      case Task::MO:
-        return mo;
-      case Task::DR:
-        return dr;
-      case Task::DC:
-        return dc;
-      case Task::LSS:
-        return lss;
-    }
-    return fd;
-  }
-  Resource fd, if_, fc, mo, dr, dc, lss;
-};
-
 constexpr std::array<Task, 7> kTasks = {Task::FD, Task::IF, Task::FC, Task::MO,
                                         Task::DR, Task::DC, Task::LSS};
 
@@ -78,19 +46,74 @@ std::size_t find_span(const std::vector<TaskSpan>& spans, Task task, Image image
                   frame_id, trace::to_string(task), trace::to_string(image)));
 }
 
-/// One frame: arrives, takes a frame buffer, runs the task graph, frees the buffer.
-Process run_frame(Simulator& sim, const sim::ClockDomain& clock, Units& units, Resource& buffers,
-                  DmaLink* link, FrontendFrameTiming& timing) {
-  co_await sim.delay_until(timing.arrival);
-  Lease buffer = co_await buffers.acquire();
+/// One frame of simulate_frontend, holding its frame buffer.
+Process run_frame(FrontendAccelerator& accelerator, DmaLink* link, FrontendFrameTiming& timing,
+                  Lease buffer) {
+  co_await accelerator.run_frame(timing, link);
+  buffer.release();
+}
+
+/// Hands frames to the accelerator in order: a frame buffer, then the frame once it has arrived
+/// (the whole-system DES dispatches the same way, so both order their events alike).
+Process dispatch_frames(Simulator& sim, FrontendAccelerator& accelerator, DmaLink* link,
+                        std::vector<FrontendFrameTiming>& frames) {
+  std::vector<ProcessHandle> running;
+  for (FrontendFrameTiming& timing : frames) {
+    Lease buffer = co_await accelerator.frame_buffers().acquire();
+    if (timing.arrival > sim.now()) co_await sim.delay_until(timing.arrival);
+    running.push_back(sim.spawn(run_frame(accelerator, link, timing, std::move(buffer)), "frame"));
+  }
+  for (const ProcessHandle& h : running) co_await h;
+}
+
+double span_ms(sim::Time begin, sim::Time end) { return sim::to_ms(end - begin); }
+
+}  // namespace
+
+FrontendAccelerator::FrontendAccelerator(sim::Simulator& sim, const FrontendConfig& config)
+    : sim_(&sim),
+      clock_("frontend", (config.validate(), config.clock_mhz)),
+      fd_(sim, 1, "FD"),
+      if_(sim, 1, "IF"),
+      fc_(sim, 1, "FC"),
+      mo_(sim, 1, "MO"),
+      dr_(sim, 1, "DR"),
+      dc_(sim, 1, "DC"),
+      lss_(sim, 1, "LSS"),
+      buffers_(sim, config.pipeline_fe_sm ? 2 : 1, "frame buffers") {}
+
+sim::Resource& FrontendAccelerator::unit(Task task) noexcept {
+  switch (task) {
+    case Task::FD:
+      return fd_;
+    case Task::IF:
+      return if_;
+    case Task::FC:
+      return fc_;
+    case Task::MO:
+      return mo_;
+    case Task::DR:
+      return dr_;
+    case Task::DC:
+      return dc_;
+    case Task::LSS:
+      return lss_;
+  }
+  return fd_;
+}
+
+sim::Task<void> FrontendAccelerator::run_frame(FrontendFrameTiming& timing, DmaLink* link) {
+  Simulator& sim = *sim_;
+  // A frame starts on a clock edge: its latency does not depend on when the previous one ended.
+  if (clock_.next_edge(sim.now()) != sim.now()) co_await sim.cycles(clock_, 0);
   std::vector<TaskSpan>& s = timing.tasks;
   const auto at = [&](Task task, Image image) -> TaskSpan& {
     return s[find_span(s, task, image, timing.frame_id)];
   };
   const auto spawn = [&](Task task, Image image, std::vector<ProcessHandle> after) {
-    return sim.spawn(
-        run_task(sim, clock, units.of(task), std::move(after), at(task, image)),
-        fmt::format("{} {} f{}", trace::to_string(task), trace::to_string(image), timing.frame_id));
+    // The unit's name (short: no allocation a task) names the process in the event log.
+    return sim.spawn(run_task(sim, clock_, unit(task), std::move(after), at(task, image)),
+                     trace::to_string(task));
   };
   // Spawn order is the queue order on each unit: the left image before the right one.
   const ProcessHandle fd_l = spawn(Task::FD, Image::Left, {});
@@ -113,79 +136,80 @@ Process run_frame(Simulator& sim, const sim::ClockDomain& clock, Units& units, R
   timing.end = sim.now();
 }
 
-double span_ms(sim::Time begin, sim::Time end) { return sim::to_ms(end - begin); }
+FrontendFrameTiming prepare_frontend_frame(const trace::FrameTrace& frame,
+                                           std::int64_t level0_pixels, const FrontendConfig& config,
+                                           const FrameTransferConfig& transfers) {
+  FrontendFrameTiming timing;
+  timing.frame_id = frame.frame.frame_id;
+  timing.transfer_bytes = frame_transfers(frame, transfers).frontend_to_host();
+  for (const trace::TaskRecord& task : frame.tasks) {
+    timing.tasks.push_back({task.task, task.image, task_cycles(task, level0_pixels, config), 0, 0});
+  }
+  if (timing.tasks.empty()) {
+    throw std::runtime_error(
+        fmt::format("frame {}: no frontend task rows (the frontend model needs a frontend trace)",
+                    timing.frame_id));
+  }
+  // Check the graph's rows exist before simulating (errors name the frame).
+  for (const auto& [task, image] : std::vector<std::pair<Task, Image>>{{Task::FD, Image::Left},
+                                                                       {Task::IF, Image::Left},
+                                                                       {Task::FD, Image::Right},
+                                                                       {Task::IF, Image::Right},
+                                                                       {Task::DC, Image::Left},
+                                                                       {Task::LSS, Image::Left},
+                                                                       {Task::FC, Image::Left},
+                                                                       {Task::FC, Image::Right},
+                                                                       {Task::MO, Image::Stereo},
+                                                                       {Task::DR, Image::Stereo}}) {
+    find_span(timing.tasks, task, image, timing.frame_id);
+  }
+  return timing;
+}
 
-}  // namespace
+void finish_frontend_frame(FrontendFrameTiming& t) {
+  const auto span_of = [&](Task task, Image image) -> const TaskSpan& {
+    return t.tasks[find_span(t.tasks, task, image, t.frame_id)];
+  };
+  const TaskSpan& fd_l = span_of(Task::FD, Image::Left);
+  const TaskSpan& fc_l = span_of(Task::FC, Image::Left);
+  const TaskSpan& fc_r = span_of(Task::FC, Image::Right);
+  const TaskSpan& mo = span_of(Task::MO, Image::Stereo);
+  const TaskSpan& dr = span_of(Task::DR, Image::Stereo);
+  const TaskSpan& dc = span_of(Task::DC, Image::Left);
+  const TaskSpan& lss = span_of(Task::LSS, Image::Left);
+  t.start = fd_l.start;
+  for (const TaskSpan& s : t.tasks) t.start = std::min(t.start, s.start);
+  t.latency_ms = span_ms(t.start, t.end);
+  t.response_ms = span_ms(t.arrival, t.end);
+  t.fe_ms = span_ms(fd_l.start, std::max(fc_l.end, fc_r.end));
+  t.sm_ms = span_ms(mo.start, dr.end);
+  t.tm_ms = span_ms(dc.start, lss.end);
+}
 
 FrontendSimResult simulate_frontend(const std::vector<trace::FrameTrace>& frames,
                                     std::int64_t level0_pixels, const FrontendConfig& config,
                                     const FrontendSimOptions& options) {
   config.validate();
   Simulator sim;
-  const sim::ClockDomain clock("frontend", config.clock_mhz);
-  Units units(sim);
-  Resource buffers(sim, config.pipeline_fe_sm ? 2 : 1, "frame buffers");
+  FrontendAccelerator accelerator(sim, config);
   std::optional<DmaLink> link;
   if (options.link) link.emplace(sim, *options.link);
 
   FrontendSimResult result;
-  result.frames.resize(frames.size());
+  result.frames.reserve(frames.size());
   const sim::Time period = sim::seconds(config.frame_interval_ms * 1e-3);
   for (std::size_t f = 0; f < frames.size(); ++f) {
-    FrontendFrameTiming& timing = result.frames[f];
-    timing.frame_id = frames[f].frame.frame_id;
-    timing.arrival = period * f;
-    timing.transfer_bytes = frame_transfers(frames[f], options.transfers).frontend_to_host();
-    for (const trace::TaskRecord& task : frames[f].tasks) {
-      timing.tasks.push_back(
-          {task.task, task.image, task_cycles(task, level0_pixels, config), 0, 0});
-    }
-    if (timing.tasks.empty()) {
-      throw std::runtime_error(
-          fmt::format("frame {}: no frontend task rows (the frontend model needs a frontend trace)",
-                      timing.frame_id));
-    }
-    // Check the graph's rows exist before simulating (errors name the frame).
-    for (const auto& [task, image] :
-         std::vector<std::pair<Task, Image>>{{Task::FD, Image::Left},
-                                             {Task::IF, Image::Left},
-                                             {Task::FD, Image::Right},
-                                             {Task::IF, Image::Right},
-                                             {Task::DC, Image::Left},
-                                             {Task::LSS, Image::Left},
-                                             {Task::FC, Image::Left},
-                                             {Task::FC, Image::Right},
-                                             {Task::MO, Image::Stereo},
-                                             {Task::DR, Image::Stereo}}) {
-      find_span(timing.tasks, task, image, timing.frame_id);
-    }
+    result.frames.push_back(
+        prepare_frontend_frame(frames[f], level0_pixels, config, options.transfers));
+    result.frames.back().arrival = period * f;
   }
-  for (FrontendFrameTiming& timing : result.frames) {
-    sim.spawn(run_frame(sim, clock, units, buffers, link ? &*link : nullptr, timing),
-              fmt::format("frame {}", timing.frame_id));
-  }
+  sim.spawn(dispatch_frames(sim, accelerator, link ? &*link : nullptr, result.frames), "frames");
   sim.run();
 
   std::map<Task, sim::Time> busy;
   sim::Time first_start = sim::kTimeMax, last_end = 0;
   for (FrontendFrameTiming& t : result.frames) {
-    const auto span_of = [&](Task task, Image image) -> const TaskSpan& {
-      return t.tasks[find_span(t.tasks, task, image, t.frame_id)];
-    };
-    const TaskSpan& fd_l = span_of(Task::FD, Image::Left);
-    const TaskSpan& fc_l = span_of(Task::FC, Image::Left);
-    const TaskSpan& fc_r = span_of(Task::FC, Image::Right);
-    const TaskSpan& mo = span_of(Task::MO, Image::Stereo);
-    const TaskSpan& dr = span_of(Task::DR, Image::Stereo);
-    const TaskSpan& dc = span_of(Task::DC, Image::Left);
-    const TaskSpan& lss = span_of(Task::LSS, Image::Left);
-    t.start = fd_l.start;
-    for (const TaskSpan& s : t.tasks) t.start = std::min(t.start, s.start);
-    t.latency_ms = span_ms(t.start, t.end);
-    t.response_ms = span_ms(t.arrival, t.end);
-    t.fe_ms = span_ms(fd_l.start, std::max(fc_l.end, fc_r.end));
-    t.sm_ms = span_ms(mo.start, dr.end);
-    t.tm_ms = span_ms(dc.start, lss.end);
+    finish_frontend_frame(t);
     for (const TaskSpan& s : t.tasks) busy[s.task] += s.end - s.start;
     first_start = std::min(first_start, t.start);
     last_end = std::max(last_end, t.end);

@@ -21,7 +21,7 @@
 #include "arch/frontend/frontend_config.hpp"
 #include "arch/link/frame_transfers.hpp"
 #include "arch/link/link.hpp"
-#include "sim_core/time.hpp"
+#include "sim_core/engine.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {
@@ -65,6 +65,42 @@ struct FrontendSimOptions {
   std::optional<std::filesystem::path> timeline;
   std::size_t timeline_first = 0, timeline_count = 10;
 };
+
+/// A frame's timing record before simulation: its task rows with their cycles
+/// (task_timing.hpp) and its transfer-1 bytes. Throws std::runtime_error naming the frame when a
+/// task row of the graph is missing.
+FrontendFrameTiming prepare_frontend_frame(const trace::FrameTrace& frame,
+                                           std::int64_t level0_pixels, const FrontendConfig& config,
+                                           const FrameTransferConfig& transfers);
+
+/// The frontend accelerator as a component of a simulation (the whole-system DES reuses it):
+/// its seven task units on the frontend clock and its frame buffers (one, or two with FE/SM
+/// pipelining). Must be destroyed before its Simulator.
+class FrontendAccelerator {
+ public:
+  FrontendAccelerator(sim::Simulator& sim, const FrontendConfig& config);
+  FrontendAccelerator(const FrontendAccelerator&) = delete;
+  FrontendAccelerator& operator=(const FrontendAccelerator&) = delete;
+
+  /// The frame buffers; a frame holds one while it runs (the caller acquires and releases it).
+  sim::Resource& frame_buffers() noexcept { return buffers_; }
+  /// The unit of a task.
+  sim::Resource& unit(trace::Task task) noexcept;
+  /// Runs a prepared frame's task graph, then its results (transfer 1) over `link` (nullptr:
+  /// the frame ends when DR and LSS do). Fills the spans, transfer_start and end of `timing`,
+  /// which must outlive the task.
+  sim::Task<void> run_frame(FrontendFrameTiming& timing, DmaLink* link);
+
+ private:
+  sim::Simulator* sim_;
+  sim::ClockDomain clock_;
+  sim::Resource fd_, if_, fc_, mo_, dr_, dc_, lss_;
+  sim::Resource buffers_;
+};
+
+/// Latency figures of a simulated frame (start, latency_ms, response_ms, fe/sm/tm_ms) from its
+/// spans, arrival and end.
+void finish_frontend_frame(FrontendFrameTiming& timing);
 
 /// Runs the frames of a trace through the model. Frames without task rows are an error
 /// (std::runtime_error naming the frame): a frontend model needs the frontend's work.

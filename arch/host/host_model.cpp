@@ -42,7 +42,8 @@ nlohmann::json HostConfig::to_json() const {
           {"frontend_suite_ms", frontend_suite_ms},
           {"provenance", provenance},
           {"backend_suite_ms", backend_suite_ms},
-          {"backend_provenance", backend_provenance}};
+          {"backend_provenance", backend_provenance},
+          {"cores", cores}};
 }
 
 HostConfig HostConfig::from_yaml(const YAML::Node& node, const std::string& where) {
@@ -54,6 +55,7 @@ HostConfig HostConfig::from_yaml(const YAML::Node& node, const std::string& wher
   f.read("provenance", h.provenance);
   f.read("backend_suite_ms", h.backend_suite_ms, 0.0);
   f.read("backend_provenance", h.backend_provenance);
+  f.read("cores", h.cores, 1);
   f.finish();
   if ((h.frontend_suite_ms > 0) != (h.backend_suite_ms > 0)) {
     f.fail(h.frontend_suite_ms > 0 ? "backend_suite_ms" : "frontend_suite_ms",

@@ -42,6 +42,9 @@ struct HostConfig {
   /// The suite's backend part on this host, CPU ms.
   double backend_suite_ms = 0;
   std::string backend_provenance = "identity: the trace host is the target";
+  /// Cores the whole-system DES gives the host's threads (the baseline's frontend thread and
+  /// the backend thread); 2, the fewest that run both side by side, unless the platform says.
+  int cores = 2;
 
   bool identity() const { return frontend_suite_ms == 0 && backend_suite_ms == 0; }
   nlohmann::json to_json() const;

@@ -206,6 +206,10 @@ sim::Process DmaLink::chunk(Lane& lane, std::int64_t offset, std::int64_t bytes,
 }
 
 sim::Task<void> DmaLink::transfer(std::int64_t bytes, Direction direction) {
+  co_await transfer(bytes, direction, std::string());
+}
+
+sim::Task<void> DmaLink::transfer(std::int64_t bytes, Direction direction, std::string label) {
   if (bytes < 0) {
     throw std::runtime_error(
         fmt::format("link '{}' transfer: expected bytes >= 0, got {}", spec_.link.name, bytes));
@@ -225,8 +229,10 @@ sim::Task<void> DmaLink::transfer(std::int64_t bytes, Direction direction) {
   l.transfers.add();
   l.latency_us.add(sim::to_us(sim_->now() - begin));
   if (timeline_ != nullptr) {
-    timeline_->span(track_, fmt::format("{} {} B", to_string(direction), bytes), begin, sim_->now(),
-                    {{"bytes", bytes}});
+    timeline_->span(direction == Direction::HostToFpga ? h2c_track_ : c2h_track_,
+                    label.empty() ? fmt::format("{} {} B", to_string(direction), bytes)
+                                  : fmt::format("{} {} B", label, bytes),
+                    begin, sim_->now(), {{"bytes", bytes}});
   }
 }
 
@@ -245,8 +251,14 @@ void DmaLink::register_stats(sim::StatsRegistry& registry, const std::string& pr
 }
 
 void DmaLink::set_timeline(sim::Timeline& timeline, sim::Timeline::TrackId track) {
+  set_timeline(timeline, track, track);
+}
+
+void DmaLink::set_timeline(sim::Timeline& timeline, sim::Timeline::TrackId host_to_fpga,
+                           sim::Timeline::TrackId fpga_to_host) {
   timeline_ = &timeline;
-  track_ = track;
+  h2c_track_ = host_to_fpga;
+  c2h_track_ = fpga_to_host;
 }
 
 }  // namespace edx::arch

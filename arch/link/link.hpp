@@ -115,6 +115,11 @@ class DmaLink {
 
   /// Records each transfer as a span on `track` of `timeline` (optional).
   void set_timeline(sim::Timeline& timeline, sim::Timeline::TrackId track);
+  /// The same with one track per direction.
+  void set_timeline(sim::Timeline& timeline, sim::Timeline::TrackId host_to_fpga,
+                    sim::Timeline::TrackId fpga_to_host);
+  /// As transfer(); `label` prefixes its timeline span (e.g. "f12 kalman_gain in").
+  sim::Task<void> transfer(std::int64_t bytes, Direction direction, std::string label);
 
   const LinkSpec& spec() const noexcept { return spec_; }
   std::uint64_t bytes(Direction d) const noexcept { return lane(d).bytes.value(); }
@@ -145,7 +150,7 @@ class DmaLink {
   Lane h2c_;
   Lane c2h_;
   sim::Timeline* timeline_ = nullptr;
-  sim::Timeline::TrackId track_{};
+  sim::Timeline::TrackId h2c_track_{}, c2h_track_{};
 };
 
 }  // namespace edx::arch

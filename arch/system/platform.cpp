@@ -29,7 +29,8 @@ nlohmann::json Platform::to_json() const {
           {"backend", backend.to_json()},
           {"cost", cost.to_json()},
           {"power", power.to_json()},
-          {"scheduler", scheduler.to_json()}};
+          {"scheduler", scheduler.to_json()},
+          {"system", system.to_json()}};
 }
 
 namespace {
@@ -116,12 +117,12 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   top.read("device", p.device);
   // Sections are parsed by their own structs; mark them read here.
   std::string ignored;
-  for (const char* section :
-       {"host", "frontend", "backend", "link", "transfers", "cost", "power", "scheduler"}) {
+  for (const char* section : {"host", "frontend", "backend", "link", "transfers", "cost", "power",
+                              "scheduler", "system"}) {
     if (root[section] && !root[section].IsMap()) top.fail(section, "expected a map of keys");
   }
   top.finish_except(
-      {"host", "frontend", "backend", "link", "transfers", "cost", "power", "scheduler"});
+      {"host", "frontend", "backend", "link", "transfers", "cost", "power", "scheduler", "system"});
   if (p.name.empty()) top.fail("name", "required: the platform's name");
   try {
     Device::by_name(p.device);
@@ -135,6 +136,7 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   p.backend = BackendConfig::from_yaml(root["backend"], where);
   p.cost = cost::CostConfig::from_yaml(root["cost"], where);
   p.power = cost::PowerConfig::from_yaml(root["power"], where);
+  p.system = SystemConfig::from_yaml(root["system"], where);
   YamlFields sched(root["scheduler"], where, "scheduler");
   std::string policy = to_string(p.scheduler.policy);
   sched.read("policy", policy);

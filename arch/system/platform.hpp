@@ -13,6 +13,7 @@
 //   transfers: {scalar_bytes: 8, ...}           FrameTransferConfig
 //   cost: {...}  power: {...}                   cost::CostConfig, cost::PowerConfig
 //   scheduler: {policy: regression, training_fraction: 0.25}
+//   system: {sensor_fps: 0, queue_depth: 2, drop: oldest, ...}   SystemConfig (system_des.hpp)
 // Every section is optional (defaults); unknown keys and wrong types are file:line:key errors.
 //
 // `extends: parent.yaml` (path relative to the file) starts from the parent's keys: the
@@ -34,6 +35,7 @@
 #include "arch/link/frame_transfers.hpp"
 #include "arch/link/link.hpp"
 #include "arch/scheduler/scheduler.hpp"
+#include "arch/system/system_des.hpp"
 
 namespace edx::arch {
 
@@ -71,6 +73,7 @@ struct Platform {
   cost::CostConfig cost;                 ///< resource model knobs
   cost::PowerConfig power;               ///< energy model constants
   SchedulerConfig scheduler;
+  SystemConfig system;  ///< the whole-system DES: camera, queues, contention
   nlohmann::json to_json() const;
 
   /// Reads a platform YAML file; errors name the file, line and key (unknown keys included).

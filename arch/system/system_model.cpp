@@ -68,6 +68,10 @@ void finish_variant(VariantResult& v, const std::vector<double>& fe_end_ms) {
   for (const auto& [mode, frames] : by_mode) v.modes[mode] = summarize(frames);
   const std::size_t n = v.frames.size();
   v.fps_without_pipelining = total_ms > 0 ? 1e3 * double(n) / total_ms : 0.0;
+  if (v.stream) {
+    v.fps_with_pipelining = v.stream->fps;
+    return;
+  }
   double b_end = 0, first_end = 0;
   for (std::size_t f = 0; f < n; ++f) {
     b_end = std::max(fe_end_ms[f], b_end) + v.frames[f].backend_ms;
@@ -80,7 +84,141 @@ void finish_variant(VariantResult& v, const std::vector<double>& fe_end_ms) {
   }
 }
 
+/// Energy of a frame from its activity, period and host busy time (docs/MODEL.md, "Energy").
+void set_energy(FrameResult& f, const cost::PowerConfig& power) {
+  f.activity.frame_s = std::max(1e-3 * f.e2e_ms, 1e-12);
+  f.activity.host_busy_s = std::min(1e-3 * f.host_busy_ms, f.activity.frame_s);
+  f.energy = cost::frame_energy(f.activity, power);
+}
+
+/// The streamed run's summary; energy per processed frame: the frames' mean activity over the
+/// run's mean period (makespan / frames) with the host cores' mean busy time a frame.
+StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResult>& frames,
+                               double sensor_fps, const cost::PowerConfig& power) {
+  StreamSummary s;
+  s.sensor_fps = sensor_fps;
+  s.frames = run.frames.size();
+  s.dropped = run.dropped;
+  s.fps = run.fps;
+  s.resources = run.resources;
+  std::vector<double> latency;
+  cost::FrameActivity mean;
+  mean.fpga_present = frames.empty() || frames.front().activity.fpga_present;
+  for (std::size_t f = 0; f < run.frames.size(); ++f) {
+    const SystemFrameTiming& t = run.frames[f];
+    if (t.dropped) continue;
+    latency.push_back(sim::to_ms(t.end - t.arrival));
+    const cost::FrameActivity& a = frames[f].activity;
+    mean.int8_ops += a.int8_ops;
+    mean.fixed_macs += a.fixed_macs;
+    mean.single_macs += a.single_macs;
+    mean.double_macs += a.double_macs;
+    mean.bram_bytes += a.bram_bytes;
+    mean.dram_bytes += a.dram_bytes;
+    mean.link_bytes += a.link_bytes;
+  }
+  s.latency_ms = Distribution::of(latency);
+  const double n = static_cast<double>(latency.size());
+  if (n > 0) {
+    for (double* v : {&mean.int8_ops, &mean.fixed_macs, &mean.single_macs, &mean.double_macs,
+                      &mean.bram_bytes, &mean.dram_bytes, &mean.link_bytes}) {
+      *v /= n;
+    }
+    mean.frame_s = std::max(1e-3 * run.makespan_ms / n, 1e-12);
+    mean.host_busy_s = std::min(1e-3 * run.host_busy_ms / n, mean.frame_s);
+    s.energy_j = cost::frame_energy(mean, power).total_j;
+  }
+  return s;
+}
+
+/// Model "des": runs the whole-system DES (system_des.hpp) for both variants, isolated and
+/// streamed, and replaces the analytical latencies of `r`'s frames by the isolated runs'.
+/// `accel`, `transfers`: per accelerable invocation, in the order of r.decisions.
+void simulate_platform_des(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
+                           SystemResult& r, const std::vector<KernelAccelResult>& accel,
+                           const std::vector<KernelTransfer>& transfers,
+                           const SystemSimOptions& options) {
+  const HostMapping& host = r.frontend.host_mapping;
+  const std::int64_t level0 = static_cast<std::int64_t>(r.frontend.width) * r.frontend.height;
+  std::vector<SystemFrameWork> work(frames.size());
+  std::size_t next = 0;  // index into decisions
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const trace::FrameTrace& frame = frames[f];
+    SystemFrameWork& w = work[f];
+    w.frame_id = frame.frame.frame_id;
+    w.frontend_host_ms = r.baseline.frames[f].frontend_ms;
+    w.backend_host_ms = r.baseline.frames[f].backend_ms;
+    w.frontend = prepare_frontend_frame(frame, level0, platform.frontend, platform.transfers);
+    const double scale = host.backend_scale(frame.frame.frame_id);
+    std::vector<double> kernel_ms;
+    std::vector<bool> offloaded;
+    for (const trace::KernelRecord& kernel : frame.kernels) {
+      kernel_ms.push_back(1e-6 * double(kernel.host_ns) * scale);
+      bool off = false;
+      if (kernel.accelerable) {
+        const KernelDecision& d = r.decisions[next];
+        off = d.offloaded;
+        if (off) {
+          w.offloads.push_back({&accel[next], transfers[next].input_bytes,
+                                transfers[next].output_bytes,
+                                fmt::format("f{} {}", w.frame_id, d.kernel)});
+        }
+        ++next;
+      }
+      offloaded.push_back(off);
+    }
+    w.backend_steps = split_backend(frame, w.backend_host_ms, kernel_ms, offloaded);
+  }
+  sim::Timeline timeline;
+  SystemTimelineOptions timeline_options;
+  if (options.timeline) {
+    timeline_options = {&timeline, options.timeline_first, options.timeline_count};
+  }
+  const auto run = [&](bool accelerated, bool isolated, const SystemTimelineOptions& t) {
+    return run_system(work, platform.frontend, platform.backend, platform.link, platform.host.cores,
+                      platform.system, accelerated, isolated, t);
+  };
+  for (VariantResult* v : {&r.baseline, &r.accelerated}) {
+    const bool accelerated = v == &r.accelerated;
+    const SystemRun isolated = run(accelerated, true, {});
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+      const SystemFrameTiming& t = isolated.frames[f];
+      FrameResult& out = v->frames[f];
+      out.frontend_ms = sim::to_ms(t.frontend_end - t.start);
+      out.backend_ms = sim::to_ms(t.end - t.backend_start);
+      out.e2e_ms = sim::to_ms(t.end - t.start);
+      out.host_busy_ms = std::min(t.host_busy_ms, out.e2e_ms);
+    }
+    const SystemRun streamed =
+        run(accelerated, false, accelerated ? timeline_options : SystemTimelineOptions{});
+    v->stream = summarize_stream(streamed, v->frames, platform.system.sensor_fps, platform.power);
+  }
+  if (options.timeline) timeline.write(*options.timeline);
+}
+
 }  // namespace
+
+const char* to_string(SystemModelKind kind) {
+  return kind == SystemModelKind::kDes ? "des" : "analytical";
+}
+
+SystemModelKind parse_system_model(const std::string& text) {
+  if (text == "des") return SystemModelKind::kDes;
+  if (text == "analytical") return SystemModelKind::kAnalytical;
+  throw std::runtime_error(fmt::format("expected des or analytical, got '{}'", text));
+}
+
+nlohmann::json StreamSummary::to_json() const {
+  nlohmann::json use = nlohmann::json::object();
+  for (const ResourceUse& r : resources) use[r.name] = {{"busy", r.busy}, {"max", r.max}};
+  return {{"sensor_fps", sensor_fps},
+          {"frames", frames},
+          {"dropped", dropped},
+          {"fps", fps},
+          {"latency_ms", latency_ms.to_json()},
+          {"energy_j", energy_j},
+          {"utilization", use}};
+}
 
 std::string fnv1a_hex(const std::string& text) {
   std::uint64_t h = 14695981039346656037ull;  // FNV-1a 64 offset basis
@@ -111,10 +249,12 @@ nlohmann::json ModeSummary::to_json() const {
 nlohmann::json VariantResult::to_json() const {
   nlohmann::json m = nlohmann::json::object();
   for (const auto& [mode, s] : modes) m[mode] = s.to_json();
-  return {{"variant", variant},
-          {"modes", m},
-          {"fps_without_pipelining", fps_without_pipelining},
-          {"fps_with_pipelining", fps_with_pipelining}};
+  nlohmann::json j = {{"variant", variant},
+                      {"modes", m},
+                      {"fps_without_pipelining", fps_without_pipelining},
+                      {"fps_with_pipelining", fps_with_pipelining}};
+  if (stream) j["stream"] = stream->to_json();
+  return j;
 }
 
 nlohmann::json SystemResult::comparison() const {
@@ -153,6 +293,7 @@ nlohmann::json SystemResult::to_json() const {
   }
   return {
       {"platform", platform},
+      {"model", to_string(model)},
       {"config_hash", config_hash},
       {"trace_hash", trace_hash},
       {"trace", trace_path},
@@ -251,15 +392,30 @@ std::string frontend_study_key(const Platform& platform) {
 
 SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
                              const trace::TraceMeta& trace_meta, const std::string& trace_path,
-                             const FrontendSimOptions& timeline) {
-  return simulate_system(platform, frames, trace_meta, trace_path,
-                         study_frontend(platform, frames, trace_meta, trace_path, timeline));
+                             const SystemSimOptions& options) {
+  // The analytical model's timeline is the frontend's pipelined run (the frontend study's).
+  FrontendSimOptions frontend_timeline;
+  if (options.model == SystemModelKind::kAnalytical && options.timeline) {
+    frontend_timeline.timeline = options.timeline;
+    frontend_timeline.timeline_first = options.timeline_first;
+    frontend_timeline.timeline_count = options.timeline_count;
+  }
+  return simulate_system(
+      platform, frames, trace_meta, trace_path,
+      study_frontend(platform, frames, trace_meta, trace_path, frontend_timeline), options);
 }
 
 SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
                              const trace::TraceMeta& trace_meta, const std::string& trace_path,
-                             FrontendStudy frontend) {
+                             FrontendStudy frontend, const SystemSimOptions& options) {
+  if (options.timeline && options.timeline_first >= frames.size()) {
+    throw std::runtime_error(
+        fmt::format("{}: the timeline's first frame {} is past the trace's last ({} frames)",
+                    trace_path, options.timeline_first, frames.size()));
+  }
+  platform.system.validate();
   SystemResult r;
+  r.model = options.model;
   r.platform = platform.name;
   r.config = platform;
   r.trace_path = trace_path;
@@ -330,9 +486,6 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     base.e2e_ms = base.frontend_ms + base.backend_ms;
     base.host_busy_ms = base.e2e_ms;
     base.activity.fpga_present = false;
-    base.activity.frame_s = std::max(1e-3 * base.e2e_ms, 1e-12);
-    base.activity.host_busy_s = base.activity.frame_s;
-    base.energy = cost::frame_energy(base.activity, platform.power);
     cpu_fe_clock += base.frontend_ms;
     cpu_fe_end.push_back(cpu_fe_clock);
 
@@ -360,12 +513,14 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     acc.backend_ms = std::max(0.0, backend_ms);
     acc.e2e_ms = acc.frontend_ms + acc.backend_ms;
     acc.host_busy_ms = std::clamp(host_ms, 0.0, acc.e2e_ms);
-    acc.activity.frame_s = std::max(1e-3 * acc.e2e_ms, 1e-12);
-    acc.activity.host_busy_s = std::min(1e-3 * acc.host_busy_ms, acc.activity.frame_s);
-    acc.energy = cost::frame_energy(acc.activity, platform.power);
     r.baseline.frames.push_back(std::move(base));
     r.accelerated.frames.push_back(std::move(acc));
   }
+  if (options.model == SystemModelKind::kDes) {
+    simulate_platform_des(platform, frames, r, accel, transfers, options);
+  }
+  for (FrameResult& f : r.baseline.frames) set_energy(f, platform.power);
+  for (FrameResult& f : r.accelerated.frames) set_energy(f, platform.power);
   finish_variant(r.baseline, cpu_fe_end);
   finish_variant(r.accelerated, r.frontend.frame_pipelined_end_ms);
 
@@ -377,8 +532,10 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
 }
 
 std::string format_system_result(const SystemResult& r) {
-  std::string text = fmt::format("system     {} on {} frames, offload policy {}\n", r.platform,
-                                 r.baseline.frames.size(), to_string(r.config.scheduler.policy));
+  std::string text = fmt::format(
+      "system     {} on {} frames, offload policy {}, model {}{}\n", r.platform,
+      r.baseline.frames.size(), to_string(r.config.scheduler.policy), to_string(r.model),
+      r.model == SystemModelKind::kDes && !r.config.system.contention ? " without contention" : "");
   text += fmt::format("{:<12} {:<6} {:>7} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}\n", "variant", "mode",
                       "frames", "FE ms", "BE ms", "e2e ms", "e2e sd", "e2e p99", "energy J");
   for (const VariantResult* v : {&r.baseline, &r.accelerated}) {
@@ -390,6 +547,25 @@ std::string format_system_result(const SystemResult& r) {
     }
     text += fmt::format("{:<12} FPS {:.1f} without FE/BE pipelining, {:.1f} with it\n", v->variant,
                         v->fps_without_pipelining, v->fps_with_pipelining);
+    if (v->stream) {
+      const StreamSummary& st = *v->stream;
+      text += fmt::format(
+          "{:<12} streamed {}: latency with queueing mean {:.2f} ms, p99 {:.2f} ms; {} of {} "
+          "frames dropped; {:.3f} J a frame\n",
+          v->variant,
+          st.sensor_fps > 0 ? fmt::format("at {:g} FPS", st.sensor_fps)
+                            : std::string("back to back"),
+          st.latency_ms.mean, st.latency_ms.p99, st.dropped, st.frames, st.energy_j);
+      std::string busy;
+      for (const ResourceUse& u : st.resources) {
+        if (u.name.rfind("queue.", 0) == 0) {
+          busy += fmt::format(" {} {:.2f} (max {:.0f})", u.name, u.busy, u.max);
+        } else {
+          busy += fmt::format(" {} {:.0f}%", u.name, 100 * u.busy);
+        }
+      }
+      text += fmt::format("{:<12} busy{}\n", v->variant, busy);
+    }
   }
   const nlohmann::json cmp = r.comparison();
   for (const auto& [mode, c] : cmp.items()) {

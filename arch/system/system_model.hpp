@@ -1,30 +1,35 @@
 #pragma once
 // The whole-system model of `edx simulate` (paper Sec. VII-C..E; docs/MODEL.md, "System"): per
-// frame, the frontend (CPU: the trace's host time scaled; accelerated: the frontend DES), the
-// backend (CPU: the trace's backend host time scaled; accelerated: the same with every kernel
-// the scheduler offloads replaced by its accelerator time plus its transfers), end-to-end
-// latency = frontend + backend, throughput with and without FE/BE pipelining, energy per frame,
-// and the FPGA resources of the platform. Two variants of one platform: "baseline" (CPU only:
-// no FPGA, every kernel on the host) and "accelerated". Statistics per mode of the trace's
-// frames (registration, vio, slam, none) and over all frames.
+// frame, the frontend (CPU: the trace's host time scaled; accelerated: the frontend accelerator),
+// the backend (CPU: the trace's backend host time scaled; accelerated: the same with every kernel
+// the scheduler offloads replaced by its transfers and its ops on the backend units), latency,
+// throughput with and without FE/BE pipelining, energy per frame, and the FPGA resources of the
+// platform. Two variants of one platform: "baseline" (CPU only: no FPGA, every kernel on the
+// host) and "accelerated". Statistics per mode of the trace's frames (registration, vio, slam,
+// none) and over all frames.
 //
-// Backend of a frame f (seconds; s_b = s_b(f), the host mapping's backend factor around frame f,
-// arch/host; O_f the offloaded kernels):
+// Model "des" (the default): the whole platform as one discrete-event simulation
+// (system_des.hpp): latency and FPS without pipelining from its isolated run (one frame in the
+// system at a time), FPS with pipelining, latency with queueing, drops and utilization from its
+// streamed run. Model "analytical" (cross-check; what the DES gives with `system.contention:
+// false`), with s_b = s_b(f) the host mapping's backend factor around frame f and O_f the
+// offloaded kernels:
 //   be_cpu(f) = s_b · backend_host_ns(f)
 //   be_acc(f) = be_cpu(f) − Σ_{k∈O_f} s_b · host_ns(k) + Σ_{k∈O_f} (t_accel(k) + t_link(k))
 // t_accel: Σ op cycles of the kernel on the backend units / clock (accelerate_kernel);
 // t_link: its inputs and results over an idle link (kernel_transfer_time). A kernel whose
-// operands do not fit the backend SPM is never offloaded.
-//
-// Throughput (frames back to back): without FE/BE pipelining N / Σ_f e2e(f); with it, the
-// backend of frame f starts when its frontend results are in and the backend of f−1 is done:
+// operands do not fit the backend SPM is never offloaded. Throughput (frames back to back):
+// without FE/BE pipelining N / Σ_f e2e(f); with it, the backend of frame f starts when its
+// frontend results are in and the backend of f−1 is done:
 //   b_start(f) = max(fe_end(f), b_end(f−1)),  b_end(f) = b_start(f) + be(f),
 //   FPS = (N − 1) / (b_end(N−1) − b_end(0))
 // fe_end: accelerated, the frontend DES run with the platform's FE/SM pipelining, frames back
 // to back; CPU, Σ_{g≤f} fe_cpu(g) (one frontend thread, a backend thread beside it).
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +38,7 @@
 #include "arch/scheduler/scheduler.hpp"
 #include "arch/system/frontend_study.hpp"
 #include "arch/system/platform.hpp"
+#include "arch/system/system_des.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {
@@ -64,6 +70,32 @@ struct FrameResult {
   cost::FrameEnergy energy;
 };
 
+/// Which model computes latency and throughput.
+enum class SystemModelKind { kDes, kAnalytical };
+const char* to_string(SystemModelKind kind);
+/// "des" | "analytical"; throws std::runtime_error otherwise.
+SystemModelKind parse_system_model(const std::string& text);
+
+/// Options of simulate_system beyond the platform.
+struct SystemSimOptions {
+  SystemModelKind model = SystemModelKind::kDes;
+  /// The whole-system timeline of the accelerated streamed run (frames [first, first + count)),
+  /// written as Perfetto JSON; empty: none.
+  std::optional<std::filesystem::path> timeline;
+  std::size_t timeline_first = 0, timeline_count = 10;
+};
+
+/// The streamed run of a variant (model "des"): frames at the sensor rate or back to back.
+struct StreamSummary {
+  double sensor_fps = 0;  ///< 0: back to back
+  std::size_t frames = 0, dropped = 0;
+  double fps = 0;
+  Distribution latency_ms;  ///< arrival to backend end, queueing included (processed frames)
+  double energy_j = 0;      ///< per processed frame, from the run's busy times (docs/MODEL.md)
+  std::vector<ResourceUse> resources;
+  nlohmann::json to_json() const;
+};
+
 /// Statistics of a set of frames of one variant.
 struct ModeSummary {
   std::size_t frames = 0;
@@ -76,11 +108,13 @@ struct VariantResult {
   std::vector<FrameResult> frames;
   std::map<std::string, ModeSummary> modes;  ///< per mode and "all"
   double fps_without_pipelining = 0, fps_with_pipelining = 0;
-  nlohmann::json to_json() const;  ///< summaries only (frames go to the results database)
+  std::optional<StreamSummary> stream;  ///< model "des"
+  nlohmann::json to_json() const;       ///< summaries only (frames go to the results database)
 };
 
 struct SystemResult {
   std::string platform;
+  SystemModelKind model = SystemModelKind::kDes;
   std::string config_hash;  ///< hex FNV-1a 64 of the platform's JSON
   std::string trace_hash;   ///< hex FNV-1a 64 of the trace's meta and frame count
   std::string trace_path;
@@ -111,17 +145,16 @@ std::string trace_hash(std::size_t frames, const trace::TraceMeta& trace_meta);
 /// text: platforms with equal keys have equal frontend studies (sweeps reuse one).
 std::string frontend_study_key(const Platform& platform);
 
-/// Runs the whole system. `resolution`: the trace's meta.resolution; `trace_meta` keys the run;
-/// `timeline`: the frontend timeline options of `edx simulate --timeline`.
+/// Runs the whole system. `trace_meta` (resolution, host_speed) keys the run.
 SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
                              const trace::TraceMeta& trace_meta, const std::string& trace_path,
-                             const FrontendSimOptions& timeline = {});
+                             const SystemSimOptions& options = {});
 
 /// The same with the frontend study already made (study_frontend on this platform's
 /// frontend_study_key and these frames; its `platform` name is replaced by this one's).
 SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
                              const trace::TraceMeta& trace_meta, const std::string& trace_path,
-                             FrontendStudy frontend);
+                             FrontendStudy frontend, const SystemSimOptions& options = {});
 
 std::string format_system_result(const SystemResult& result);
 

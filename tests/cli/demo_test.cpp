@@ -117,7 +117,7 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
   EXPECT_LT(page.find("Paper check"), page.find("<h2>Runs</h2>"));
   EXPECT_THAT(page, HasSubstr("edx_car × car_mix.db"));
   EXPECT_THAT(page, HasSubstr("what-is-not-reachable-honestly-and-why"));
-  EXPECT_GT(fs::file_size(out / "car_frontend_timeline.json"), 1000u);
+  EXPECT_GT(fs::file_size(out / "car_system_timeline.json"), 1000u);
 }
 
 // The demo's report in a real browser (headless Chromium at 1280 px): the page's test-only

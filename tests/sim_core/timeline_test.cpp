@@ -82,6 +82,25 @@ TEST(Timeline, WritesChromeTraceEventsThatParseBack) {
   EXPECT_EQ(timeline.span_count(), 3u);
 }
 
+TEST(Timeline, RetainKeepsTheSpansOverlappingAWindow) {
+  Timeline t;
+  const Timeline::TrackId a = t.track("g", "a");
+  t.span(a, "before", ns(0), ns(10));     // ends before the window
+  t.span(a, "touching", ns(10), ns(20));  // ends at its start: overlaps
+  t.span(a, "inside", ns(30), ns(40));
+  t.span(a, "across", ns(45), ns(80));  // starts inside
+  t.span(a, "after", ns(51), ns(60));   // starts after its end
+  t.retain(ns(20), ns(50));
+  EXPECT_EQ(t.span_count(), 3u);
+  EXPECT_EQ(t.track_count(), 1u);
+  std::vector<std::string> names;
+  const nlohmann::json doc = t.to_json();
+  for (const auto& e : doc["traceEvents"]) {
+    if (e["ph"] == "X") names.push_back(e["name"].get<std::string>());
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"touching", "inside", "across"}));
+}
+
 TEST(Timeline, DisabledTimelineRecordsNothingAndBadSpansThrow) {
   Timeline off(false);
   const Timeline::TrackId track = off.track("t");

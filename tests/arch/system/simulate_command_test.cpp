@@ -8,7 +8,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <set>
+#include <string>
 
 #include "tests/support/run_command.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -76,9 +79,9 @@ TEST(SimulateCommand, ReproducesTheEdxCarFrontendFigures) {
   EXPECT_LT(j["tm_ms"]["mean"].get<double>(), j["sm_ms"]["mean"].get<double>());
 }
 
-TEST(SimulateCommand, WritesATimeline) {
+TEST(SimulateCommand, WritesAWholeSystemTimeline) {
   testing::TempDir dir;
-  const fs::path timeline = dir.path() / "frontend.json";
+  const fs::path timeline = dir.path() / "system.json";
   const auto r = edx::testing::run_command(fmt::format(
       "{} simulate --config {} --trace {} --timeline {} --timeline-first 2 --timeline-frames 3",
       kEdx, kCarConfig.string(), car_trace().string(), timeline.string()));
@@ -86,11 +89,30 @@ TEST(SimulateCommand, WritesATimeline) {
   EXPECT_THAT(r.out, HasSubstr("speedup"));
   std::ifstream in(timeline);
   const nlohmann::json doc = nlohmann::json::parse(in);
-  int frames = 0;
+  std::set<std::string> tracks;
+  std::map<int, std::string> track_of_tid;
   for (const auto& e : doc["traceEvents"]) {
-    if (e["ph"] == "X" && e["name"].get<std::string>().starts_with("frame ")) ++frames;
+    if (e["ph"] == "M" && e["name"] == "thread_name") {
+      tracks.insert(e["args"]["name"].get<std::string>());
+      track_of_tid[e["tid"].get<int>()] = e["args"]["name"].get<std::string>();
+    }
+  }
+  // One track per frontend unit, link direction, host thread, backend unit and queue.
+  for (const char* name :
+       {"FD", "IF", "FC", "MO", "DR", "DC", "LSS", "host_to_fpga", "fpga_to_host", "backend thread",
+        "multiply", "decompose", "inverse", "transpose", "substitute", "kernels", "camera queue",
+        "results queue", "frames"}) {
+    EXPECT_TRUE(tracks.count(name)) << "no track " << name;
+  }
+  int frames = 0, transfers = 0;
+  for (const auto& e : doc["traceEvents"]) {
+    if (e["ph"] != "X") continue;
+    const std::string& track = track_of_tid[e["tid"].get<int>()];
+    if (track == "frames") ++frames;
+    if (track == "fpga_to_host") ++transfers;
   }
   EXPECT_EQ(frames, 3);
+  EXPECT_GE(transfers, 3);  // at least each frame's results (transfer 1)
 }
 
 TEST(SimulateCommand, WholeSystemOnARealVioTraceIntoTheResultsDatabase) {

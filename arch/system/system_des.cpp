@@ -1,0 +1,484 @@
+#include "arch/system/system_des.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <deque>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+
+#include "arch/backend/backend_accelerator.hpp"
+#include "arch/common/yaml_fields.hpp"
+#include "arch/link/link.hpp"
+
+namespace edx::arch {
+
+const char* to_string(DropPolicy policy) {
+  switch (policy) {
+    case DropPolicy::kOldest:
+      return "oldest";
+    case DropPolicy::kNewest:
+      return "newest";
+    case DropPolicy::kNone:
+      return "none";
+  }
+  return "oldest";
+}
+
+DropPolicy parse_drop_policy(const std::string& text) {
+  if (text == "oldest") return DropPolicy::kOldest;
+  if (text == "newest") return DropPolicy::kNewest;
+  if (text == "none") return DropPolicy::kNone;
+  throw std::runtime_error(fmt::format("expected oldest, newest or none, got '{}'", text));
+}
+
+void SystemConfig::validate() const {
+  if (!(sensor_fps >= 0) || !std::isfinite(sensor_fps)) {
+    throw std::runtime_error(fmt::format(
+        "system.sensor_fps: expected a rate >= 0 (0: back to back), got {}", sensor_fps));
+  }
+  if (queue_depth < 1) {
+    throw std::runtime_error(
+        fmt::format("system.queue_depth: expected an integer >= 1, got {}", queue_depth));
+  }
+  if (results_queue_depth < 1) {
+    throw std::runtime_error(fmt::format(
+        "system.results_queue_depth: expected an integer >= 1, got {}", results_queue_depth));
+  }
+}
+
+nlohmann::json SystemConfig::to_json() const {
+  return {{"sensor_fps", sensor_fps},
+          {"queue_depth", queue_depth},
+          {"drop", to_string(drop)},
+          {"results_queue_depth", results_queue_depth},
+          {"contention", contention}};
+}
+
+SystemConfig SystemConfig::from_yaml(const YAML::Node& node, const std::string& where) {
+  SystemConfig c;
+  YamlFields f(node, where, "system");
+  f.read("sensor_fps", c.sensor_fps, -1e-300);
+  f.read("queue_depth", c.queue_depth, 1);
+  std::string drop = to_string(c.drop);
+  f.read("drop", drop);
+  f.read("results_queue_depth", c.results_queue_depth, 1);
+  f.read("contention", c.contention);
+  f.finish();
+  try {
+    c.drop = parse_drop_policy(drop);
+  } catch (const std::runtime_error& e) {
+    f.fail("drop", e.what());
+  }
+  if (c.sensor_fps > 1e6) f.fail("sensor_fps", "expected at most 10^6 frames per second");
+  return c;
+}
+
+std::vector<BackendStep> split_backend(const trace::FrameTrace& frame, double backend_ms,
+                                       const std::vector<double>& kernel_host_ms,
+                                       const std::vector<bool>& offloaded) {
+  const std::size_t n = frame.kernels.size();
+  if (kernel_host_ms.size() != n || offloaded.size() != n) {
+    throw std::logic_error("split_backend: one host time and one flag per kernel expected");
+  }
+  double all_kernels = 0, offloaded_ms = 0;
+  std::size_t offloads = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    all_kernels += kernel_host_ms[k];
+    if (offloaded[k]) {
+      offloaded_ms += kernel_host_ms[k];
+      ++offloads;
+    }
+  }
+  // Gap g holds the host kernels between offload g − 1 and offload g, plus an even share of the
+  // host time outside every kernel.
+  std::vector<double> gaps(
+      offloads + 1, std::max(0.0, backend_ms - all_kernels) / static_cast<double>(offloads + 1));
+  for (std::size_t k = 0, gap = 0; k < n; ++k) {
+    if (offloaded[k]) {
+      ++gap;
+    } else {
+      gaps[gap] += kernel_host_ms[k];
+    }
+  }
+  double sum = 0;
+  for (double g : gaps) sum += g;
+  const double host = std::max(0.0, backend_ms - offloaded_ms);
+  if (sum > 0 && sum != host) {
+    for (double& g : gaps) g *= host / sum;
+  }
+  std::vector<BackendStep> steps;
+  for (std::size_t g = 0; g < gaps.size(); ++g) {
+    if (gaps[g] > 0) steps.push_back({gaps[g], -1});
+    if (g < offloads) steps.push_back({0, static_cast<int>(g)});
+  }
+  return steps;
+}
+
+nlohmann::json SystemRun::to_json() const {
+  nlohmann::json use = nlohmann::json::object();
+  for (const ResourceUse& r : resources) use[r.name] = {{"busy", r.busy}, {"max", r.max}};
+  return {{"run", isolated ? "isolated" : "streamed"},
+          {"frames", frames.size()},
+          {"dropped", dropped},
+          {"makespan_ms", makespan_ms},
+          {"fps", fps},
+          {"host_busy_ms", host_busy_ms},
+          {"resources", use}};
+}
+
+namespace {
+
+constexpr std::size_t kEnd = std::numeric_limits<std::size_t>::max();
+
+sim::Time ms_to_time(double ms) { return sim::seconds(ms * 1e-3); }
+
+/// One run: the components, the queues and the threads of one variant (see the header).
+class SystemSimulation {
+ public:
+  SystemSimulation(const std::vector<SystemFrameWork>& work, const FrontendConfig& frontend,
+                   const BackendConfig& backend, const LinkSpec& link, int host_cores,
+                   const SystemConfig& system, bool accelerated, bool isolated,
+                   const SystemTimelineOptions& timeline)
+      : work_(work),
+        system_(system),
+        accelerated_(accelerated),
+        isolated_(isolated),
+        contention_(system.contention),
+        unbounded_(work.size() + 2),
+        cores_(sim_, contention_ ? static_cast<std::size_t>(host_cores) : unbounded_, "host.cores"),
+        admission_(sim_, isolated ? 1 : unbounded_, "admission"),
+        arrived_(sim_, "camera"),
+        results_(sim_,
+                 contention_ ? static_cast<std::size_t>(system.results_queue_depth) : unbounded_,
+                 "queue.results"),
+        camera_queue_(sim_),
+        timeline_(timeline) {
+    system.validate();
+    if (accelerated_) {
+      frontend_.emplace(sim_, frontend);
+      link_.emplace(sim_, link);
+      if (contention_) {
+        backend_.emplace(sim_, backend);
+      } else {
+        frontend_link_.emplace(sim_, link);  // transfer 1 alone on its link, as the analytical
+      }
+    }
+    link_spec_ = link;
+    frames_.resize(work.size());
+    fe_.resize(work.size());
+    admissions_.resize(work.size());
+    for (std::size_t f = 0; f < work.size(); ++f) {
+      frames_[f].frame_id = work[f].frame_id;
+      if (accelerated_) fe_[f] = work[f].frontend;
+    }
+    if (timeline_.timeline != nullptr) set_up_timeline();
+  }
+
+  SystemRun run() {
+    const bool camera = !isolated_ && system_.sensor_fps > 0;
+    if (camera) {
+      sim_.spawn(camera_process(), "camera");
+    } else {
+      for (std::size_t f = 0; f < work_.size(); ++f) camera_queue_items_.push_back(f);
+      camera_closed_ = true;
+    }
+    sim_.spawn(accelerated_ ? accelerator_frontend() : host_frontend(), "frontend");
+    sim_.spawn(backend_thread(), "backend thread");
+    sim_.run();
+    return summarize();
+  }
+
+ private:
+  // --- Camera and frontend ---
+
+  sim::Process camera_process() {
+    const double period_s = 1.0 / system_.sensor_fps;
+    for (std::size_t f = 0; f < work_.size(); ++f) {
+      co_await sim_.delay_until(sim::seconds(period_s * static_cast<double>(f)));
+      frames_[f].arrival = sim_.now();
+      const bool full = static_cast<int>(camera_queue_items_.size()) >= system_.queue_depth;
+      if (full && contention_ && system_.drop == DropPolicy::kNewest) {
+        drop(f);
+        continue;
+      }
+      if (full && contention_ && system_.drop == DropPolicy::kOldest) {
+        drop(camera_queue_items_.front());
+        camera_queue_items_.pop_front();
+      }
+      camera_queue_items_.push_back(f);
+      camera_queue_.set(static_cast<double>(camera_queue_items_.size()));
+      arrived_.notify();
+    }
+    camera_closed_ = true;
+    arrived_.notify();
+  }
+
+  void drop(std::size_t f) {
+    frames_[f].dropped = true;
+    ++dropped_;
+  }
+
+  /// The next frame for the frontend, kEnd when the camera is done and the queue empty.
+  sim::Task<std::size_t> next_frame() {
+    while (camera_queue_items_.empty() && !camera_closed_) co_await arrived_;
+    if (camera_queue_items_.empty()) co_return kEnd;
+    const std::size_t f = camera_queue_items_.front();
+    camera_queue_items_.pop_front();
+    camera_queue_.set(static_cast<double>(camera_queue_items_.size()));
+    if (!(!isolated_ && system_.sensor_fps > 0)) frames_[f].arrival = sim_.now();
+    co_return f;
+  }
+
+  /// The accelerator: takes a frame buffer, then the next frame, and runs it (frames overlap
+  /// as far as the buffers allow: FE/SM pipelining).
+  sim::Process accelerator_frontend() {
+    std::vector<sim::ProcessHandle> running;
+    for (;;) {
+      sim::Lease admit = co_await admission_.acquire();
+      sim::Lease buffer = co_await frontend_->frame_buffers().acquire();
+      const std::size_t f = co_await next_frame();
+      if (f == kEnd) break;
+      admissions_[f] = std::move(admit);
+      running.push_back(sim_.spawn(accelerator_frame(f, std::move(buffer)), "frame"));
+    }
+    for (const sim::ProcessHandle& h : running) co_await h;
+    co_await results_.put(kEnd);
+  }
+
+  sim::Process accelerator_frame(std::size_t f, sim::Lease buffer) {
+    co_await frontend_->run_frame(fe_[f], contention_ ? &*link_ : &*frontend_link_);
+    finish_frontend_frame(fe_[f]);
+    frames_[f].start = fe_[f].start;
+    frames_[f].frontend_end = sim_.now();
+    co_await results_.put(f);  // waits while the results queue is full, holding the buffer
+    buffer.release();
+  }
+
+  /// The CPU baseline's frontend thread: one frame at a time on a core.
+  sim::Process host_frontend() {
+    for (;;) {
+      sim::Lease admit = co_await admission_.acquire();
+      const std::size_t f = co_await next_frame();
+      if (f == kEnd) break;
+      admissions_[f] = std::move(admit);
+      frames_[f].start = sim_.now();
+      co_await host_work(f, work_[f].frontend_host_ms, frontend_thread_track_);
+      frames_[f].frontend_end = sim_.now();
+      co_await results_.put(f);
+    }
+    co_await results_.put(kEnd);
+  }
+
+  // --- Backend ---
+
+  sim::Process backend_thread() {
+    for (;;) {
+      const std::size_t f = co_await results_.get();
+      if (f == kEnd) break;
+      frames_[f].backend_start = sim_.now();
+      const SystemFrameWork& w = work_[f];
+      if (!accelerated_) {
+        co_await host_work(f, w.backend_host_ms, backend_thread_track_);
+      } else {
+        for (const BackendStep& step : w.backend_steps) {
+          if (step.offload < 0) {
+            co_await host_work(f, step.host_ms, backend_thread_track_);
+          } else {
+            co_await offload(w.offloads[static_cast<std::size_t>(step.offload)]);
+          }
+        }
+      }
+      frames_[f].end = sim_.now();
+      admissions_[f].release();
+    }
+  }
+
+  /// Host work of `ms` on a core (waits for one when all are busy).
+  sim::Task<void> host_work(std::size_t f, double ms, sim::Timeline::TrackId track) {
+    if (!(ms > 0)) co_return;
+    sim::Lease core = co_await cores_.acquire();
+    const sim::Time begin = sim_.now();
+    co_await sim_.delay(ms_to_time(ms));
+    frames_[f].host_busy_ms += ms;
+    if (timeline_.timeline != nullptr) {
+      timeline_.timeline->span(track, fmt::format("f{}", work_[f].frame_id), begin, sim_.now());
+    }
+  }
+
+  /// Transfer 2, the kernel on the units, transfer 3.
+  sim::Task<void> offload(const OffloadWork& o) {
+    if (contention_) {
+      co_await link_->transfer(o.input_bytes, Direction::HostToFpga, label(o, " in"));
+      co_await backend_->run(*o.plan, label(o, ""));
+      co_await link_->transfer(o.output_bytes, Direction::FpgaToHost, label(o, " out"));
+    } else {
+      co_await sim_.delay(transfer_time(link_spec_, o.input_bytes));
+      co_await sim_.delay(sim::seconds(o.plan->seconds));
+      co_await sim_.delay(transfer_time(link_spec_, o.output_bytes));
+    }
+  }
+
+  // --- Timeline and results ---
+
+  /// A timeline label, built only when a timeline is recorded.
+  std::string label(const OffloadWork& o, const char* suffix) const {
+    return timeline_.timeline != nullptr ? o.label + suffix : std::string();
+  }
+
+  void set_up_timeline() {
+    sim::Timeline& t = *timeline_.timeline;
+    frames_track_ = t.track("system", "frames");
+    if (accelerated_) {
+      for (trace::Task task : {trace::Task::FD, trace::Task::IF, trace::Task::FC, trace::Task::MO,
+                               trace::Task::DR, trace::Task::DC, trace::Task::LSS}) {
+        frontend_tracks_[task] = t.track("frontend", trace::to_string(task));
+      }
+      link_->set_timeline(t, t.track("link", "host_to_fpga"), t.track("link", "fpga_to_host"));
+      if (backend_) backend_->set_timeline(t, "backend");
+    } else {
+      frontend_thread_track_ = t.track("host", "frontend thread");
+    }
+    backend_thread_track_ = t.track("host", "backend thread");
+    camera_track_ = t.track("queues", "camera queue");
+    results_track_ = t.track("queues", "results queue");
+  }
+
+  /// Keeps the spans of the window's frames and of everything that ran meanwhile.
+  void write_timeline_window() {
+    sim::Timeline& t = *timeline_.timeline;
+    const std::size_t last = std::min(frames_.size(), timeline_.first + timeline_.count);
+    // The window: from the first of its frames' arrival to the last one's end.
+    sim::Time begin = sim::kTimeMax, end = 0;
+    for (std::size_t f = timeline_.first; f < last; ++f) {
+      begin = std::min(begin, frames_[f].arrival);
+      end = std::max(end, frames_[f].dropped ? frames_[f].arrival : frames_[f].end);
+    }
+    for (std::size_t f = timeline_.first; f < last; ++f) {
+      const SystemFrameTiming& s = frames_[f];
+      if (s.dropped) {
+        t.span(frames_track_, fmt::format("frame {} dropped", s.frame_id), s.arrival, s.arrival);
+        continue;
+      }
+      t.span(frames_track_, fmt::format("frame {}", s.frame_id), s.arrival, s.end,
+             {{"latency_ms", sim::to_ms(s.end - s.arrival)}});
+      if (s.start > s.arrival) {
+        t.span(camera_track_, fmt::format("f{} waits", s.frame_id), s.arrival, s.start);
+      }
+      if (s.backend_start > s.frontend_end) {
+        t.span(results_track_, fmt::format("f{} waits", s.frame_id), s.frontend_end,
+               s.backend_start);
+      }
+    }
+    // Every frame's tasks; the window below keeps those that ran while its frames did.
+    if (accelerated_) {
+      for (std::size_t f = 0; f < frames_.size(); ++f) {
+        if (frames_[f].dropped) continue;
+        for (const TaskSpan& span : fe_[f].tasks) {
+          t.span(frontend_tracks_.at(span.task),
+                 fmt::format("{} {} f{}", trace::to_string(span.task), trace::to_string(span.image),
+                             frames_[f].frame_id),
+                 span.start, span.end, {{"cycles", span.cycles}});
+        }
+      }
+    }
+    if (begin <= end) t.retain(begin, end);
+  }
+
+  SystemRun summarize() {
+    SystemRun r;
+    r.accelerated = accelerated_;
+    r.isolated = isolated_;
+    r.dropped = dropped_;
+    sim::Time first_start = sim::kTimeMax, last_end = 0;
+    std::vector<sim::Time> ends;
+    for (const SystemFrameTiming& s : frames_) {
+      if (s.dropped) continue;
+      first_start = std::min(first_start, s.arrival);
+      last_end = std::max(last_end, s.end);
+      ends.push_back(s.end);
+      r.host_busy_ms += s.host_busy_ms;
+    }
+    std::sort(ends.begin(), ends.end());
+    r.makespan_ms = ends.empty() ? 0.0 : sim::to_ms(last_end - first_start);
+    if (ends.size() >= 2 && ends.back() > ends.front()) {
+      r.fps = static_cast<double>(ends.size() - 1) / sim::to_seconds(ends.back() - ends.front());
+    } else if (r.makespan_ms > 0) {
+      r.fps = 1e3 * static_cast<double>(ends.size()) / r.makespan_ms;
+    }
+    const auto use = [&](const std::string& name, const sim::Resource& res) {
+      r.resources.push_back({name, res.busy().elapsed() > 0 ? res.utilization() : 0.0,
+                             static_cast<double>(res.capacity())});
+    };
+    const auto occupancy = [&](const std::string& name, const sim::TimeWeighted& w) {
+      r.resources.push_back({name, w.elapsed() > 0 ? w.mean() : 0.0, w.max()});
+    };
+    if (accelerated_) {
+      for (trace::Task task : {trace::Task::FD, trace::Task::IF, trace::Task::FC, trace::Task::MO,
+                               trace::Task::DR, trace::Task::DC, trace::Task::LSS}) {
+        use(std::string("frontend.") + trace::to_string(task), frontend_->unit(task));
+      }
+      use("frontend.frame_buffers", frontend_->frame_buffers());
+      if (contention_) {
+        use("link.host_to_fpga", link_->wire(Direction::HostToFpga));
+        if (link_spec_.link.full_duplex)
+          use("link.fpga_to_host", link_->wire(Direction::FpgaToHost));
+        for (BackendUnit u : kBackendUnits) {
+          use(std::string("backend.") + to_string(u), backend_->unit(u));
+        }
+      }
+    }
+    use("host.cores", cores_);
+    // Back to back, frames do not wait for a camera: its queue is not a resource then.
+    if (!isolated_ && system_.sensor_fps > 0) occupancy("queue.camera", camera_queue_);
+    occupancy("queue.results", results_.occupancy());
+    if (timeline_.timeline != nullptr) write_timeline_window();
+    r.frames = std::move(frames_);
+    return r;
+  }
+
+  sim::Simulator sim_;  // first: everything below is bound to it
+  const std::vector<SystemFrameWork>& work_;
+  SystemConfig system_;
+  bool accelerated_, isolated_, contention_;
+  std::size_t unbounded_;
+  LinkSpec link_spec_;
+  std::optional<FrontendAccelerator> frontend_;
+  std::optional<BackendAccelerator> backend_;
+  std::optional<DmaLink> link_;           ///< the platform's link (every transfer)
+  std::optional<DmaLink> frontend_link_;  ///< contention off: transfer 1 on a link of its own
+  sim::Resource cores_;
+  sim::Resource admission_;  ///< isolated: one frame in the system
+  sim::Event arrived_;
+  sim::Fifo<std::size_t> results_;
+  std::deque<std::size_t> camera_queue_items_;
+  sim::TimeWeighted camera_queue_;
+  bool camera_closed_ = false;
+  std::size_t dropped_ = 0;
+  std::vector<SystemFrameTiming> frames_;
+  std::vector<FrontendFrameTiming> fe_;
+  std::vector<sim::Lease> admissions_;
+  SystemTimelineOptions timeline_;
+  sim::Timeline::TrackId frames_track_{}, frontend_thread_track_{}, backend_thread_track_{},
+      camera_track_{}, results_track_{};
+  std::map<trace::Task, sim::Timeline::TrackId> frontend_tracks_;
+};
+
+}  // namespace
+
+SystemRun run_system(const std::vector<SystemFrameWork>& work, const FrontendConfig& frontend,
+                     const BackendConfig& backend, const LinkSpec& link, int host_cores,
+                     const SystemConfig& system, bool accelerated, bool isolated,
+                     const SystemTimelineOptions& timeline) {
+  if (host_cores < 1) {
+    throw std::runtime_error(
+        fmt::format("host.cores: expected an integer >= 1, got {}", host_cores));
+  }
+  SystemSimulation simulation(work, frontend, backend, link, host_cores, system, accelerated,
+                              isolated, timeline);
+  return simulation.run();
+}
+
+}  // namespace edx::arch

@@ -1,0 +1,153 @@
+#pragma once
+// The whole platform as one discrete-event simulation on sim_core (docs/MODEL.md, "System
+// DES"): frames arrive from the cameras, the frontend (the accelerator's task units, or a host
+// thread on the CPU baseline) turns them into results that cross the link (transfer 1) into a
+// bounded queue, and the backend thread on a host core takes them in order and runs the frame's
+// backend: its host work on a core, each offloaded kernel as transfer 2 (operands, host -> FPGA),
+// the kernel's ops on the backend units, transfer 3 (results, FPGA -> host), the thread blocked
+// meanwhile. Everything that is shared is a sim::Resource and contends: the frontend units, the
+// frame buffers, each link direction's DMA slots and wire (transfer 1 of the next frame against
+// this frame's kernel transfers), the backend units, the host cores.
+//
+//   camera ──► camera queue (queue_depth, drop) ──► frontend ──► link ──► results queue
+//      (results_queue_depth, back-pressure: a full queue holds the frontend's frame buffer)
+//   ──► backend thread: [host work | transfer 2 → units → transfer 3]* ──► frame done
+//
+// Two runs per variant:
+//   isolated  one frame in the system at a time, back to back: per-frame latency as the paper
+//             defines it (frontend + backend of a frame alone), and FPS without FE/BE pipelining
+//   streamed  frames at the sensor rate (or back to back): FPS with FE/SM and FE/BE pipelining,
+//             latency from arrival including queueing, drops, utilization of every resource
+// With `contention: false` every transfer has an idle link to itself, a kernel takes its
+// analytical Σ op cycles, the queues are unbounded: the model of docs/MODEL.md "System" (the
+// analytical one), which the DES then reproduces (a test).
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "arch/backend/kernel_replay.hpp"
+#include "arch/frontend/frontend_model.hpp"
+#include "sim_core/engine.hpp"
+
+namespace YAML {
+class Node;
+}
+
+namespace edx::arch {
+
+/// What happens to a frame that arrives while the camera queue is full.
+enum class DropPolicy {
+  kOldest,  ///< the oldest waiting frame is dropped, the new one queued (fresh data first)
+  kNewest,  ///< the arriving frame is dropped
+  kNone,    ///< nothing is dropped: the queue grows without bound
+};
+const char* to_string(DropPolicy policy);
+/// "oldest" | "newest" | "none"; throws std::runtime_error otherwise.
+DropPolicy parse_drop_policy(const std::string& text);
+
+/// `system:` section of a platform.
+struct SystemConfig {
+  /// Camera frame rate of the streamed run; 0: frames back to back (the next frame is there
+  /// when the frontend can take it; the paper's throughput figures).
+  double sensor_fps = 0;
+  /// Frames waiting for the frontend (with sensor_fps > 0); a full queue drops by `drop`.
+  int queue_depth = 2;
+  DropPolicy drop = DropPolicy::kOldest;
+  /// Frontend results waiting for the backend thread; a full queue stalls the frontend
+  /// (back-pressure: the frame keeps its frame buffer until its results are queued).
+  int results_queue_depth = 2;
+  /// false: no contention (idle link per transfer, analytical kernel times, unbounded queues):
+  /// the analytical model, for cross-checking.
+  bool contention = true;
+
+  void validate() const;  ///< throws std::runtime_error naming the field
+  nlohmann::json to_json() const;
+  /// Reads a `system:` map over the defaults; errors name file, line and key.
+  static SystemConfig from_yaml(const YAML::Node& node, const std::string& where);
+};
+
+/// One offloaded kernel invocation as the DES runs it.
+struct OffloadWork {
+  const KernelAccelResult* plan = nullptr;  ///< its ops on the backend units (fits the SPM)
+  std::int64_t input_bytes = 0;             ///< transfer 2
+  std::int64_t output_bytes = 0;            ///< transfer 3
+  std::string label;                        ///< "f<frame> <kernel>"
+};
+
+/// One step of a frame's backend thread: host work, or an offloaded kernel.
+struct BackendStep {
+  double host_ms = 0;  ///< host work on a core (offload < 0)
+  int offload = -1;    ///< index into SystemFrameWork::offloads
+};
+
+/// A frame's work, as both variants run it.
+struct SystemFrameWork {
+  std::int64_t frame_id = 0;
+  double frontend_host_ms = 0;             ///< CPU baseline: the frontend thread's work
+  double backend_host_ms = 0;              ///< CPU baseline: the backend thread's work
+  std::vector<BackendStep> backend_steps;  ///< accelerated: host work and offloads in order
+  std::vector<OffloadWork> offloads;
+  FrontendFrameTiming frontend;  ///< accelerated: prepared task rows and transfer-1 bytes
+};
+
+/// Splits a frame's backend into the steps of its thread on the accelerated platform: the
+/// offloaded kernels (`offloaded[k]` for accelerable kernel k of the frame, in trace order) at
+/// their trace positions, the host work around them. The trace records no time stamps inside the
+/// backend, so the host time outside the frame's kernels is spread evenly over the gaps before,
+/// between and after them; the host kernels sit in their gaps. The steps' host time adds up to
+/// H = max(0, backend_ms − Σ_offloaded host_ms) (scaled to it when the kernels' host times add up
+/// to more than the backend's own).
+std::vector<BackendStep> split_backend(const trace::FrameTrace& frame, double backend_ms,
+                                       const std::vector<double>& kernel_host_ms,
+                                       const std::vector<bool>& offloaded);
+
+/// One frame of a run (ps from the run's start).
+struct SystemFrameTiming {
+  std::int64_t frame_id = 0;
+  bool dropped = false;
+  sim::Time arrival = 0;        ///< the camera delivered it (back to back: when taken)
+  sim::Time start = 0;          ///< the frontend started it
+  sim::Time frontend_end = 0;   ///< its results are at the host
+  sim::Time backend_start = 0;  ///< the backend thread took it
+  sim::Time end = 0;            ///< the backend finished it
+  double host_busy_ms = 0;      ///< host core time of its backend (and baseline frontend)
+};
+
+/// A resource's use over a run.
+struct ResourceUse {
+  std::string name;  ///< e.g. "frontend.DR", "link.fpga_to_host", "host.cores", "queue.camera"
+  double busy = 0;   ///< mean busy fraction of its capacity; queues: mean occupancy (frames)
+  double max = 0;    ///< queues: largest occupancy; resources: capacity
+};
+
+struct SystemRun {
+  bool accelerated = false, isolated = false;
+  std::vector<SystemFrameTiming> frames;  ///< in trace order (dropped ones flagged)
+  std::size_t dropped = 0;
+  double makespan_ms = 0;   ///< first start to last end
+  double fps = 0;           ///< (n − 1) / (last end − first end) over processed frames
+  double host_busy_ms = 0;  ///< Σ core busy time
+  std::vector<ResourceUse> resources;
+  nlohmann::json to_json() const;  ///< summary (no frames)
+};
+
+/// Optional whole-system timeline of a run: frames [first, first + count) and everything that
+/// ran while they were in the system, one Perfetto track per unit, link direction, host thread
+/// and queue.
+struct SystemTimelineOptions {
+  sim::Timeline* timeline = nullptr;
+  std::size_t first = 0, count = 10;
+};
+
+/// Runs `work` on `platform` (validated). `accelerated`: the FPGA variant, else the CPU
+/// baseline. `isolated`: one frame at a time, back to back; else streamed (platform.system).
+/// `frontend`, `backend`, `link`, `host_cores` come from the platform (see system_model).
+SystemRun run_system(const std::vector<SystemFrameWork>& work, const FrontendConfig& frontend,
+                     const BackendConfig& backend, const LinkSpec& link, int host_cores,
+                     const SystemConfig& system, bool accelerated, bool isolated,
+                     const SystemTimelineOptions& timeline = {});
+
+}  // namespace edx::arch
