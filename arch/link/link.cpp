@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -177,32 +178,24 @@ sim::Time transfer_time(const LinkSpec& spec, std::int64_t bytes) {
   return last;
 }
 
-DmaLink::Lane::Lane(sim::Simulator& sim, const std::string& name, int slot_count)
-    : slots(sim, static_cast<std::size_t>(slot_count), name + ".slots"),
-      own_wire(sim, 1, name + ".wire") {}
-
 DmaLink::DmaLink(sim::Simulator& sim, LinkSpec spec)
     : sim_(&sim),
+      created_(sim.now()),
       spec_((spec.validate(), std::move(spec))),
       setup_(ns_to_time(spec_.dma.setup_ns)),
       latency_(ns_to_time(spec_.link.latency_ns)),
-      h2c_(sim, spec_.link.name + "." + to_string(Direction::HostToFpga),
-           spec_.dma.max_outstanding),
-      c2h_(sim, spec_.link.name + "." + to_string(Direction::FpgaToHost),
-           spec_.dma.max_outstanding) {
+      h2c_(spec_.dma.max_outstanding),
+      c2h_(spec_.dma.max_outstanding) {
+  // Half duplex: one wire and one DMA engine (its K slots) for both directions.
   h2c_.wire = &h2c_.own_wire;
   c2h_.wire = spec_.link.full_duplex ? &c2h_.own_wire : &h2c_.own_wire;
+  h2c_.slot_free = &h2c_.own_slots;
+  c2h_.slot_free = spec_.link.full_duplex ? &c2h_.own_slots : &h2c_.own_slots;
 }
 
-sim::Process DmaLink::chunk(Lane& lane, std::int64_t offset, std::int64_t bytes, sim::Lease slot) {
-  if (setup_ > 0) co_await sim_->delay(setup_);  // request setup, overlapped across slots
-  {
-    sim::Lease wire = co_await lane.wire->acquire();  // serialized on the wire
-    co_await sim_->delay(chunk_wire_time(spec_.link, offset, bytes));
-  }
-  if (latency_ > 0) co_await sim_->delay(latency_);  // flight time; the wire is free again
-  lane.chunks.add();
-  slot.release();
+double DmaLink::wire_utilization(Direction d) const {
+  const sim::Time elapsed = sim_->now() - created_;
+  return elapsed > 0 ? static_cast<double>(wire_busy_time(d)) / static_cast<double>(elapsed) : 0.0;
 }
 
 sim::Task<void> DmaLink::transfer(std::int64_t bytes, Direction direction) {
@@ -215,16 +208,32 @@ sim::Task<void> DmaLink::transfer(std::int64_t bytes, Direction direction, std::
         fmt::format("link '{}' transfer: expected bytes >= 0, got {}", spec_.link.name, bytes));
   }
   Lane& l = lane(direction);
+  const auto later = std::greater<sim::Time>();
   const sim::Time begin = sim_->now();
-  std::vector<sim::ProcessHandle> pending;
+  sim::Time last_arrival = begin;
   const std::int64_t chunk_size = spec_.dma.chunk_bytes;
+  std::vector<sim::Time>& slots = *l.slot_free;
   for (std::int64_t offset = 0; offset < bytes; offset += chunk_size) {
-    sim::Lease slot = co_await l.slots.acquire();  // at most max_outstanding in flight
-    pending.push_back(
-        sim_->spawn(chunk(l, offset, std::min(chunk_size, bytes - offset), std::move(slot)),
-                    spec_.link.name + ".chunk"));
+    // Ask for a slot now: the earliest free one (earlier requests took the earlier ones, as a
+    // FIFO queue would hand them out); granted at G = max(now, its free time).
+    std::pop_heap(slots.begin(), slots.end(), later);
+    const sim::Time grant = std::max(sim_->now(), slots.back());
+    // Setup, then the wire in grant order (W = max(G + s, wire free)), then the flight; the
+    // slot is held until the chunk has arrived.
+    const std::int64_t chunk_bytes = std::min(chunk_size, bytes - offset);
+    const sim::Time wire_start = std::max(grant + setup_, l.wire->free_at);
+    const sim::Time on_wire = chunk_wire_time(spec_.link, offset, chunk_bytes);
+    l.wire->free_at = wire_start + on_wire;
+    l.wire->busy.add(on_wire);
+    const sim::Time arrival = l.wire->free_at + latency_;
+    slots.back() = arrival;
+    std::push_heap(slots.begin(), slots.end(), later);
+    l.chunks.add();
+    last_arrival = std::max(last_arrival, arrival);
+    // The next chunk's slot is asked for once this one is granted.
+    if (grant > sim_->now()) co_await sim_->delay_until(grant);
   }
-  for (const sim::ProcessHandle& handle : pending) co_await handle;
+  if (last_arrival > sim_->now()) co_await sim_->delay_until(last_arrival);
   l.bytes.add(static_cast<std::uint64_t>(bytes));
   l.transfers.add();
   l.latency_us.add(sim::to_us(sim_->now() - begin));
@@ -244,10 +253,9 @@ void DmaLink::register_stats(sim::StatsRegistry& registry, const std::string& pr
     registry.add(base + ".transfers", l.transfers);
     registry.add(base + ".chunks", l.chunks);
     registry.add(base + ".latency_us", l.latency_us);
-    registry.add(base + ".slots_busy", l.slots.busy());
-    if (spec_.link.full_duplex) registry.add(base + ".wire_busy", l.wire->busy());
+    if (spec_.link.full_duplex) registry.add(base + ".wire_busy_ps", l.wire->busy);
   }
-  if (!spec_.link.full_duplex) registry.add(prefix + ".wire_busy", h2c_.own_wire.busy());
+  if (!spec_.link.full_duplex) registry.add(prefix + ".wire_busy_ps", h2c_.own_wire.busy);
 }
 
 void DmaLink::set_timeline(sim::Timeline& timeline, sim::Timeline::TrackId track) {

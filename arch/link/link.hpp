@@ -12,7 +12,14 @@
 //   W_j = max(R_j, E_{j-1}),  E_j = W_j + w_j,  D_j = E_j + L,  T = D_{n-1}
 // When the slots never limit (K * w >= s + w + L, w a full chunk's wire time) this is
 // T = s + sum_j w_j + L = s + B / bandwidth + L. The DES (DmaLink::transfer) runs the same model
-// with concurrent transfers contending for the slots and the wire.
+// with concurrent transfers contending for the slots and the wire: slots are granted first come,
+// first served (a transfer asks for its next chunk's slot once the previous chunk has one), and
+// because every chunk spends the same setup s before the wire, chunks reach the wire in the order
+// their slots were granted. So when a slot is granted at G, the chunk's wire start
+// W = max(G + s, wire free), its arrival D = W + w + L and the slot's next free time are already
+// determined: the DES books them then, with no process per chunk; a transfer waits only for
+// its grants and its last arrival (tests/arch/link: the same schedule as a process per chunk).
+// A half-duplex link has one wire and one DMA engine (one set of K slots) for both directions.
 //
 // Bandwidths in GB/s are decimal (10^9 bytes/s). Wire times are whole picoseconds: the chunk at
 // byte offset o of a transfer, of b bytes, takes w = wire(o + b) - wire(o) with
@@ -21,6 +28,7 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "sim_core/engine.hpp"
 
@@ -108,9 +116,8 @@ class DmaLink {
   sim::Time transfer_time(std::int64_t bytes) const { return arch::transfer_time(spec_, bytes); }
 
   /// Registers, per direction d: <prefix>.<d>.bytes, .transfers, .chunks (counters),
-  /// .latency_us (per-transfer time, samples), .wire_busy (time-weighted 0/1, its mean is the
-  /// wire utilization; shared by both directions on a half-duplex link: then under
-  /// <prefix>.wire_busy) and .slots_busy.
+  /// .latency_us (per-transfer time, samples) and .wire_busy_ps (counter: time the wire carried
+  /// its chunks; shared by both directions on a half-duplex link: then <prefix>.wire_busy_ps).
   void register_stats(sim::StatsRegistry& registry, const std::string& prefix) const;
 
   /// Records each transfer as a span on `track` of `timeline` (optional).
@@ -126,24 +133,33 @@ class DmaLink {
   std::uint64_t transfers(Direction d) const noexcept { return lane(d).transfers.value(); }
   std::uint64_t chunks(Direction d) const noexcept { return lane(d).chunks.value(); }
   const sim::SampleSet& latency_us(Direction d) const noexcept { return lane(d).latency_us; }
-  /// The wire a direction uses (the same Resource for both on a half-duplex link).
-  const sim::Resource& wire(Direction d) const noexcept { return *lane(d).wire; }
+  /// Time the wire of direction `d` carried chunks, booked so far (on a half-duplex link both
+  /// directions' chunks, on the one wire).
+  sim::Time wire_busy_time(Direction d) const noexcept { return lane(d).wire->busy.value(); }
+  /// wire_busy_time over the time from the link's creation to now (0 before any time passed).
+  double wire_utilization(Direction d) const;
 
  private:
+  /// A wire: when it is next free and how long it has carried chunks.
+  struct Wire {
+    sim::Time free_at = 0;
+    sim::Counter busy;  ///< ps
+  };
   struct Lane {
-    Lane(sim::Simulator& sim, const std::string& name, int slots);
-    sim::Resource slots;
-    sim::Resource own_wire;
-    sim::Resource* wire = nullptr;
+    explicit Lane(int slot_count) : own_slots(static_cast<std::size_t>(slot_count), 0) {}
+    std::vector<sim::Time> own_slots;             ///< min-heap: when each request slot is next free
+    std::vector<sim::Time>* slot_free = nullptr;  ///< own_slots, or the shared ones
+    Wire own_wire;
+    Wire* wire = nullptr;
     sim::Counter bytes, transfers, chunks;
     sim::SampleSet latency_us;
   };
 
   const Lane& lane(Direction d) const noexcept { return d == Direction::HostToFpga ? h2c_ : c2h_; }
   Lane& lane(Direction d) noexcept { return d == Direction::HostToFpga ? h2c_ : c2h_; }
-  sim::Process chunk(Lane& lane, std::int64_t offset, std::int64_t bytes, sim::Lease slot);
 
   sim::Simulator* sim_;
+  sim::Time created_;
   LinkSpec spec_;
   sim::Time setup_;
   sim::Time latency_;

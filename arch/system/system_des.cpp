@@ -364,7 +364,7 @@ class SystemSimulation {
       }
       t.span(frames_track_, fmt::format("frame {}", s.frame_id), s.arrival, s.end,
              {{"latency_ms", sim::to_ms(s.end - s.arrival)}});
-      if (s.start > s.arrival) {
+      if (!isolated_ && system_.sensor_fps > 0 && s.start > s.arrival) {
         t.span(camera_track_, fmt::format("f{} waits", s.frame_id), s.arrival, s.start);
       }
       if (s.backend_start > s.frontend_end) {
@@ -422,9 +422,14 @@ class SystemSimulation {
       }
       use("frontend.frame_buffers", frontend_->frame_buffers());
       if (contention_) {
-        use("link.host_to_fpga", link_->wire(Direction::HostToFpga));
-        if (link_spec_.link.full_duplex)
-          use("link.fpga_to_host", link_->wire(Direction::FpgaToHost));
+        if (link_spec_.link.full_duplex) {
+          r.resources.push_back(
+              {"link.host_to_fpga", link_->wire_utilization(Direction::HostToFpga), 1.0});
+          r.resources.push_back(
+              {"link.fpga_to_host", link_->wire_utilization(Direction::FpgaToHost), 1.0});
+        } else {
+          r.resources.push_back({"link.wire", link_->wire_utilization(Direction::HostToFpga), 1.0});
+        }
         for (BackendUnit u : kBackendUnits) {
           use(std::string("backend.") + to_string(u), backend_->unit(u));
         }
