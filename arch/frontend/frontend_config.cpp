@@ -38,6 +38,10 @@ void FrontendConfig::validate() const {
   require(descriptor_bytes >= 1, "descriptor_bytes", "an integer >= 1");
   require(match_bytes >= 1, "match_bytes", "an integer >= 1");
   require(track_bytes >= 1, "track_bytes", "an integer >= 1");
+  require(input_buffering == "on_chip_double" || input_buffering == "dram", "input_buffering",
+          fmt::format("on_chip_double or dram, got '{}'", input_buffering));
+  require(dr_reread == "on_chip_frame" || dr_reread == "dram", "dr_reread",
+          fmt::format("on_chip_frame or dram, got '{}'", dr_reread));
 }
 
 nlohmann::json FrontendConfig::to_json() const {
@@ -57,7 +61,9 @@ nlohmann::json FrontendConfig::to_json() const {
           {"pipeline_fe_sm", pipeline_fe_sm},
           {"frame_interval_ms", frame_interval_ms},
           {"bytes_per_pixel", bytes_per_pixel},
+          {"input_buffering", input_buffering},
           {"sb_optimization", sb_optimization},
+          {"dr_reread", dr_reread},
           {"dr_window", dr_window},
           {"dr_search", dr_search},
           {"pyramid_filter", pyramid_filter},
@@ -86,7 +92,9 @@ FrontendConfig FrontendConfig::from_yaml(const YAML::Node& node, const std::stri
   f.read("pipeline_fe_sm", c.pipeline_fe_sm);
   f.read("frame_interval_ms", c.frame_interval_ms, -1e-12);
   f.read("bytes_per_pixel", c.bytes_per_pixel, 1);
+  f.read("input_buffering", c.input_buffering);
   f.read("sb_optimization", c.sb_optimization);
+  f.read("dr_reread", c.dr_reread);
   f.read("dr_window", c.dr_window, 1);
   f.read("dr_search", c.dr_search, 1);
   f.read("pyramid_filter", c.pyramid_filter, 1);

@@ -35,14 +35,23 @@ struct FrontendConfig {
   double frame_interval_ms = 0.0;  ///< camera period; 0: frames back to back
   int bytes_per_pixel = 1;         ///< 8-bit grayscale
   // Memories.
-  bool sb_optimization = true;  ///< Sec. V-C: re-read DR's pixels from DRAM when that saves SB
-  int dr_window = 11;           ///< DR block-matching window side (the trace's DR row wins)
-  int dr_search = 11;           ///< DR candidate offsets along the row (the trace's row wins)
-  int pyramid_filter = 5;       ///< pyrDown's Gaussian side (DC builds the LK pyramid with it)
-  int keypoint_bytes = 8;       ///< x, y (Q12.4), score, level, angle in a FIFO/SPM entry
-  int descriptor_bytes = 32;    ///< 256-bit rBRIEF
-  int match_bytes = 8;          ///< MO -> DR: left index, right index, Hamming distance
-  int track_bytes = 12;         ///< LSS: id + previous and current position
+  /// Where the input images wait for the frontend: "on_chip_double" (the left and right images
+  /// of two frames in on-chip buffers, paper Sec. V-A: "double-buffered on-chip"; DRAM is read
+  /// once, by the DMA) or "dram" (every task stream that reads a raw image reads it from DRAM).
+  std::string input_buffering = "on_chip_double";
+  /// Sec. V-C: when DR's pixels would outlive FD/IF's SB, give DR its own SB and re-read them.
+  bool sb_optimization = true;
+  /// Where that re-read comes from: "on_chip_frame" (the on-chip input buffer; the physically
+  /// consistent reading when the frames are on chip) or "dram" (the paper's Sec. V-C wording).
+  /// With input_buffering: dram the re-read is from DRAM either way.
+  std::string dr_reread = "on_chip_frame";
+  int dr_window = 11;         ///< DR block-matching window side (the trace's DR row wins)
+  int dr_search = 11;         ///< DR candidate offsets along the row (the trace's row wins)
+  int pyramid_filter = 5;     ///< pyrDown's Gaussian side (DC builds the LK pyramid with it)
+  int keypoint_bytes = 8;     ///< x, y (Q12.4), score, level, angle in a FIFO/SPM entry
+  int descriptor_bytes = 32;  ///< 256-bit rBRIEF
+  int match_bytes = 8;        ///< MO -> DR: left index, right index, Hamming distance
+  int track_bytes = 12;       ///< LSS: id + previous and current position
 
   /// Throws std::runtime_error naming the field and the accepted range.
   void validate() const;

@@ -90,9 +90,21 @@ nlohmann::json FrontendMemoryPlan::to_json() const {
           {"sb_optimization", sb_optimization},
           {"sb_bytes", sb_bytes},
           {"sb_bytes_without_optimization", sb_bytes_without_optimization},
+          {"sb_bytes_without_optimization_bound", sb_bytes_without_optimization_bound},
           {"fifo_bytes", fifo_bytes},
           {"spm_bytes", spm_bytes},
+          {"input_buffer_bytes", input_buffer_bytes},
+          {"dram_bytes_per_frame", dram_bytes_per_frame},
           {"extra_dram_bytes_per_frame", extra_dram_bytes_per_frame},
+          // The paper's units (Sec. VII-B "On-chip Memory Design": SB 0.4 MB, SPM 3.6 MB, "+9 MB"
+          // without the SB optimization), MB = 10^6 bytes.
+          {"sb_mb", 1e-6 * static_cast<double>(sb_bytes)},
+          {"spm_mb", 1e-6 * static_cast<double>(spm_bytes)},
+          {"input_buffer_mb", 1e-6 * static_cast<double>(input_buffer_bytes)},
+          {"sb_added_without_optimization_mb",
+           1e-6 * static_cast<double>(sb_bytes_without_optimization - sb_bytes)},
+          {"sb_added_without_optimization_bound_mb",
+           1e-6 * static_cast<double>(sb_bytes_without_optimization_bound - sb_bytes)},
           {"bram", bram.to_json()}};
 }
 
@@ -162,22 +174,40 @@ FrontendMemoryPlan plan_frontend_memory(const std::vector<trace::FrameTrace>& fr
 
   std::int64_t other_sb_bytes = 0;
   for (const StencilBuffer& sb : plan.stencil_buffers) other_sb_bytes += sb.fifo_bytes;
-  // Shared: DR keeps its pixels in FD/IF's level-0 SB for their whole lifetime.
-  plan.sb_bytes_without_optimization =
-      other_sb_bytes + (plan.dr_left.shared_pixels + plan.dr_right.shared_pixels) * b;
+  // Shared: DR keeps its pixels in FD/IF's level-0 SB for their whole lifetime. The paper's rule
+  // sizes that by lifetime x rate; a FIFO never holds more than the images in flight.
+  const std::int64_t frames_in_flight = c.pipeline_fe_sm ? 2 : 1;
+  const std::int64_t shared_pixels = plan.dr_left.shared_pixels + plan.dr_right.shared_pixels;
+  const std::int64_t bounded_pixels =
+      std::min(plan.dr_left.shared_pixels, frames_in_flight * pixels) +
+      std::min(plan.dr_right.shared_pixels, frames_in_flight * pixels);
+  plan.sb_bytes_without_optimization = other_sb_bytes + shared_pixels * b;
+  plan.sb_bytes_without_optimization_bound = other_sb_bytes + bounded_pixels * b;
   const bool replicate = c.sb_optimization && plan.dr_left.replicate && plan.dr_right.replicate;
+  const bool on_chip_input = c.input_buffering == "on_chip_double";
+  const bool reread_from_dram = !on_chip_input || c.dr_reread == "dram";
+  const std::int64_t image_bytes = pixels * b;
   std::vector<MemoryStructure> structures;
   if (replicate) {
     plan.stencil_buffers.push_back(dr_left);
     plan.stencil_buffers.push_back(dr_right);
     plan.sb_bytes = other_sb_bytes + dr_left.fifo_bytes + dr_right.fifo_bytes;
-    plan.extra_dram_bytes_per_frame =
-        plan.dr_left.extra_dram_bytes_per_frame + plan.dr_right.extra_dram_bytes_per_frame;
+    if (reread_from_dram) {
+      plan.extra_dram_bytes_per_frame =
+          plan.dr_left.extra_dram_bytes_per_frame + plan.dr_right.extra_dram_bytes_per_frame;
+    }
   } else {
     plan.sb_bytes = plan.sb_bytes_without_optimization;
-    structures.push_back({"dr.shared_lifetime", 8 * std::int64_t{b},
-                          plan.dr_left.shared_pixels + plan.dr_right.shared_pixels, 1});
+    structures.push_back({"dr.shared_lifetime", 8 * std::int64_t{b}, shared_pixels, 1});
   }
+  // Input images: read from DRAM once a frame (left and right); without the on-chip buffer, DC
+  // streams the left image from DRAM again to build the LK pyramid.
+  if (on_chip_input) {
+    plan.input_buffer_bytes = 2 * 2 * image_bytes;  // two frames, left and right (in the SPM)
+  } else {
+    plan.extra_dram_bytes_per_frame += image_bytes;
+  }
+  plan.dram_bytes_per_frame = 2 * image_bytes + plan.extra_dram_bytes_per_frame;
   for (const StencilBuffer& sb : plan.stencil_buffers) {
     for (const MemoryStructure& s : sb.bram_structures()) structures.push_back(s);
   }
@@ -203,13 +233,22 @@ FrontendMemoryPlan plan_frontend_memory(const std::vector<trace::FrameTrace>& fr
   }
 
   // Scratchpad: what LSS and MO read at arbitrary positions.
-  std::int64_t lk_pyramid = 0;
-  for (const trace::LevelWork& level : lk_levels) lk_pyramid += level.pixels * b;
+  std::int64_t lk_pyramid = 0, lk_level0 = 0;
+  for (const trace::LevelWork& level : lk_levels) {
+    lk_pyramid += level.pixels * b;
+    if (level.level == 0) lk_level0 = level.pixels * b;
+  }
   ScratchpadSpec spm;
   spm.name = "frontend_spm";
+  // Every on-chip memory is an SB, a FIFO or the SPM (the paper's three kinds, Sec. V-C); the
+  // double-buffered input images are neither a stencil nor a queue: SPM regions.
   spm.regions = {
-      {"lk_pyramid_previous", lk_pyramid},
-      {"lk_pyramid_current", lk_pyramid},
+      {"input_frames", plan.input_buffer_bytes},
+      // With the input on chip, level 0 of the previous and of the current LK pyramid are the
+      // left images of the two buffered frames (LSS of frame t+1 reads frame t's as its
+      // previous image): the SPM holds only the levels above.
+      {"lk_pyramid_previous", on_chip_input ? lk_pyramid - lk_level0 : lk_pyramid},
+      {"lk_pyramid_current", on_chip_input ? lk_pyramid - lk_level0 : lk_pyramid},
       {"previous_features", count(Task::DC, Image::Left, points) * c.keypoint_bytes},
       {"keypoints_left", count(Task::FC, Image::Left, descriptors) * c.keypoint_bytes},
       {"keypoints_right", count(Task::FC, Image::Right, descriptors) * c.keypoint_bytes},

@@ -174,12 +174,20 @@ std::string format_frontend_study(const FrontendStudy& s) {
       to_mib(static_cast<double>(m.fifo_bytes)), to_mib(static_cast<double>(m.spm_bytes)),
       m.bram.total_blocks, m.bram.device_blocks, 100 * m.bram.utilization,
       m.bram.fits ? "" : " DOES NOT FIT");
+  const bool on_chip_input = m.input_buffer_bytes > 0;
+  text += fmt::format("input      {} ({:.2f} MB on chip); DRAM reads {:.2f} MiB a frame\n",
+                      on_chip_input ? "left and right images of two frames double-buffered on chip"
+                                    : "images read from DRAM by each stream",
+                      1e-6 * static_cast<double>(m.input_buffer_bytes),
+                      to_mib(static_cast<double>(m.dram_bytes_per_frame)));
   text += fmt::format(
-      "SB opt.    DR re-reads its pixels from DRAM: {} ({:.2f} MiB more DRAM reads a frame); "
-      "sharing FD/IF's SB instead would add {:.2f} MiB of SB\n",
+      "SB opt.    DR has its own SBs and re-reads its pixels: {} ({:.2f} MiB more DRAM reads a "
+      "frame); without the optimization the SB grows by {:.2f} MB (paper's rule, lifetime x "
+      "rate) or {:.2f} MB (FIFO occupancy bound)\n",
       m.dr_left.replicate && m.dr_right.replicate && m.sb_optimization ? "yes" : "no",
       to_mib(static_cast<double>(m.extra_dram_bytes_per_frame)),
-      to_mib(static_cast<double>(m.sb_bytes_without_optimization - m.sb_bytes)));
+      1e-6 * static_cast<double>(m.sb_bytes_without_optimization - m.sb_bytes),
+      1e-6 * static_cast<double>(m.sb_bytes_without_optimization_bound - m.sb_bytes));
   return text;
 }
 

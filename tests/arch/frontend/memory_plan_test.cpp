@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "sim_core/clock.hpp"
 
 namespace edx::arch {
@@ -92,19 +94,65 @@ TEST(FrontendMemoryPlan, SizesEveryStructureFromTheTraceAndTheTiming) {
   EXPECT_EQ(plan.dr_left.shared_pixels, longest_left);
   EXPECT_TRUE(plan.dr_left.replicate);
   EXPECT_TRUE(plan.dr_right.replicate);
-  EXPECT_EQ(plan.extra_dram_bytes_per_frame, 2 * kWidth * kHeight);
+  // The input is double-buffered on chip (the default): DR re-reads the on-chip frame, DRAM is
+  // read once a frame (left and right).
+  const std::int64_t image = kWidth * kHeight;
+  EXPECT_EQ(plan.input_buffer_bytes, 2 * 2 * image);
+  EXPECT_EQ(plan.extra_dram_bytes_per_frame, 0);
+  EXPECT_EQ(plan.dram_bytes_per_frame, 2 * image);
+  // Without the optimization: the paper's rule (lifetime x rate) and the FIFO bound (at most
+  // the two frames in flight of each image).
   EXPECT_EQ(plan.sb_bytes_without_optimization,
             (7 + 31 + 5) * kWidth + plan.dr_left.shared_pixels + plan.dr_right.shared_pixels);
+  EXPECT_EQ(plan.sb_bytes_without_optimization_bound,
+            (7 + 31 + 5) * kWidth + std::min(plan.dr_left.shared_pixels, 2 * image) +
+                std::min(plan.dr_right.shared_pixels, 2 * image));
 
   // FIFOs: FD->FC the larger image's 70 keypoints x 8 B; MO->DR 30 x 8 B; tracks 40 x 12 B.
   ASSERT_EQ(plan.fifos.size(), 3u);
   EXPECT_EQ(plan.fifos[0].bytes, 70 * 8);
   EXPECT_EQ(plan.fifos[1].bytes, 30 * 8);
   EXPECT_EQ(plan.fifos[2].bytes, 40 * 12);
-  // SPM: two LK pyramids + previous features + keypoints and descriptors of both images.
-  EXPECT_EQ(plan.spm_bytes, 2 * kWidth * kHeight + 40 * 8 + (50 + 70) * 8 + (50 + 70) * 32);
+  // SPM: the input frames (two frames, left and right); the two one-level LK pyramids are
+  // their left images; previous features, keypoints and descriptors of both images.
+  const std::int64_t lists = 40 * 8 + (50 + 70) * 8 + (50 + 70) * 32;
+  EXPECT_EQ(plan.spm_bytes, 4 * image + lists);
   EXPECT_TRUE(plan.bram.fits);
   EXPECT_GT(plan.bram.total_blocks, 0.0);
+
+  // DR's re-read from DRAM (the paper's Sec. V-C wording): the two images once more.
+  FrontendConfig from_dram = c;
+  from_dram.dr_reread = "dram";
+  const FrontendMemoryPlan reread =
+      plan_frontend_memory(frames, timing, kWidth, kHeight, from_dram, Device::xc7v690t());
+  EXPECT_EQ(reread.extra_dram_bytes_per_frame, 2 * image);
+  EXPECT_EQ(reread.spm_bytes, plan.spm_bytes);
+
+  // Input in DRAM: no input buffer, two full LK pyramids in the SPM; DR re-reads both images
+  // and DC streams the left one from DRAM.
+  FrontendConfig in_dram = c;
+  in_dram.input_buffering = "dram";
+  const FrontendMemoryPlan dram =
+      plan_frontend_memory(frames, timing, kWidth, kHeight, in_dram, Device::xc7v690t());
+  EXPECT_EQ(dram.input_buffer_bytes, 0);
+  EXPECT_EQ(dram.spm_bytes, 2 * image + lists);
+  EXPECT_EQ(dram.extra_dram_bytes_per_frame, 2 * image + image);
+  EXPECT_EQ(dram.dram_bytes_per_frame, 5 * image);
+  EXPECT_EQ(dram.sb_bytes, plan.sb_bytes);
+}
+
+TEST(FrontendMemoryPlan, InputOptionsAreValidated) {
+  FrontendConfig c;
+  c.input_buffering = "sram";
+  EXPECT_THROW(c.validate(), std::runtime_error);
+  c.input_buffering = "dram";
+  c.dr_reread = "cache";
+  try {
+    c.validate();
+    FAIL() << "accepted dr_reread: cache";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "frontend.dr_reread: expected on_chip_frame or dram, got 'cache'");
+  }
 }
 
 TEST(FrontendMemoryPlan, WithoutTheOptimizationDrSharesTheFeatureExtractionBuffer) {
@@ -116,7 +164,7 @@ TEST(FrontendMemoryPlan, WithoutTheOptimizationDrSharesTheFeatureExtractionBuffe
       plan_frontend_memory(frames, timing, kWidth, kHeight, c, Device::xc7v690t());
   EXPECT_EQ(plan.stencil_buffers.size(), 3u);  // no DR buffers of its own
   EXPECT_EQ(plan.sb_bytes, plan.sb_bytes_without_optimization);
-  EXPECT_EQ(plan.extra_dram_bytes_per_frame, 0);
+  EXPECT_EQ(plan.extra_dram_bytes_per_frame, 0);  // DR reads FD/IF's SB: nothing re-read
 }
 
 TEST(FrontendMemoryPlan, AStructureTooBigForTheDeviceIsReported) {
