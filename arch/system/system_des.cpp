@@ -330,7 +330,7 @@ class SystemSimulation {
 
   void set_up_timeline() {
     sim::Timeline& t = *timeline_.timeline;
-    frames_track_ = t.track("system", "frames");
+    frames_lanes_ = Lanes{"system", "frames", {}};
     if (accelerated_) {
       for (trace::Task task : {trace::Task::FD, trace::Task::IF, trace::Task::FC, trace::Task::MO,
                                trace::Task::DR, trace::Task::DC, trace::Task::LSS}) {
@@ -342,8 +342,12 @@ class SystemSimulation {
       frontend_thread_track_ = t.track("host", "frontend thread");
     }
     backend_thread_track_ = t.track("host", "backend thread");
-    camera_track_ = t.track("queues", "camera queue");
-    results_track_ = t.track("queues", "results queue");
+    camera_lanes_ = Lanes{"queues", "camera queue", {}};
+    results_lanes_ = Lanes{"queues", "results queue", {}};
+    // The first lane of each exists even when nothing waits.
+    t.track("system", "frames");
+    t.track("queues", "camera queue");
+    t.track("queues", "results queue");
   }
 
   /// Keeps the spans of the window's frames and of everything that ran meanwhile.
@@ -359,17 +363,17 @@ class SystemSimulation {
     for (std::size_t f = timeline_.first; f < last; ++f) {
       const SystemFrameTiming& s = frames_[f];
       if (s.dropped) {
-        t.span(frames_track_, fmt::format("frame {} dropped", s.frame_id), s.arrival, s.arrival);
+        frames_lanes_.span(t, fmt::format("frame {} dropped", s.frame_id), s.arrival, s.arrival);
         continue;
       }
-      t.span(frames_track_, fmt::format("frame {}", s.frame_id), s.arrival, s.end,
-             {{"latency_ms", sim::to_ms(s.end - s.arrival)}});
+      frames_lanes_.span(t, fmt::format("frame {}", s.frame_id), s.arrival, s.end,
+                         {{"latency_ms", sim::to_ms(s.end - s.arrival)}});
       if (!isolated_ && system_.sensor_fps > 0 && s.start > s.arrival) {
-        t.span(camera_track_, fmt::format("f{} waits", s.frame_id), s.arrival, s.start);
+        camera_lanes_.span(t, fmt::format("f{} waits", s.frame_id), s.arrival, s.start);
       }
       if (s.backend_start > s.frontend_end) {
-        t.span(results_track_, fmt::format("f{} waits", s.frame_id), s.frontend_end,
-               s.backend_start);
+        results_lanes_.span(t, fmt::format("f{} waits", s.frame_id), s.frontend_end,
+                            s.backend_start);
       }
     }
     // Every frame's tasks; the window below keeps those that ran while its frames did.
@@ -466,8 +470,24 @@ class SystemSimulation {
   std::vector<FrontendFrameTiming> fe_;
   std::vector<sim::Lease> admissions_;
   SystemTimelineOptions timeline_;
-  sim::Timeline::TrackId frames_track_{}, frontend_thread_track_{}, backend_thread_track_{},
-      camera_track_{}, results_track_{};
+  /// Spans that may overlap (frames in flight, frames waiting in a queue) on as many tracks as
+  /// they need: each goes to the first track free at its start ("frames", "frames 2", ...), so
+  /// no track holds two overlapping spans.
+  struct Lanes {
+    std::string group, name;
+    std::vector<sim::Time> free_at;  ///< per track, when its last span ends
+    void span(sim::Timeline& t, std::string label, sim::Time begin, sim::Time end,
+              nlohmann::json args = nullptr) {
+      std::size_t lane = 0;
+      while (lane < free_at.size() && free_at[lane] > begin) ++lane;
+      if (lane == free_at.size()) free_at.push_back(0);
+      free_at[lane] = end;
+      const std::string track = lane == 0 ? name : fmt::format("{} {}", name, lane + 1);
+      t.span(t.track(group, track), std::move(label), begin, end, std::move(args));
+    }
+  };
+  Lanes frames_lanes_, camera_lanes_, results_lanes_;
+  sim::Timeline::TrackId frontend_thread_track_{}, backend_thread_track_{};
   std::map<trace::Task, sim::Timeline::TrackId> frontend_tracks_;
 };
 

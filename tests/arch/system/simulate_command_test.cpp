@@ -6,12 +6,14 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "tests/support/run_command.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -108,11 +110,24 @@ TEST(SimulateCommand, WritesAWholeSystemTimeline) {
   for (const auto& e : doc["traceEvents"]) {
     if (e["ph"] != "X") continue;
     const std::string& track = track_of_tid[e["tid"].get<int>()];
-    if (track == "frames") ++frames;
+    if (track.starts_with("frames")) ++frames;  // "frames", "frames 2", ...: frames in flight
     if (track == "fpga_to_host") ++transfers;
   }
   EXPECT_EQ(frames, 3);
   EXPECT_GE(transfers, 3);  // at least each frame's results (transfer 1)
+  // No track holds two overlapping spans (overlapping frames and waits get tracks of their own).
+  std::map<int, std::vector<std::pair<double, double>>> spans;
+  for (const auto& e : doc["traceEvents"]) {
+    if (e["ph"] != "X") continue;
+    const double begin = e["ts"].get<double>();
+    spans[e["tid"].get<int>()].emplace_back(begin, begin + e["dur"].get<double>());
+  }
+  for (auto& [tid, list] : spans) {
+    std::sort(list.begin(), list.end());
+    for (std::size_t i = 1; i < list.size(); ++i) {
+      EXPECT_GE(list[i].first, list[i - 1].second - 1e-6) << "track " << track_of_tid[tid];
+    }
+  }
 }
 
 TEST(SimulateCommand, WholeSystemOnARealVioTraceIntoTheResultsDatabase) {
