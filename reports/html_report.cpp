@@ -17,7 +17,7 @@
 
 #include "reports/metrics.hpp"
 #include "reports/paper_check.hpp"
-#include "sim_core/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 #include "workloads/trace/reader.hpp"
 
 extern char** environ;
@@ -917,7 +917,7 @@ ReportResult write_report(const ResultsData& data, const ReportOptions& options)
         "gnuplot (scripts and data beside them: *.gp, *.dat).</p>\n{4}</body></html>\n",
         html_escape(data.path.string()), kStyle, data.runs.size(), data.runs.size() == 1 ? "" : "s",
         body, kBrowserCheck);
-    sim::write_file_atomically(stage / "index.html", html);
+    common::write_file_atomically(stage / "index.html", html);
     // Swap the finished directory into place.
     const fs::path old = parent / fmt::format(".{}.old-{}", out.filename().string(), ::getpid());
     const bool existed = fs::exists(out);

@@ -1,7 +1,6 @@
 #pragma once
 // edx's discrete-event engine in one include: time and clocks, the simulator and its processes,
 // events, resources, FIFOs, statistics and the timeline. See docs/SIM_CORE.md.
-#include "sim_core/atomic_file.hpp"
 #include "sim_core/clock.hpp"
 #include "sim_core/event.hpp"
 #include "sim_core/event_queue.hpp"

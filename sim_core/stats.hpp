@@ -22,6 +22,7 @@
 #include <variant>
 #include <vector>
 
+#include "common/sample_set.hpp"
 #include "sim_core/simulator.hpp"
 #include "sim_core/time.hpp"
 
@@ -46,60 +47,9 @@ class Counter {
   std::uint64_t value_ = 0;
 };
 
-/// All samples of a quantity, kept so that percentiles are exact. Undefined statistics (mean of
-/// no samples, SD of fewer than two, RSD with a zero mean) throw std::domain_error.
-class SampleSet {
- public:
-  /// Adds one sample; throws std::invalid_argument for NaN or infinity.
-  void add(double value);
-  /// Reserves room for `n` samples.
-  void reserve(std::size_t n) { samples_.reserve(n); }
-  /// Drops all samples.
-  void clear() noexcept;
-
-  /// Number of samples.
-  std::size_t count() const noexcept { return samples_.size(); }
-  /// True when no sample was added.
-  bool empty() const noexcept { return samples_.empty(); }
-  /// Sum of the samples.
-  double sum() const;
-  /// Arithmetic mean (n >= 1).
-  double mean() const;
-  /// Sample standard deviation, divisor n - 1 (n >= 2).
-  double sd() const;
-  /// Population standard deviation, divisor n (n >= 1).
-  double population_sd() const;
-  /// Relative standard deviation sd() / mean() (n >= 2, mean != 0).
-  double rsd() const;
-  /// Smallest sample (n >= 1).
-  double min() const;
-  /// Largest sample (n >= 1).
-  double max() const;
-  /// Linear-interpolation percentile, p in [0, 100] (n >= 1); see the top of stats.hpp.
-  double percentile(double p) const;
-  /// Median, percentile(50).
-  double p50() const { return percentile(50.0); }
-  /// percentile(90).
-  double p90() const { return percentile(90.0); }
-  /// percentile(99).
-  double p99() const { return percentile(99.0); }
-
-  /// Samples in insertion order.
-  const std::vector<double>& samples() const noexcept { return samples_; }
-  /// Samples in ascending order (computed lazily, cached until the next add()).
-  const std::vector<double>& sorted() const;
-
- private:
-  void require(std::size_t minimum, const char* statistic) const;
-  void update_moments() const;
-
-  std::vector<double> samples_;
-  mutable std::vector<double> sorted_;
-  mutable bool sorted_valid_ = true;
-  mutable bool moments_valid_ = true;
-  mutable double mean_ = 0.0;
-  mutable double squared_deviations_ = 0.0;  ///< sum (x_i - mean)^2, two-pass
-};
+/// Samples with exact percentiles (common/sample_set.hpp; plain statistics, used outside the
+/// simulator too).
+using SampleSet = common::SampleSet;
 
 /// A piecewise-constant quantity over simulated time (units busy, FIFO occupancy, ...) and its
 /// time integral. The averaging window starts at construction (or reset()) and ends at now().

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "sim_core/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 
 namespace edx::sim {
 
@@ -79,7 +79,7 @@ nlohmann::json Timeline::to_json() const {
 }
 
 void Timeline::write(const std::filesystem::path& path) const {
-  write_file_atomically(path, to_json().dump());
+  common::write_file_atomically(path, to_json().dump());
 }
 
 }  // namespace edx::sim

@@ -11,7 +11,7 @@
 #include <system_error>
 #include <vector>
 
-#include "sim_core/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 
 namespace edx::arch {
 namespace {
@@ -227,7 +227,7 @@ void write_results(SQLite::Database& db, const SystemResult& result,
 
 void write_results(const std::filesystem::path& path, const SystemResult& result) {
   if (path.empty()) throw std::runtime_error("results: expected a results database path");
-  sim::require_regular_output(path, "results database");
+  common::require_regular_output(path, "results database");
   // A new database is written beside the target and renamed into place when complete, so no
   // failure or kill leaves a partial file under the target name; an existing one is written in
   // one transaction (rolled back on any error).

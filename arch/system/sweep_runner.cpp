@@ -23,7 +23,7 @@
 #include "arch/system/results_db.hpp"
 #include "arch/system/sweep.hpp"
 #include "arch/system/system_model.hpp"
-#include "sim_core/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 #include "workloads/trace/reader.hpp"
 
 namespace edx::arch {
@@ -167,7 +167,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
   out.sweep_id = spec.name;
   out.total = points.size();
 
-  sim::require_regular_output(options.db, "results database");
+  common::require_regular_output(options.db, "results database");
   // A database this sweep creates is removed again if the sweep fails before its first point
   // is stored (after that it is kept: a re-run resumes from it).
   struct RemoveNewDatabase {
@@ -464,7 +464,7 @@ std::size_t export_csv_from(const std::filesystem::path& db_path, const std::str
       ++rows;
     }
   }
-  sim::write_file_atomically(out, csv);
+  common::write_file_atomically(out, csv);
   return rows;
 }
 

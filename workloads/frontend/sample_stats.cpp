@@ -1,6 +1,6 @@
 #include "workloads/frontend/sample_stats.hpp"
 
-#include "sim_core/stats.hpp"
+#include "common/sample_set.hpp"
 
 namespace edx::frontend {
 
@@ -8,7 +8,7 @@ SampleStats summarize(const std::vector<double>& values) {
   SampleStats s;
   s.count = values.size();
   if (values.empty()) return s;
-  sim::SampleSet set;
+  common::SampleSet set;
   set.reserve(values.size());
   for (const double value : values) set.add(value);
   s.mean = set.mean();

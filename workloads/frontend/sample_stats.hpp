@@ -1,6 +1,6 @@
 #pragma once
 // Summary statistics of a sample (per-frame task times, counts) as a plain struct for summaries
-// and JSON; computed by sim_core's SampleSet (one definition of SD and percentiles in edx).
+// and JSON; computed by common's SampleSet (one definition of SD and percentiles in edx).
 #include <cstddef>
 #include <vector>
 

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
-#include "sim_core/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 #include "workloads/backend/slam/map.hpp"
 
 namespace edx::backend::slam {
@@ -139,7 +139,7 @@ void save_map(const Map& map, const std::filesystem::path& path) {
                          {"observations", std::move(observations)}});
   }
   j["landmarks"] = std::move(landmarks);
-  sim::write_file_atomically(path, j.dump());  // no half-written map on failure
+  common::write_file_atomically(path, j.dump());  // no half-written map on failure
 }
 
 Map load_map(const std::filesystem::path& path) {

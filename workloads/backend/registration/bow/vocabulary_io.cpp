@@ -18,7 +18,7 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "sim_core/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 #include "workloads/backend/registration/bow/vocabulary.hpp"
 
 namespace edx::bow {
@@ -99,7 +99,7 @@ void Vocabulary::save(const std::filesystem::path& path) const {
     put_u64(out, std::bit_cast<std::uint64_t>(node.weight));
   }
 
-  sim::write_file_atomically(path, out);  // readers never see a partial file
+  common::write_file_atomically(path, out);  // readers never see a partial file
 }
 
 Vocabulary Vocabulary::load(const std::filesystem::path& path) {

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <string_view>
 
-namespace edx::sim {
+namespace edx::common {
 
 /// Writes `contents` to a temporary file beside `path` and renames it onto `path`, so readers
 /// never see a half-written file. A `path` that exists and is not a regular file (a character
@@ -17,4 +17,4 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
 /// file)".
 void require_regular_output(const std::filesystem::path& path, std::string_view what);
 
-}  // namespace edx::sim
+}  // namespace edx::common

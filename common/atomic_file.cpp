@@ -1,4 +1,4 @@
-#include "sim_core/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 
 #include <unistd.h>
 
@@ -7,7 +7,7 @@
 #include <string>
 #include <system_error>
 
-namespace edx::sim {
+namespace edx::common {
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view contents) {
   std::error_code status_error;
@@ -59,4 +59,4 @@ void require_regular_output(const std::filesystem::path& path, std::string_view 
   }
 }
 
-}  // namespace edx::sim
+}  // namespace edx::common
