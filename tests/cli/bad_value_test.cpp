@@ -57,6 +57,30 @@ TEST(BadValue, ATimelinePastTheTraceAndAKeyWrittenTwiceAreErrors) {
                            "line 3)\n");
 }
 
+TEST(BadValue, SystemModelAndMemoryOptionsAreOneLineErrors) {
+  const TempDir dir;
+  const std::string trace = fmt::format("{}/tests/data/golden/golden_mix.db", EDX_SOURCE_DIR);
+  const CommandResult model = run_command(
+      fmt::format("{} simulate --config '{}/configs/edx_car.yaml' --trace '{}' --model fast", edx(),
+                  EDX_SOURCE_DIR, trace));
+  EXPECT_EQ(model.exit_code, 2);
+  EXPECT_EQ(model.err, "edx: --model: fast not in {des,analytical} (see edx --help)\n");
+  const fs::path config = dir.path() / "p.yaml";
+  std::ofstream(config) << "name: p\nsystem:\n  drop: sometimes\n";
+  const CommandResult drop = run_command(
+      fmt::format("{} simulate --config '{}' --trace '{}'", edx(), config.string(), trace));
+  EXPECT_EQ(drop.exit_code, 1);
+  EXPECT_EQ(drop.err, "edx: error: " + config.string() +
+                          ":3: system.drop: expected oldest, newest or none, got 'sometimes'\n");
+  std::ofstream(config) << "name: p\nfrontend:\n  input_buffering: sram\n";
+  const CommandResult buffering = run_command(
+      fmt::format("{} simulate --config '{}' --trace '{}'", edx(), config.string(), trace));
+  EXPECT_EQ(buffering.exit_code, 1);
+  EXPECT_EQ(buffering.err,
+            "edx: error: " + config.string() +
+                ":3: frontend.input_buffering: expected on_chip_double or dram, got 'sram'\n");
+}
+
 TEST(BadValue, FilesThatAreNotDatabasesAreNamedAndLeftAlone) {
   const TempDir dir;
   const fs::path junk = dir.path() / "junk.db";
