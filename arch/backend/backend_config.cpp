@@ -1,90 +1,62 @@
 #include "arch/backend/backend_config.hpp"
 
-#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
-
-#include <limits>
-#include <stdexcept>
 
 #include "arch/common/yaml_fields.hpp"
 
 namespace edx::arch {
-namespace {
 
-void require(bool ok, const char* field, const std::string& expected) {
-  if (!ok) throw std::runtime_error(fmt::format("backend.{}: expected {}", field, expected));
+const FieldList<BackendConfig>& BackendConfig::fields() {
+  using C = BackendConfig;
+  const Bounds positive = Bounds::at_least(1);
+  static const FieldList<C> list = {
+      field("clock_mhz", &C::clock_mhz, "MHz", "backend clock (assumed: the frontend's HLS clock)",
+            Bounds::above(0).at_most(1000)),
+      field("gemm_block", &C::gemm_block, "",
+            "b: the matrix-multiplication unit is a b x b systolic array (b^2 MACs a cycle)",
+            positive.at_most(256)),
+      field("decomp_block", &C::decomp_block, "",
+            "b_d: the decomposition unit has b_d^2 multiply-accumulate lanes",
+            positive.at_most(256)),
+      field("inverse_lanes", &C::inverse_lanes, "", "multiply-accumulate lanes of the inverse unit",
+            positive),
+      field("transpose_words_per_cycle", &C::transpose_words_per_cycle, "words/cycle",
+            "words the transpose unit moves a cycle", positive),
+      field("trsv_lanes", &C::trsv_lanes, "", "multiply-accumulate lanes of the substitution unit",
+            positive),
+      field("divide_latency_cycles", &C::divide_latency_cycles, "cycles",
+            "latency of the pipelined double-precision divider", positive),
+      field("sqrt_latency_cycles", &C::sqrt_latency_cycles, "cycles",
+            "latency of the pipelined square root", positive),
+      choice_field("scalar_bytes", &C::scalar_bytes, "bytes", {"4", "8"},
+                   "one matrix element in the units, the SPM and on the link: 8 double, 4 single "
+                   "(also the precision of the units' MACs in the cost model)"),
+      field("spm_bytes", &C::spm_bytes, "bytes", "the scratchpad holding the running op's operands",
+            positive),
+      field("symmetric_optimization", &C::symmetric_optimization, "",
+            "compute and store only one triangle of symmetric results (Sec. VI-A)"),
+      field("structured_inverse", &C::structured_inverse, "",
+            "invert [A B; B^T D] with A diagonal and D 6x6 as reciprocals + a 6x6 inverse"),
+      field("gemm_overlap_tiles", &C::gemm_overlap_tiles, "",
+            "double-buffered accumulators: fill/drain paid once per op, not per tile"),
+      field("blocked_solvers", &C::blocked_solvers, "",
+            "blocked factorizations: trailing updates run on the multiplication array"),
+      field("pose_dim", &C::pose_dim, "",
+            "p: pose parameters of a marginalized keyframe, where the trace does not say",
+            positive),
+      field("landmark_dim", &C::landmark_dim, "",
+            "l: parameters per marginalized landmark, where the trace does not say", positive),
+  };
+  return list;
 }
 
-}  // namespace
+void BackendConfig::validate() const { check_fields(*this, "backend", fields()); }
 
-void BackendConfig::validate() const {
-  require(clock_mhz > 0 && clock_mhz <= 1000, "clock_mhz", "a frequency in (0, 1000] MHz");
-  require(gemm_block >= 1 && gemm_block <= 256, "gemm_block", "an integer in [1, 256]");
-  require(decomp_block >= 1 && decomp_block <= 256, "decomp_block", "an integer in [1, 256]");
-  require(inverse_lanes >= 1, "inverse_lanes", "an integer >= 1");
-  require(transpose_words_per_cycle >= 1, "transpose_words_per_cycle", "an integer >= 1");
-  require(trsv_lanes >= 1, "trsv_lanes", "an integer >= 1");
-  require(divide_latency_cycles >= 1, "divide_latency_cycles", "an integer >= 1");
-  require(sqrt_latency_cycles >= 1, "sqrt_latency_cycles", "an integer >= 1");
-  require(scalar_bytes == 4 || scalar_bytes == 8, "scalar_bytes", "4 (float) or 8 (double)");
-  require(spm_bytes >= 1, "spm_bytes", "an integer >= 1");
-  require(pose_dim >= 1, "pose_dim", "an integer >= 1");
-  require(landmark_dim >= 1, "landmark_dim", "an integer >= 1");
-}
-
-nlohmann::json BackendConfig::to_json() const {
-  return {{"clock_mhz", clock_mhz},
-          {"gemm_block", gemm_block},
-          {"decomp_block", decomp_block},
-          {"inverse_lanes", inverse_lanes},
-          {"transpose_words_per_cycle", transpose_words_per_cycle},
-          {"trsv_lanes", trsv_lanes},
-          {"divide_latency_cycles", divide_latency_cycles},
-          {"sqrt_latency_cycles", sqrt_latency_cycles},
-          {"scalar_bytes", scalar_bytes},
-          {"spm_bytes", spm_bytes},
-          {"symmetric_optimization", symmetric_optimization},
-          {"structured_inverse", structured_inverse},
-          {"gemm_overlap_tiles", gemm_overlap_tiles},
-          {"blocked_solvers", blocked_solvers},
-          {"pose_dim", pose_dim},
-          {"landmark_dim", landmark_dim}};
-}
+nlohmann::json BackendConfig::to_json() const { return fields_to_json(*this, fields()); }
 
 BackendConfig BackendConfig::from_yaml(const YAML::Node& node, const std::string& where,
                                        const std::string& prefix) {
-  BackendConfig c;
-  YamlFields f(node, where, prefix);
-  f.read("clock_mhz", c.clock_mhz, 0.0);
-  f.read("gemm_block", c.gemm_block, 1);
-  f.read("decomp_block", c.decomp_block, 1);
-  f.read("inverse_lanes", c.inverse_lanes, 1);
-  f.read("transpose_words_per_cycle", c.transpose_words_per_cycle, 1);
-  f.read("trsv_lanes", c.trsv_lanes, 1);
-  f.read("divide_latency_cycles", c.divide_latency_cycles, 1);
-  f.read("sqrt_latency_cycles", c.sqrt_latency_cycles, 1);
-  f.read("scalar_bytes", c.scalar_bytes, 1);
-  // Up to 2^31 - 1 bytes (2 GiB) through the integer reader.
-  int spm_bytes =
-      static_cast<int>(std::min<std::int64_t>(c.spm_bytes, std::numeric_limits<int>::max()));
-  f.read("spm_bytes", spm_bytes, 1);
-  c.spm_bytes = spm_bytes;
-  f.read("symmetric_optimization", c.symmetric_optimization);
-  f.read("structured_inverse", c.structured_inverse);
-  f.read("gemm_overlap_tiles", c.gemm_overlap_tiles);
-  f.read("blocked_solvers", c.blocked_solvers);
-  f.read("pose_dim", c.pose_dim, 1);
-  f.read("landmark_dim", c.landmark_dim, 1);
-  f.finish();
-  try {
-    c.validate();
-  } catch (const std::runtime_error& e) {
-    const std::string message = e.what();  // "backend.<key>: expected ..."
-    const std::size_t dot = message.find('.');
-    const std::size_t colon = message.find(':');
-    f.fail(message.substr(dot + 1, colon - dot - 1), message.substr(colon + 2));
-  }
-  return c;
+  return parse_section<BackendConfig>(node, where, prefix);
 }
 
 }  // namespace edx::arch

@@ -17,6 +17,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "arch/common/config_fields.hpp"
+#include "arch/link/frame_transfers.hpp"
+
 namespace YAML {
 class Node;
 }
@@ -40,7 +43,9 @@ struct BackendConfig {
   // is on the critical path of every pivot / column).
   int divide_latency_cycles = 30;  ///< (assumed; order of a pipelined double divider)
   int sqrt_latency_cycles = 30;    ///< (assumed)
-  int scalar_bytes = 8;            ///< IEEE 754 double
+  /// Bytes of one matrix element, in the units, the SPM and on the link: 8 (IEEE 754 double)
+  /// or 4 (single). Also selects the units' MACs in the cost model (double or single).
+  int scalar_bytes = 8;
 
   /// MAC lanes of the decomposition unit: b_d^2 (what the timing and the cost model both use).
   int decomp_lanes() const { return decomp_block * decomp_block; }
@@ -62,11 +67,15 @@ struct BackendConfig {
   /// substitution units handle the diagonal blocks and the O(n^3) trailing updates run as gemm /
   /// syrk on the multiplication array (else the whole op runs on its own unit). Assumed.
   bool blocked_solvers = false;
-  // Sizes used only to derive the ops of a marginalization kernel the trace recorded without
-  // ops (kernel_ops()): A_mm is (m * landmark_dim + pose_dim) square.
-  int pose_dim = 6;      ///< pose degrees of freedom of the marginalized keyframe
-  int landmark_dim = 1;  ///< parameters per landmark (inverse depth in the SLAM backend)
+  // The marginalization problem's shape where the trace does not record it (an ops-less
+  // kernel: kernel_ops(); its link transfers: kernel_transfer()): A_mm is (m l + p) square.
+  int pose_dim = 6;      ///< p: pose degrees of freedom of the marginalized keyframe
+  int landmark_dim = 1;  ///< l: parameters per landmark (inverse depth in the SLAM backend)
 
+  /// What the link model needs of the kernels' matrices (one home: these `backend:` keys).
+  KernelMatrixFormat matrix_format() const { return {scalar_bytes, pose_dim, landmark_dim}; }
+  /// Every key of `backend:` (docs/CONFIG.md).
+  static const FieldList<BackendConfig>& fields();
   /// Throws std::runtime_error naming the field and the accepted range ("backend.gemm_block: ...").
   void validate() const;
   nlohmann::json to_json() const;

@@ -36,7 +36,6 @@ nlohmann::json KernelAccelResult::to_json() const {
 
 KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
                                     const BackendConfig& config) {
-  config.validate();
   KernelAccelResult r;
   r.kernel = kernel.kernel;
   r.derived_ops = kernel.ops.empty();
@@ -76,7 +75,8 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
 
 double estimate_offload_seconds(const trace::KernelRecord& kernel, const BackendConfig& config,
                                 const LinkSpec& link, const FrameTransferConfig& transfers) {
-  const sim::Time transfer = kernel_transfer_time(link, kernel_transfer(kernel, transfers));
+  const sim::Time transfer =
+      kernel_transfer_time(link, kernel_transfer(kernel, transfers, config.matrix_format()));
   return kernel_seconds(kernel, config) + sim::to_seconds(transfer);
 }
 

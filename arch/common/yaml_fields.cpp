@@ -54,8 +54,7 @@ YAML::Node load_yaml_map(const std::string& text, const std::string& where,
   return root;
 }
 
-/// What a value is, for "got ..." in errors: its text, or what kind of node it is.
-static std::string described(const YAML::Node& v) {
+std::string YamlFields::described(const YAML::Node& v) {
   if (v.IsScalar()) return v.Scalar();
   if (v.IsNull()) return "nothing (~ or an empty value)";
   return v.IsMap() ? "a map" : "a list";
@@ -75,46 +74,11 @@ void YamlFields::fail(const std::string& key, const std::string& message) const 
   throw std::runtime_error(fmt::format("{}{}: {}.{}: {}", where_, line, prefix_, key, message));
 }
 
-void YamlFields::read(const std::string& key, double& value, double min_exclusive) {
+YAML::Node YamlFields::take(const std::string& key) {
   read_.insert(key);
-  if (!node_ || !node_.IsMap() || !node_[key]) return;
-  const YAML::Node v = node_[key];
-  double parsed = 0;
-  if (!v.IsScalar() || !YAML::convert<double>::decode(v, parsed) || !std::isfinite(parsed) ||
-      parsed <= min_exclusive) {
-    fail(key, fmt::format("expected a number > {}, got '{}'", min_exclusive, described(v)));
-  }
-  value = parsed;
-}
-
-void YamlFields::read(const std::string& key, int& value, int min_inclusive) {
-  read_.insert(key);
-  if (!node_ || !node_.IsMap() || !node_[key]) return;
-  const YAML::Node v = node_[key];
-  int parsed = 0;
-  if (!v.IsScalar() || !YAML::convert<int>::decode(v, parsed) || parsed < min_inclusive) {
-    fail(key, fmt::format("expected an integer >= {}, got '{}'", min_inclusive, described(v)));
-  }
-  value = parsed;
-}
-
-void YamlFields::read(const std::string& key, bool& value) {
-  read_.insert(key);
-  if (!node_ || !node_.IsMap() || !node_[key]) return;
-  const YAML::Node v = node_[key];
-  bool parsed = false;
-  if (!v.IsScalar() || !YAML::convert<bool>::decode(v, parsed)) {
-    fail(key, fmt::format("expected true or false, got '{}'", described(v)));
-  }
-  value = parsed;
-}
-
-void YamlFields::read(const std::string& key, std::string& value) {
-  read_.insert(key);
-  if (!node_ || !node_.IsMap() || !node_[key]) return;
-  const YAML::Node v = node_[key];
-  if (!v.IsScalar()) fail(key, "expected a text value");
-  value = v.Scalar();
+  // Undefined (false), not YAML::Node() (a defined null), when there is no such key.
+  if (!node_ || !node_.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+  return static_cast<const YAML::Node&>(node_)[key];
 }
 
 void YamlFields::finish_except(std::initializer_list<const char*> sections) {

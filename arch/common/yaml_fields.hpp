@@ -1,7 +1,7 @@
 #pragma once
-// Reading one YAML map of a platform config into a plain struct, field by field, with errors
-// that name the file, line and key: "car.yaml:12: frontend.clock_mhz: expected a number > 0,
-// got 'fast'". Unknown keys are errors too (finish() lists the keys that were read).
+// One YAML map of a platform config, read key by key (config_fields.hpp's parse_fields), with
+// errors that name the file, line and key: "car.yaml:12: frontend.clock_mhz: expected a number
+// in (0, 1000], got 'fast'". Unknown keys are errors too (finish(): the keys never taken).
 #include <yaml-cpp/yaml.h>
 
 #include <initializer_list>
@@ -21,11 +21,10 @@ class YamlFields {
   /// dotted path of the map ("frontend").
   YamlFields(const YAML::Node& node, std::string where, std::string prefix);
 
-  /// Reads `key` into `value` when present. Numbers must be finite; `min_exclusive` bounds.
-  void read(const std::string& key, double& value, double min_exclusive);
-  void read(const std::string& key, int& value, int min_inclusive);
-  void read(const std::string& key, bool& value);
-  void read(const std::string& key, std::string& value);
+  /// The value of `key` (a null node when absent), marking the key as read.
+  YAML::Node take(const std::string& key);
+  /// What a value is, for "got ..." in errors: its text, or what kind of node it is.
+  static std::string described(const YAML::Node& value);
 
   /// Throws for every key of the map that was never read (the first one, with its line).
   void finish() const;

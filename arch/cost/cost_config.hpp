@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "arch/common/config_fields.hpp"
 #include "arch/cost/resources.hpp"
 
 namespace YAML {
@@ -20,9 +21,8 @@ struct CostConfig {
   /// Multiply-accumulates of IF and LSS: "fixed" (one DSP each) or "single" (PG060). Selected
   /// against Table III (docs/MODEL.md): single precision brings DSP within 12 % uncalibrated.
   std::string frontend_arithmetic = "single";
-  bool if_separable = false;                 ///< IF as two 1-D passes (2k taps) instead of k^2
-  int fc_angle_bins = 30;                    ///< rBRIEF's rotated-pattern table (ORB: 12 degrees)
-  std::string backend_precision = "double";  ///< the backend units' MACs
+  bool if_separable = false;  ///< IF as two 1-D passes (2k taps) instead of k^2
+  int fc_angle_bins = 30;     ///< rBRIEF's rotated-pattern table (ORB: 12 degrees)
   /// Control and glue logic (FSMs, AXI/DMA ports, handshakes, pipeline registers, fan-out) as a
   /// fraction of each group's datapath LUTs / FFs (units and memories). Calibrated on Edx-Car's
   /// Table III LUT / FF totals x frontend shares (calibrate_control_overheads, docs/MODEL.md).
@@ -41,7 +41,8 @@ struct CostConfig {
   bool ns_backend_per_kernel = true;  ///< one set of units per kernel (Table II)
 
   Arithmetic frontend_arith() const;
-  Arithmetic backend_arith() const;
+  /// Every key of `cost:` (docs/CONFIG.md). The backend's precision is backend.scalar_bytes.
+  static const FieldList<CostConfig>& fields();
   void validate() const;  ///< throws std::runtime_error "cost.<field>: expected ..."
   nlohmann::json to_json() const;
   /// Errors name file, line and key: "car.yaml:40: cost.ns_modes: expected an integer >= 1".
@@ -68,6 +69,8 @@ struct PowerConfig {
   double host_power_scale = 1.0;
   double fpga_dynamic_scale = 1.0;
 
+  /// Every key of `power:` (docs/CONFIG.md).
+  static const FieldList<PowerConfig>& fields();
   void validate() const;  ///< throws std::runtime_error "power.<field>: expected ..."
   nlohmann::json to_json() const;
   static PowerConfig from_yaml(const YAML::Node& node, const std::string& where);

@@ -99,8 +99,8 @@ nlohmann::json ResourceReport::to_json() const {
           {"fits", fits}};
 }
 
-std::vector<MemoryStructure> backend_memories(const BackendConfig& be, const CostConfig& cost) {
-  const std::int64_t word_bytes = cost.backend_arith() == Arithmetic::kSingle ? 4 : 8;
+std::vector<MemoryStructure> backend_memories(const BackendConfig& be) {
+  const std::int64_t word_bytes = be.scalar_bytes;
   const std::int64_t row_bytes = word_bytes * be.gemm_block;
   MemoryStructure spm{"backend_spm", row_bytes * 8, (be.spm_bytes + row_bytes - 1) / row_bytes, 1};
   return {spm};
@@ -133,13 +133,13 @@ ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConf
                       is_fe_memory(s.name) ? fe_copies : modes));
   }
   // Table II: which kernels use each building block.
-  v.push_back(entry("gemm", "backend", "unit", gemm_cost(be, cost), kernels(3)));
-  v.push_back(entry("decomposition", "backend", "unit", decomposition_cost(be, cost), kernels(2)));
-  v.push_back(entry("inverse", "backend", "unit", inverse_cost(be, cost), kernels(1)));
-  v.push_back(entry("transpose", "backend", "unit", transpose_cost(be, cost), kernels(2)));
-  v.push_back(entry("substitution", "backend", "unit", substitution_cost(be, cost), kernels(2)));
-  v.push_back(entry("misc", "backend", "unit", misc_cost(cost), kernels(2)));
-  for (const MemoryStructure& s : backend_memories(be, cost)) {
+  v.push_back(entry("gemm", "backend", "unit", gemm_cost(be), kernels(3)));
+  v.push_back(entry("decomposition", "backend", "unit", decomposition_cost(be), kernels(2)));
+  v.push_back(entry("inverse", "backend", "unit", inverse_cost(be), kernels(1)));
+  v.push_back(entry("transpose", "backend", "unit", transpose_cost(be), kernels(2)));
+  v.push_back(entry("substitution", "backend", "unit", substitution_cost(be), kernels(2)));
+  v.push_back(entry("misc", "backend", "unit", misc_cost(be), kernels(2)));
+  for (const MemoryStructure& s : backend_memories(be)) {
     v.push_back(entry(s.name, "backend", "memory", memory_cost(s, cost), kernels(3)));
   }
   const CostEntry fe_control =

@@ -57,7 +57,7 @@ struct ResourceReport {
 
 /// The backend's memories from its unit sizes: the operand scratchpad (spm_bytes in rows of
 /// gemm_block words of the backend precision, so the array reads a block row a cycle).
-std::vector<MemoryStructure> backend_memories(const BackendConfig& be, const CostConfig& cost);
+std::vector<MemoryStructure> backend_memories(const BackendConfig& be);
 
 /// Builds the report. `frontend_memories`: the frontend memory plan's structures
 /// (FrontendMemoryPlan::bram.structures[i].structure), by their plan names (fe.L<l>..., fc...,

@@ -126,8 +126,8 @@ Resources lss_cost(const FrontendConfig& fe, const CostConfig& cost) {
   return d.resources();
 }
 
-Resources gemm_cost(const BackendConfig& be, const CostConfig& cost) {
-  const Arithmetic a = cost.backend_arith();
+Resources gemm_cost(const BackendConfig& be) {
+  const Arithmetic a = backend_arithmetic(be);
   const double pes = double(be.gemm_block) * be.gemm_block;
   Datapath d;
   d.macs(pes, a);
@@ -137,8 +137,8 @@ Resources gemm_cost(const BackendConfig& be, const CostConfig& cost) {
   return d.resources();
 }
 
-Resources decomposition_cost(const BackendConfig& be, const CostConfig& cost) {
-  const Arithmetic a = cost.backend_arith();
+Resources decomposition_cost(const BackendConfig& be) {
+  const Arithmetic a = backend_arithmetic(be);
   Datapath d;
   d.macs(be.decomp_lanes(), a).sqrt(1, a).divider(1, a);
   d.registers(2.0 * be.decomp_lanes() * word_bits(a));
@@ -146,8 +146,8 @@ Resources decomposition_cost(const BackendConfig& be, const CostConfig& cost) {
   return d.resources();
 }
 
-Resources inverse_cost(const BackendConfig& be, const CostConfig& cost) {
-  const Arithmetic a = cost.backend_arith();
+Resources inverse_cost(const BackendConfig& be) {
+  const Arithmetic a = backend_arithmetic(be);
   Datapath d;
   d.divider(1, a).macs(be.inverse_lanes, a);
   d.registers(2.0 * be.inverse_lanes * word_bits(a));
@@ -155,17 +155,17 @@ Resources inverse_cost(const BackendConfig& be, const CostConfig& cost) {
   return d.resources();
 }
 
-Resources transpose_cost(const BackendConfig& be, const CostConfig& cost) {
+Resources transpose_cost(const BackendConfig& be) {
   const int w = be.transpose_words_per_cycle;
   Datapath d;
-  d.registers(double(w) * w * word_bits(cost.backend_arith()));  // a w x w tile, read across
-  d.muxes(w, word_bits(cost.backend_arith()), w);
+  d.registers(double(w) * w * word_bits(backend_arithmetic(be)));  // a w x w tile, read across
+  d.muxes(w, word_bits(backend_arithmetic(be)), w);
   address_generator(d);
   return d.resources();
 }
 
-Resources substitution_cost(const BackendConfig& be, const CostConfig& cost) {
-  const Arithmetic a = cost.backend_arith();
+Resources substitution_cost(const BackendConfig& be) {
+  const Arithmetic a = backend_arithmetic(be);
   Datapath d;
   d.macs(be.trsv_lanes, a).divider(1, a);
   d.registers(2.0 * be.trsv_lanes * word_bits(a));
@@ -173,9 +173,13 @@ Resources substitution_cost(const BackendConfig& be, const CostConfig& cost) {
   return d.resources();
 }
 
-Resources misc_cost(const CostConfig& cost) {
+Arithmetic backend_arithmetic(const BackendConfig& be) {
+  return be.scalar_bytes == 4 ? Arithmetic::kSingle : Arithmetic::kDouble;
+}
+
+Resources misc_cost(const BackendConfig& be) {
   Datapath d;
-  d.fp(1, cost.backend_arith() == Arithmetic::kSingle ? kSingleAdd : kDoubleAdd);
+  d.fp(1, backend_arithmetic(be) == Arithmetic::kSingle ? kSingleAdd : kDoubleAdd);
   return d.resources();
 }
 

@@ -41,19 +41,22 @@ Resources dc_cost(const FrontendConfig& fe);
 /// solve of a Gauss-Newton step (4 multiplies, 2 adds, 1 divide in single precision).
 Resources lss_cost(const FrontendConfig& fe, const CostConfig& cost);
 
-// Backend (backend_precision). Each unit has an address generator (AGX: three 16-bit counters).
+// Backend (backend_arithmetic: backend.scalar_bytes). Each unit has an address generator (AGX:
+// three 16-bit counters).
 /// b x b PEs, one MAC each, with operand registers; b-wide input and output registers.
-Resources gemm_cost(const BackendConfig& be, const CostConfig& cost);
+Resources gemm_cost(const BackendConfig& be);
 /// Blocked Cholesky / LDL^T: decomp_lanes MACs, one square root, one divider (reciprocal).
-Resources decomposition_cost(const BackendConfig& be, const CostConfig& cost);
+Resources decomposition_cost(const BackendConfig& be);
 /// Diagonal + 6x6 inverse: one divider (reciprocals of the diagonal), inverse_lanes MACs for
 /// the 6x6 block and the Schur complement.
-Resources inverse_cost(const BackendConfig& be, const CostConfig& cost);
+Resources inverse_cost(const BackendConfig& be);
 /// transpose_words_per_cycle word registers and a words:words crossbar.
-Resources transpose_cost(const BackendConfig& be, const CostConfig& cost);
+Resources transpose_cost(const BackendConfig& be);
 /// Forward / back substitution: trsv_lanes MACs and one divider.
-Resources substitution_cost(const BackendConfig& be, const CostConfig& cost);
+Resources substitution_cost(const BackendConfig& be);
 /// "Misc." of Fig. 14: one adder (e.g. + R in S = H P H^T + R).
-Resources misc_cost(const CostConfig& cost);
+Resources misc_cost(const BackendConfig& be);
+/// The backend units' MACs: single precision for backend.scalar_bytes 4, double for 8.
+Arithmetic backend_arithmetic(const BackendConfig& be);
 
 }  // namespace edx::arch::cost

@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "arch/common/config_fields.hpp"
+
 namespace YAML {
 class Node;
 }
@@ -53,6 +55,8 @@ struct FrontendConfig {
   int match_bytes = 8;        ///< MO -> DR: left index, right index, Hamming distance
   int track_bytes = 12;       ///< LSS: id + previous and current position
 
+  /// Every key of `frontend:` (docs/CONFIG.md).
+  static const FieldList<FrontendConfig>& fields();
   /// Throws std::runtime_error naming the field and the accepted range.
   void validate() const;
   nlohmann::json to_json() const;

@@ -141,7 +141,7 @@ FrontendFrameTiming prepare_frontend_frame(const trace::FrameTrace& frame,
                                            const FrameTransferConfig& transfers) {
   FrontendFrameTiming timing;
   timing.frame_id = frame.frame.frame_id;
-  timing.transfer_bytes = frame_transfers(frame, transfers).frontend_to_host();
+  timing.transfer_bytes = frontend_transfer(frame, transfers).frontend_to_host();
   for (const trace::TaskRecord& task : frame.tasks) {
     timing.tasks.push_back({task.task, task.image, task_cycles(task, level0_pixels, config), 0, 0});
   }

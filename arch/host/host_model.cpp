@@ -36,32 +36,38 @@ std::vector<double> local_speeds(const std::vector<std::int64_t>& positions,
 
 }  // namespace
 
-nlohmann::json HostConfig::to_json() const {
-  return {{"name", name},
-          {"suite", suite},
-          {"frontend_suite_ms", frontend_suite_ms},
-          {"provenance", provenance},
-          {"backend_suite_ms", backend_suite_ms},
-          {"backend_provenance", backend_provenance},
-          {"cores", cores}};
+const FieldList<HostConfig>& HostConfig::fields() {
+  using C = HostConfig;
+  static const FieldList<C> list = {
+      field("name", &C::name, "", "the target host CPU"),
+      field("suite", &C::suite, "",
+            "reference-suite version the suite times are for (a trace's must match)",
+            Bounds::at_least(1)),
+      field("frontend_suite_ms", &C::frontend_suite_ms, "ms",
+            "the reference suite's frontend part on this host, CPU time (0 with "
+            "backend_suite_ms 0: the trace host is the target)",
+            Bounds::at_least(0)),
+      field("provenance", &C::provenance, "", "where frontend_suite_ms comes from"),
+      field("backend_suite_ms", &C::backend_suite_ms, "ms",
+            "the reference suite's backend part on this host, CPU time", Bounds::at_least(0)),
+      field("backend_provenance", &C::backend_provenance, "", "where backend_suite_ms comes from"),
+      field("cores", &C::cores, "", "cores the DES gives the host's threads", Bounds::at_least(1)),
+  };
+  return list;
 }
 
-HostConfig HostConfig::from_yaml(const YAML::Node& node, const std::string& where) {
-  HostConfig h;
-  YamlFields f(node, where, "host");
-  f.read("name", h.name);
-  f.read("suite", h.suite, 1);
-  f.read("frontend_suite_ms", h.frontend_suite_ms, 0.0);
-  f.read("provenance", h.provenance);
-  f.read("backend_suite_ms", h.backend_suite_ms, 0.0);
-  f.read("backend_provenance", h.backend_provenance);
-  f.read("cores", h.cores, 1);
-  f.finish();
-  if ((h.frontend_suite_ms > 0) != (h.backend_suite_ms > 0)) {
-    f.fail(h.frontend_suite_ms > 0 ? "backend_suite_ms" : "frontend_suite_ms",
-           "expected both suite times or neither (neither: the trace host is the target)");
+void HostConfig::validate() const {
+  check_fields(*this, "host", fields());
+  if ((frontend_suite_ms > 0) != (backend_suite_ms > 0)) {
+    require_field(false, "host", frontend_suite_ms > 0 ? "backend_suite_ms" : "frontend_suite_ms",
+                  "both suite times or neither (neither: the trace host is the target)");
   }
-  return h;
+}
+
+nlohmann::json HostConfig::to_json() const { return fields_to_json(*this, fields()); }
+
+HostConfig HostConfig::from_yaml(const YAML::Node& node, const std::string& where) {
+  return parse_section<HostConfig>(node, where, "host");
 }
 
 double HostMapping::scale(const Part& part, std::int64_t frame_id) {

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "arch/common/config_fields.hpp"
 #include "workloads/trace/host_speed.hpp"
 
 namespace edx::arch {
@@ -47,6 +48,10 @@ struct HostConfig {
   int cores = 2;
 
   bool identity() const { return frontend_suite_ms == 0 && backend_suite_ms == 0; }
+  /// Every key of `host:` (docs/CONFIG.md).
+  static const FieldList<HostConfig>& fields();
+  /// Throws "host.<key>: expected ..." (both suite times or neither).
+  void validate() const;
   nlohmann::json to_json() const;
   /// `host:` section; errors name `where` (file:line) and the key. Both suite times or neither.
   static HostConfig from_yaml(const YAML::Node& node, const std::string& where);

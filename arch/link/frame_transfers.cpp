@@ -10,10 +10,6 @@
 namespace edx::arch {
 namespace {
 
-void require(bool ok, const char* field, const std::string& expected) {
-  if (!ok) throw std::runtime_error(fmt::format("transfers.{}: expected {}", field, expected));
-}
-
 /// Scalars of an n x n symmetric matrix: n(n+1)/2 packed, n^2 full.
 std::int64_t symmetric(std::int64_t n, bool packed) { return packed ? n * (n + 1) / 2 : n * n; }
 
@@ -29,7 +25,7 @@ std::int64_t left_features(const trace::FrameTrace& frame) {
 }
 
 /// Parameters per landmark of a marginalization record (see frame_transfers.hpp).
-std::int64_t landmark_dim(const trace::KernelRecord& k, const FrameTransferConfig& c) {
+std::int64_t landmark_dim(const trace::KernelRecord& k, const KernelMatrixFormat& c) {
   if (!k.detail_json.empty()) {
     nlohmann::json detail;
     try {
@@ -65,62 +61,43 @@ std::int64_t FrameTransferConfig::feature_record_bytes() const {
   return feature_id_bytes + 4 * std::int64_t{coordinate_bytes} + disparity_bytes + descriptor_bytes;
 }
 
-void FrameTransferConfig::validate() const {
-  require(scalar_bytes == 4 || scalar_bytes == 8, "scalar_bytes", "4 (float) or 8 (double)");
-  require(feature_id_bytes >= 0, "feature_id_bytes", "an integer >= 0");
-  require(coordinate_bytes >= 1, "coordinate_bytes", "an integer >= 1");
-  require(disparity_bytes >= 0, "disparity_bytes", "an integer >= 0");
-  require(descriptor_bytes >= 0, "descriptor_bytes", "an integer >= 0");
-  require(imu_samples_per_frame >= 0, "imu_samples_per_frame", "an integer >= 0");
-  require(imu_sample_bytes >= 0, "imu_sample_bytes", "an integer >= 0");
-  require(gps_samples_per_frame >= 0, "gps_samples_per_frame", "an integer >= 0");
-  require(gps_sample_bytes >= 0, "gps_sample_bytes", "an integer >= 0");
-  require(landmark_dim >= 1, "landmark_dim", "an integer >= 1");
-  require(pose_dim >= 1, "pose_dim", "an integer >= 1");
+const FieldList<FrameTransferConfig>& FrameTransferConfig::fields() {
+  using C = FrameTransferConfig;
+  static const FieldList<C> list = {
+      field("feature_id_bytes", &C::feature_id_bytes, "bytes", "track id of a feature record",
+            Bounds::at_least(0)),
+      field("coordinate_bytes", &C::coordinate_bytes, "bytes",
+            "one image coordinate (Q12.4); a record has four", Bounds::at_least(1)),
+      field("disparity_bytes", &C::disparity_bytes, "bytes", "stereo disparity (Q8.8)",
+            Bounds::at_least(0)),
+      field("descriptor_bytes", &C::descriptor_bytes, "bytes",
+            "descriptor shipped with a feature (32: 256-bit rBRIEF; 0: positions only)",
+            Bounds::at_least(0)),
+      field("imu_samples_per_frame", &C::imu_samples_per_frame, "",
+            "IMU samples per camera frame (EuRoC: 200 Hz / 20 Hz)", Bounds::at_least(0)),
+      field("imu_sample_bytes", &C::imu_sample_bytes, "bytes",
+            "one IMU sample: time stamp + 3 gyro + 3 accel doubles", Bounds::at_least(0)),
+      field("gps_samples_per_frame", &C::gps_samples_per_frame, "",
+            "GPS fixes per frame that has GPS (assumed 1)", Bounds::at_least(0)),
+      field("gps_sample_bytes", &C::gps_sample_bytes, "bytes",
+            "one GPS fix: time stamp + 3 position doubles", Bounds::at_least(0)),
+      field("pack_symmetric", &C::pack_symmetric, "",
+            "ship symmetric matrices as upper triangles n(n+1)/2"),
+  };
+  return list;
 }
 
+void FrameTransferConfig::validate() const { check_fields(*this, "transfers", fields()); }
+
 nlohmann::json FrameTransferConfig::to_json() const {
-  return {{"scalar_bytes", scalar_bytes},
-          {"feature_id_bytes", feature_id_bytes},
-          {"coordinate_bytes", coordinate_bytes},
-          {"disparity_bytes", disparity_bytes},
-          {"descriptor_bytes", descriptor_bytes},
-          {"feature_record_bytes", feature_record_bytes()},
-          {"imu_samples_per_frame", imu_samples_per_frame},
-          {"imu_sample_bytes", imu_sample_bytes},
-          {"gps_samples_per_frame", gps_samples_per_frame},
-          {"gps_sample_bytes", gps_sample_bytes},
-          {"pack_symmetric", pack_symmetric},
-          {"landmark_dim", landmark_dim},
-          {"pose_dim", pose_dim}};
+  nlohmann::json j = fields_to_json(*this, fields());
+  j["feature_record_bytes"] = feature_record_bytes();
+  return j;
 }
 
 FrameTransferConfig FrameTransferConfig::from_yaml(const YAML::Node& node, const std::string& where,
                                                    const std::string& prefix) {
-  FrameTransferConfig c;
-  YamlFields f(node, where, prefix);
-  f.read("scalar_bytes", c.scalar_bytes, 1);
-  f.read("feature_id_bytes", c.feature_id_bytes, 0);
-  f.read("coordinate_bytes", c.coordinate_bytes, 1);
-  f.read("disparity_bytes", c.disparity_bytes, 0);
-  f.read("descriptor_bytes", c.descriptor_bytes, 0);
-  f.read("imu_samples_per_frame", c.imu_samples_per_frame, 0);
-  f.read("imu_sample_bytes", c.imu_sample_bytes, 0);
-  f.read("gps_samples_per_frame", c.gps_samples_per_frame, 0);
-  f.read("gps_sample_bytes", c.gps_sample_bytes, 0);
-  f.read("pack_symmetric", c.pack_symmetric);
-  f.read("landmark_dim", c.landmark_dim, 1);
-  f.read("pose_dim", c.pose_dim, 1);
-  f.finish();
-  try {
-    c.validate();
-  } catch (const std::runtime_error& e) {
-    const std::string message = e.what();
-    const std::size_t dot = message.find('.');
-    const std::size_t colon = message.find(':');
-    f.fail(message.substr(dot + 1, colon - dot - 1), message.substr(colon + 2));
-  }
-  return c;
+  return parse_section<FrameTransferConfig>(node, where, prefix);
 }
 
 std::int64_t FrameTransfers::kernel_inputs_to_fpga() const {
@@ -159,8 +136,8 @@ nlohmann::json FrameTransfers::to_json() const {
           {"kernels", list}};
 }
 
-KernelTransfer kernel_transfer(const trace::KernelRecord& k, const FrameTransferConfig& c) {
-  c.validate();
+KernelTransfer kernel_transfer(const trace::KernelRecord& k, const FrameTransferConfig& c,
+                               const KernelMatrixFormat& format) {
   if (k.m < 0 || k.n < 0 || k.k < 0) {
     throw std::runtime_error(fmt::format("kernel '{}': expected sizes m, n, k >= 0, got {}, {}, {}",
                                          k.kernel, k.m, k.n, k.k));
@@ -169,7 +146,7 @@ KernelTransfer kernel_transfer(const trace::KernelRecord& k, const FrameTransfer
   t.kernel = k.kernel;
   nlohmann::json in = nlohmann::json::object();
   nlohmann::json out = nlohmann::json::object();
-  const std::int64_t s = c.scalar_bytes;
+  const std::int64_t s = format.scalar_bytes;
   if (k.kernel == "projection") {
     const std::int64_t points = k.m;       // M
     in["camera_matrix"] = 12 * s;          // C 3x4
@@ -183,8 +160,8 @@ KernelTransfer kernel_transfer(const trace::KernelRecord& k, const FrameTransfer
     out["K"] = state * rows * s;                       // n x m
   } else if (k.kernel == "marginalization") {
     const std::int64_t landmarks = k.m, kept = k.n;
-    const std::int64_t l = landmark_dim(k, c);
-    const std::int64_t p = c.pose_dim;
+    const std::int64_t l = landmark_dim(k, format);
+    const std::int64_t p = format.pose_dim;
     const std::int64_t dl = landmarks * l;               // d_l
     const std::int64_t dm = dl + p;                      // d_m
     in["A_mm.A"] = landmarks * l * l * s;                // block-diagonal, m blocks l x l
@@ -207,8 +184,7 @@ KernelTransfer kernel_transfer(const trace::KernelRecord& k, const FrameTransfer
   return t;
 }
 
-FrameTransfers frame_transfers(const trace::FrameTrace& frame, const FrameTransferConfig& c) {
-  c.validate();
+FrameTransfers frontend_transfer(const trace::FrameTrace& frame, const FrameTransferConfig& c) {
   FrameTransfers t;
   t.frame_id = frame.frame.frame_id;
   t.features = left_features(frame);
@@ -216,10 +192,16 @@ FrameTransfers frame_transfers(const trace::FrameTrace& frame, const FrameTransf
   t.imu_bytes = std::int64_t{c.imu_samples_per_frame} * c.imu_sample_bytes;
   t.gps_bytes =
       frame.frame.gps_available ? std::int64_t{c.gps_samples_per_frame} * c.gps_sample_bytes : 0;
+  return t;
+}
+
+FrameTransfers frame_transfers(const trace::FrameTrace& frame, const FrameTransferConfig& c,
+                               const KernelMatrixFormat& format) {
+  FrameTransfers t = frontend_transfer(frame, c);
   for (const trace::KernelRecord& k : frame.kernels) {
     if (!k.accelerable) continue;
     try {
-      t.kernels.push_back(kernel_transfer(k, c));
+      t.kernels.push_back(kernel_transfer(k, c, format));
     } catch (const std::runtime_error& e) {
       throw std::runtime_error(fmt::format("frame {}: {}", frame.frame.frame_id, e.what()));
     }

@@ -12,7 +12,8 @@
 //       track id u32 (4) + left x, y and right x, y in Q12.4 fixed point (4 x 2) + disparity
 //       Q8.8 (2) [+ descriptor, 32 B for 256-bit rBRIEF, off by default].
 //     GPS samples only on frames with gps_available.
-// (2) host -> FPGA and (3) FPGA -> host, per accelerable kernel, s bytes per scalar (8: double),
+// (2) host -> FPGA and (3) FPGA -> host, per accelerable kernel, s bytes per scalar (8: double;
+//     s, p and l are `backend:` keys, KernelMatrixFormat),
 //     sym(n) = n(n+1)/2 when symmetric matrices are packed, else n^2:
 //   projection       (m = M map points):  in  C 3x4 + X 4xM      = (12 + 4M) s
 //                                          out 2xM image points   = 2M s
@@ -25,13 +26,14 @@
 //                        b_m d_m ; b_r n
 //                    out prior A_rr - A_rm A_mm^-1 A_mr n x n (sym) + prior b n
 //     l: the kernel's detail "landmark_dim" if given, else (inverse op size - p) / m when the
-//     kernel records the A_mm inverse, else the configured landmark_dim.
+//     kernel records the A_mm inverse, else the configured backend.landmark_dim.
 // Frontend-only frames (no accelerable kernel) have (2) = (3) = 0.
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "arch/common/config_fields.hpp"
 #include "arch/link/link.hpp"
 #include "workloads/trace/records.hpp"
 
@@ -41,9 +43,16 @@ class Node;
 
 namespace edx::arch {
 
+/// What the link model needs of the accelerable kernels' matrices; its one home is the
+/// `backend:` section (BackendConfig::matrix_format()).
+struct KernelMatrixFormat {
+  std::int64_t scalar_bytes;  ///< s: bytes of one element
+  std::int64_t pose_dim;      ///< p, where the trace does not say
+  std::int64_t landmark_dim;  ///< l, where the trace does not say
+};
+
 /// Sizes of the per-frame records; every field is a parameter (docs/MODEL.md).
 struct FrameTransferConfig {
-  int scalar_bytes = 8;            ///< 8-byte doubles (IEEE 754 binary64)
   int feature_id_bytes = 4;        ///< u32 track id
   int coordinate_bytes = 2;        ///< per coordinate, Q12.4 (4 fraction bits; 4096 px range)
   int disparity_bytes = 2;         ///< Q8.8
@@ -54,12 +63,12 @@ struct FrameTransferConfig {
   int gps_samples_per_frame = 1;   ///< on frames with GPS (ASSUMPTION: one fix per frame)
   int gps_sample_bytes = 32;       ///< i64 time stamp + 3 position doubles
   bool pack_symmetric = false;     ///< ship symmetric matrices as upper triangles
-  int landmark_dim = 3;            ///< parameters per landmark when the trace does not say
-  int pose_dim = 6;                ///< pose degrees of freedom (paper Sec. VI-A, the 6x6 D block)
 
   /// Bytes of one feature record: id + 4 coordinates + disparity + descriptor.
   std::int64_t feature_record_bytes() const;
-  /// Throws std::runtime_error naming the bad field: "transfers.scalar_bytes: expected ...".
+  /// Every key of `transfers:` (docs/CONFIG.md).
+  static const FieldList<FrameTransferConfig>& fields();
+  /// Throws std::runtime_error naming the bad field: "transfers.imu_sample_bytes: expected ...".
   void validate() const;
   nlohmann::json to_json() const;
   /// Reads a `transfers:` map over the defaults; errors name file, line and key.
@@ -97,11 +106,14 @@ struct FrameTransfers {
 
 /// Inputs and results of one accelerable kernel; throws std::runtime_error for an unknown
 /// accelerable kernel or negative sizes.
-KernelTransfer kernel_transfer(const trace::KernelRecord& kernel,
-                               const FrameTransferConfig& config);
+KernelTransfer kernel_transfer(const trace::KernelRecord& kernel, const FrameTransferConfig& config,
+                               const KernelMatrixFormat& format);
 
+/// Transfer (1) of `frame` alone (no kernels).
+FrameTransfers frontend_transfer(const trace::FrameTrace& frame, const FrameTransferConfig& config);
 /// The three transfers of `frame`. Host-only kernels are ignored.
-FrameTransfers frame_transfers(const trace::FrameTrace& frame, const FrameTransferConfig& config);
+FrameTransfers frame_transfers(const trace::FrameTrace& frame, const FrameTransferConfig& config,
+                               const KernelMatrixFormat& format);
 
 /// Idle-link times of a frame's three transfers (each one DMA transfer; transfer_time()).
 struct FrameTransferTimes {

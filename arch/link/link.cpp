@@ -15,27 +15,9 @@
 namespace edx::arch {
 namespace {
 
-void require(bool ok, const std::string& field, const std::string& expected) {
-  if (!ok) throw std::runtime_error(fmt::format("{}: expected {}", field, expected));
-}
-
 /// Nanoseconds (double) to the nearest picosecond.
 sim::Time ns_to_time(double value_ns) {
   return static_cast<sim::Time>(std::llround(value_ns * 1e3));
-}
-
-/// Runs `validate` and rethrows its "<section>.<key>: message" error with file and line.
-template <class Validate>
-void validate_at(YamlFields& fields, const std::string& section, Validate validate) {
-  try {
-    validate();
-  } catch (const std::runtime_error& e) {
-    const std::string message = e.what();
-    const std::size_t colon = message.find(':');
-    std::string key = message.substr(0, colon);
-    if (key.rfind(section + ".", 0) == 0) key = key.substr(section.size() + 1);
-    fields.fail(key, message.substr(colon + 2));
-  }
 }
 
 }  // namespace
@@ -44,32 +26,44 @@ const char* to_string(Direction direction) {
   return direction == Direction::HostToFpga ? "host_to_fpga" : "fpga_to_host";
 }
 
+const FieldList<LinkConfig>& LinkConfig::fields() {
+  using C = LinkConfig;
+  static const FieldList<C> list = {
+      field("name", &C::name, "", "the link's name in results"),
+      field("bandwidth_gb_per_s", &C::bandwidth_gb_per_s, "GB/s",
+            "wire bandwidth per direction, 10^9 bytes/s", Bounds::above(0)),
+      field("latency_ns", &C::latency_ns, "ns", "one-way latency after a chunk leaves the wire",
+            Bounds::at_least(0).below(1e9)),
+      field("full_duplex", &C::full_duplex, "",
+            "one wire and one DMA engine per direction (PCIe; AXI4 read/write channels)"),
+  };
+  return list;
+}
+
 void LinkConfig::validate() const {
-  require(!name.empty(), "link.name", "a non-empty name");
-  require(std::isfinite(bandwidth_gb_per_s) && bandwidth_gb_per_s > 0, "link.bandwidth_gb_per_s",
-          "a bandwidth > 0 GB/s");
-  require(std::isfinite(latency_ns) && latency_ns >= 0 && latency_ns < 1e9, "link.latency_ns",
-          "a latency in [0, 1e9) ns");
+  check_fields(*this, "link", fields());
+  require_field(!name.empty(), "link", "name", "a non-empty name");
 }
 
-nlohmann::json LinkConfig::to_json() const {
-  return {{"name", name},
-          {"bandwidth_gb_per_s", bandwidth_gb_per_s},
-          {"latency_ns", latency_ns},
-          {"full_duplex", full_duplex}};
+nlohmann::json LinkConfig::to_json() const { return fields_to_json(*this, fields()); }
+
+const FieldList<DmaConfig>& DmaConfig::fields() {
+  using C = DmaConfig;
+  static const FieldList<C> list = {
+      field("setup_ns", &C::setup_ns, "ns",
+            "per chunk request (descriptor fetch / issue), overlapped across outstanding requests",
+            Bounds::at_least(0).below(1e9)),
+      field("chunk_bytes", &C::chunk_bytes, "bytes", "bytes per request",
+            Bounds::at_least(1).at_most(1 << 30)),
+      field("max_outstanding", &C::max_outstanding, "", "requests in flight per direction",
+            Bounds::at_least(1)),
+  };
+  return list;
 }
 
-void DmaConfig::validate() const {
-  require(std::isfinite(setup_ns) && setup_ns >= 0 && setup_ns < 1e9, "dma.setup_ns",
-          "a setup time in [0, 1e9) ns");
-  require(chunk_bytes >= 1, "dma.chunk_bytes", "an integer >= 1");
-  require(max_outstanding >= 1, "dma.max_outstanding", "an integer >= 1");
-}
+void DmaConfig::validate() const { check_fields(*this, "link.dma", fields()); }
 
-nlohmann::json DmaConfig::to_json() const {
-  return {
-      {"setup_ns", setup_ns}, {"chunk_bytes", chunk_bytes}, {"max_outstanding", max_outstanding}};
-}
+nlohmann::json DmaConfig::to_json() const { return fields_to_json(*this, fields()); }
 
 void LinkSpec::validate() const {
   link.validate();
@@ -110,35 +104,44 @@ LinkSpec LinkSpec::preset(const std::string& name) {
   throw std::runtime_error(fmt::format("link.preset: expected pcie3_x8 or axi4, got '{}'", name));
 }
 
+const std::vector<std::string>& LinkSpec::preset_names() {
+  static const std::vector<std::string> names = {"pcie3_x8", "axi4"};
+  return names;
+}
+
+std::vector<ReferenceRow> LinkSpec::reference() {
+  const LinkSpec defaults;
+  std::vector<ReferenceRow> rows = {reference_row(
+      "link", "preset", FieldKind::kText, "", std::string(), {}, preset_names(),
+      "start from a preset's values (the keys below override them): pcie3_x8 (Edx-Car), axi4 "
+      "(Edx-Drone)")};
+  for (ReferenceRow& row : reference_rows("link", LinkConfig::fields(), defaults.link)) {
+    rows.push_back(std::move(row));
+  }
+  for (ReferenceRow& row : reference_rows("link.dma", DmaConfig::fields(), defaults.dma)) {
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
 LinkSpec LinkSpec::from_yaml(const YAML::Node& node, const std::string& where,
                              const std::string& prefix) {
   YamlFields fields(node, where, prefix);
-  std::string preset_name;
-  fields.read("preset", preset_name);
   LinkSpec s;
-  if (!preset_name.empty()) {
-    try {
-      s = preset(preset_name);
-    } catch (const std::runtime_error&) {
-      fields.fail("preset", fmt::format("expected pcie3_x8 or axi4, got '{}'", preset_name));
-    }
+  if (const YAML::Node preset_node = fields.take("preset")) {
+    const FieldValue name =
+        read_field_value(fields, "preset", preset_node, FieldKind::kText, {}, preset_names());
+    s = preset(std::get<std::string>(name));
   }
-  fields.read("name", s.link.name);
-  fields.read("bandwidth_gb_per_s", s.link.bandwidth_gb_per_s, 0.0);
-  fields.read("latency_ns", s.link.latency_ns, -1e-12);
-  fields.read("full_duplex", s.link.full_duplex);
+  parse_fields(fields, s.link, LinkConfig::fields());
   fields.finish_except({"dma"});
-  validate_at(fields, "link", [&] { s.link.validate(); });
+  validate_at(fields, [&] { s.link.validate(); });
 
   const YAML::Node dma_node = (node && node.IsMap()) ? node["dma"] : YAML::Node();
   YamlFields dma(dma_node, where, prefix + ".dma");
-  int chunk = static_cast<int>(std::min<std::int64_t>(s.dma.chunk_bytes, 1 << 30));
-  dma.read("setup_ns", s.dma.setup_ns, -1e-12);
-  dma.read("chunk_bytes", chunk, 1);
-  dma.read("max_outstanding", s.dma.max_outstanding, 1);
+  parse_fields(dma, s.dma, DmaConfig::fields());
   dma.finish();
-  s.dma.chunk_bytes = chunk;
-  validate_at(dma, "dma", [&] { s.dma.validate(); });
+  validate_at(dma, [&] { s.dma.validate(); });
   return s;
 }
 
@@ -153,7 +156,6 @@ sim::Time chunk_wire_time(const LinkConfig& link, std::int64_t offset, std::int6
 }
 
 sim::Time transfer_time(const LinkSpec& spec, std::int64_t bytes) {
-  spec.validate();
   if (bytes < 0) {
     throw std::runtime_error(fmt::format("link transfer: expected bytes >= 0, got {}", bytes));
   }

@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "arch/common/config_fields.hpp"
 #include "sim_core/engine.hpp"
 
 namespace YAML {
@@ -49,6 +50,8 @@ struct LinkConfig {
   double bandwidth_gb_per_s = 7.9;  ///< 10^9 bytes per second
   double latency_ns = 500.0;        ///< one-way, after a chunk leaves the wire
   bool full_duplex = true;          ///< one wire per direction (PCIe, AXI4 read/write channels)
+  /// Every key of `link:` but `preset` and `dma` (docs/CONFIG.md).
+  static const FieldList<LinkConfig>& fields();
   /// Throws std::runtime_error naming the bad field: "link.bandwidth_gb_per_s: expected ...".
   void validate() const;
   nlohmann::json to_json() const;
@@ -59,6 +62,8 @@ struct DmaConfig {
   double setup_ns = 1000.0;         ///< per chunk request, overlapped across outstanding requests
   std::int64_t chunk_bytes = 4096;  ///< bytes per request
   int max_outstanding = 8;          ///< requests in flight per direction
+  /// Every key of `link.dma:` (docs/CONFIG.md).
+  static const FieldList<DmaConfig>& fields();
   /// Throws std::runtime_error naming the bad field: "dma.chunk_bytes: expected ...".
   void validate() const;
   nlohmann::json to_json() const;
@@ -80,6 +85,9 @@ struct LinkSpec {
   static LinkSpec axi4();
   /// "pcie3_x8" or "axi4"; throws std::runtime_error otherwise.
   static LinkSpec preset(const std::string& name);
+  static const std::vector<std::string>& preset_names();
+  /// Every key of `link:` (preset, the link, `dma:`), defaults from pcie3_x8 (docs/CONFIG.md).
+  static std::vector<ReferenceRow> reference();
   /// Reads a `link:` map over the defaults: optional `preset: pcie3_x8|axi4` first, then
   /// `name`, `bandwidth_gb_per_s`, `latency_ns`, `full_duplex`, and a `dma:` map with
   /// `setup_ns`, `chunk_bytes`, `max_outstanding`. Errors name file, line and key; unknown keys
@@ -95,7 +103,8 @@ sim::Time wire_time(const LinkConfig& link, std::int64_t bytes);
 sim::Time chunk_wire_time(const LinkConfig& link, std::int64_t offset, std::int64_t bytes);
 
 /// Time of one `bytes` transfer on an idle link (the recurrence at the top of link.hpp); 0 for
-/// 0 bytes. Throws std::runtime_error for negative bytes.
+/// 0 bytes. `spec` validated (at load, or by DmaLink). Throws std::runtime_error for negative
+/// bytes.
 sim::Time transfer_time(const LinkSpec& spec, std::int64_t bytes);
 
 /// The DES model of a link and its DMA engines on a Simulator. Must be destroyed before it.

@@ -14,8 +14,69 @@
 
 namespace edx::arch {
 
-nlohmann::json SchedulerConfig::to_json() const {
-  return {{"policy", to_string(policy)}, {"training_fraction", training_fraction}};
+const FieldList<SchedulerConfig>& SchedulerConfig::fields() {
+  using C = SchedulerConfig;
+  static const FieldList<C> list = {
+      enum_field(
+          "policy", &C::policy, {"never", "always", "regression", "oracle"},
+          [](OffloadPolicy p) { return std::string(to_string(p)); },
+          [](const std::string& text) { return parse_offload_policy(text); },
+          "which accelerable kernel invocations run on the FPGA (Sec. VI-B)"),
+      field("training_fraction", &C::training_fraction, "",
+            "leading share of each kernel's invocations its regression is fitted on (they run on "
+            "the host)",
+            Bounds::at_least(0).below(1)),
+  };
+  return list;
+}
+
+void SchedulerConfig::validate() const { check_fields(*this, "scheduler", fields()); }
+
+nlohmann::json SchedulerConfig::to_json() const { return fields_to_json(*this, fields()); }
+
+void Platform::validate() const {
+  check_fields(*this, "platform", fields());
+  host.validate();
+  frontend.validate();
+  link.validate();
+  transfers.validate();
+  backend.validate();
+  cost.validate();
+  power.validate();
+  scheduler.validate();
+  system.validate();
+}
+
+const FieldList<Platform>& Platform::fields() {
+  using C = Platform;
+  static const FieldList<C> list = {
+      field("name", &C::name, "", "the platform's name (required)"),
+      field("description", &C::description, "", "one line for reports"),
+      field("device", &C::device, "",
+            "the FPGA: xc7v690t (Virtex-7, Edx-Car), zu9eg or zu9cg (Zynq UltraScale+, "
+            "Edx-Drone)"),
+  };
+  return list;
+}
+
+std::vector<ReferenceRow> Platform::reference() {
+  std::vector<ReferenceRow> rows = {reference_row(
+      "", "extends", FieldKind::kText, "", std::string(), {}, {},
+      "a platform file this one starts from (its keys override the parent's, map by map)")};
+  const auto add = [&rows](std::vector<ReferenceRow> more) {
+    for (ReferenceRow& row : more) rows.push_back(std::move(row));
+  };
+  add(reference_rows("", fields()));
+  add(reference_rows("host", HostConfig::fields()));
+  add(reference_rows("frontend", FrontendConfig::fields()));
+  add(reference_rows("backend", BackendConfig::fields()));
+  add(LinkSpec::reference());
+  add(reference_rows("transfers", FrameTransferConfig::fields()));
+  add(reference_rows("cost", cost::CostConfig::fields()));
+  add(reference_rows("power", cost::PowerConfig::fields()));
+  add(reference_rows("scheduler", SchedulerConfig::fields()));
+  add(reference_rows("system", SystemConfig::fields()));
+  return rows;
 }
 
 nlohmann::json Platform::to_json() const {
@@ -31,6 +92,20 @@ nlohmann::json Platform::to_json() const {
           {"power", power.to_json()},
           {"scheduler", scheduler.to_json()},
           {"system", system.to_json()}};
+}
+
+std::string config_reference_markdown() {
+  return "# Platform configuration reference\n\n"
+         "Every key a platform file (`configs/*.yaml`) may hold, section by section: its type, "
+         "unit, default (the value when the key is absent) and the values it accepts. Generated "
+         "by `edx config --reference` from the field list each config struct declares "
+         "(`arch/common/config_fields.hpp`); a test fails when this file is not its current "
+         "output. What each value means for the model, and where it comes from, is in "
+         "[MODEL.md](MODEL.md); the Edx-Car and Edx-Drone values are in `configs/`.\n\n"
+         "Unknown keys, a key written twice and a value outside what its key accepts are errors "
+         "naming the file, line and key. `link.preset` sets the link's and DMA's keys before the "
+         "others are read; the defaults below are `pcie3_x8`'s.\n" +
+         render_reference(Platform::reference());
 }
 
 namespace {
@@ -112,11 +187,8 @@ PlatformSource load_chain(const std::filesystem::path& path, std::vector<std::st
 Platform parse_root(const YAML::Node& root, const std::string& where) {
   Platform p;
   YamlFields top(root, where, "platform");
-  top.read("name", p.name);
-  top.read("description", p.description);
-  top.read("device", p.device);
+  parse_fields(top, p, Platform::fields());
   // Sections are parsed by their own structs; mark them read here.
-  std::string ignored;
   for (const char* section : {"host", "frontend", "backend", "link", "transfers", "cost", "power",
                               "scheduler", "system"}) {
     if (root[section] && !root[section].IsMap()) top.fail(section, "expected a map of keys");
@@ -137,20 +209,7 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   p.cost = cost::CostConfig::from_yaml(root["cost"], where);
   p.power = cost::PowerConfig::from_yaml(root["power"], where);
   p.system = SystemConfig::from_yaml(root["system"], where);
-  YamlFields sched(root["scheduler"], where, "scheduler");
-  std::string policy = to_string(p.scheduler.policy);
-  sched.read("policy", policy);
-  sched.read("training_fraction", p.scheduler.training_fraction, -1e-12);
-  sched.finish();
-  try {
-    p.scheduler.policy = parse_offload_policy(policy);
-  } catch (const std::runtime_error&) {
-    sched.fail("policy",
-               fmt::format("expected never, always, regression or oracle, got '{}'", policy));
-  }
-  if (!(p.scheduler.training_fraction < 1.0)) {
-    sched.fail("training_fraction", "expected a fraction in [0, 1)");
-  }
+  p.scheduler = parse_section<SchedulerConfig>(root["scheduler"], where, "scheduler");
   return p;
 }
 

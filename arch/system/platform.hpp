@@ -10,11 +10,13 @@
 //   frontend: {clock_mhz: 150, ...}             FrontendConfig
 //   backend: {gemm_block: 4, ...}               BackendConfig (arch/backend)
 //   link: {preset: pcie3_x8, ...}               LinkSpec
-//   transfers: {scalar_bytes: 8, ...}           FrameTransferConfig
+//   transfers: {feature_id_bytes: 4, ...}       FrameTransferConfig
 //   cost: {...}  power: {...}                   cost::CostConfig, cost::PowerConfig
 //   scheduler: {policy: regression, training_fraction: 0.25}
 //   system: {sensor_fps: 0, queue_depth: 2, drop: oldest, ...}   SystemConfig (system_des.hpp)
 // Every section is optional (defaults); unknown keys and wrong types are file:line:key errors.
+// Each struct declares its keys once, in a field list (arch/common/config_fields.hpp), which
+// drives parsing, validation, JSON and the reference of every key (docs/CONFIG.md).
 //
 // `extends: parent.yaml` (path relative to the file) starts from the parent's keys: the
 // child's keys override them, recursively by map (a map merges key by key, anything else
@@ -45,6 +47,9 @@ struct SchedulerConfig {
   /// Leading share of each accelerable kernel's invocations its regression model is fitted on
   /// (paper Sec. VII-A: 25 % of the frames); those invocations run on the host.
   double training_fraction = 0.25;
+  /// Every key of `scheduler:` (docs/CONFIG.md).
+  static const FieldList<SchedulerConfig>& fields();
+  void validate() const;
   nlohmann::json to_json() const;
 };
 
@@ -75,6 +80,14 @@ struct Platform {
   SchedulerConfig scheduler;
   SystemConfig system;  ///< the whole-system DES: camera, queues, contention
   nlohmann::json to_json() const;
+  /// Every section's validate() (a platform built or changed in code); load() already did.
+  void validate() const;
+
+  /// The top-level keys (name, description, device); each section has its own list.
+  static const FieldList<Platform>& fields();
+  /// Every key a platform file may hold, section by section, with its default
+  /// (`edx config --reference`, docs/CONFIG.md).
+  static std::vector<ReferenceRow> reference();
 
   /// Reads a platform YAML file; errors name the file, line and key (unknown keys included).
   static Platform load(const std::filesystem::path& path);
@@ -83,5 +96,8 @@ struct Platform {
   /// Parses a merged tree; an error is reported against the file that wrote its key.
   static Platform parse(const PlatformSource& source);
 };
+
+/// docs/CONFIG.md: a heading and Platform::reference() as Markdown tables.
+std::string config_reference_markdown();
 
 }  // namespace edx::arch

@@ -34,46 +34,34 @@ DropPolicy parse_drop_policy(const std::string& text) {
   throw std::runtime_error(fmt::format("expected oldest, newest or none, got '{}'", text));
 }
 
-void SystemConfig::validate() const {
-  if (!(sensor_fps >= 0) || !std::isfinite(sensor_fps)) {
-    throw std::runtime_error(fmt::format(
-        "system.sensor_fps: expected a rate >= 0 (0: back to back), got {}", sensor_fps));
-  }
-  if (queue_depth < 1) {
-    throw std::runtime_error(
-        fmt::format("system.queue_depth: expected an integer >= 1, got {}", queue_depth));
-  }
-  if (results_queue_depth < 1) {
-    throw std::runtime_error(fmt::format(
-        "system.results_queue_depth: expected an integer >= 1, got {}", results_queue_depth));
-  }
+const FieldList<SystemConfig>& SystemConfig::fields() {
+  using C = SystemConfig;
+  static const FieldList<C> list = {
+      field("sensor_fps", &C::sensor_fps, "frames/s",
+            "camera frame rate of the streamed run; 0: frames back to back",
+            Bounds::at_least(0).at_most(1e6)),
+      field("queue_depth", &C::queue_depth, "frames",
+            "frames waiting for the frontend; a full queue drops by `drop`", Bounds::at_least(1)),
+      enum_field(
+          "drop", &C::drop, {"oldest", "newest", "none"},
+          [](DropPolicy p) { return std::string(to_string(p)); }, parse_drop_policy,
+          "which frame a full camera queue drops (none: the camera waits)"),
+      field("results_queue_depth", &C::results_queue_depth, "frames",
+            "frontend results waiting for the backend; a full queue stalls the frontend",
+            Bounds::at_least(1)),
+      field("contention", &C::contention, "",
+            "false: idle link per transfer, analytical kernel times, unbounded queues (the "
+            "analytical model)"),
+  };
+  return list;
 }
 
-nlohmann::json SystemConfig::to_json() const {
-  return {{"sensor_fps", sensor_fps},
-          {"queue_depth", queue_depth},
-          {"drop", to_string(drop)},
-          {"results_queue_depth", results_queue_depth},
-          {"contention", contention}};
-}
+void SystemConfig::validate() const { check_fields(*this, "system", fields()); }
+
+nlohmann::json SystemConfig::to_json() const { return fields_to_json(*this, fields()); }
 
 SystemConfig SystemConfig::from_yaml(const YAML::Node& node, const std::string& where) {
-  SystemConfig c;
-  YamlFields f(node, where, "system");
-  f.read("sensor_fps", c.sensor_fps, -1e-300);
-  f.read("queue_depth", c.queue_depth, 1);
-  std::string drop = to_string(c.drop);
-  f.read("drop", drop);
-  f.read("results_queue_depth", c.results_queue_depth, 1);
-  f.read("contention", c.contention);
-  f.finish();
-  try {
-    c.drop = parse_drop_policy(drop);
-  } catch (const std::runtime_error& e) {
-    f.fail("drop", e.what());
-  }
-  if (c.sensor_fps > 1e6) f.fail("sensor_fps", "expected at most 10^6 frames per second");
-  return c;
+  return parse_section<SystemConfig>(node, where, "system");
 }
 
 std::vector<BackendStep> split_backend(const trace::FrameTrace& frame, double backend_ms,

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "arch/backend/kernel_replay.hpp"
+#include "arch/common/config_fields.hpp"
 #include "arch/frontend/frontend_model.hpp"
 #include "sim_core/engine.hpp"
 
@@ -63,6 +64,8 @@ struct SystemConfig {
   /// the analytical model, for cross-checking.
   bool contention = true;
 
+  /// Every key of `system:` (docs/CONFIG.md).
+  static const FieldList<SystemConfig>& fields();
   void validate() const;  ///< throws std::runtime_error naming the field
   nlohmann::json to_json() const;
   /// Reads a `system:` map over the defaults; errors name file, line and key.

@@ -413,7 +413,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
         fmt::format("{}: the timeline's first frame {} is past the trace's last ({} frames)",
                     trace_path, options.timeline_first, frames.size()));
   }
-  platform.system.validate();
+  platform.validate();  // once per run; the per-kernel and per-transfer functions do not
   SystemResult r;
   r.model = options.model;
   r.platform = platform.name;
@@ -436,7 +436,8 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       const trace::KernelRecord& kernel = frame.kernels[k];
       if (!kernel.accelerable) continue;
       KernelAccelResult a = accelerate_kernel(kernel, platform.backend);
-      KernelTransfer t = kernel_transfer(kernel, platform.transfers);
+      KernelTransfer t =
+          kernel_transfer(kernel, platform.transfers, platform.backend.matrix_format());
       const double link_s = sim::to_seconds(kernel_transfer_time(platform.link, t));
       KernelDecision d;
       d.frame_id = frame.frame.frame_id;

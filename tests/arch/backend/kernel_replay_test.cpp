@@ -148,7 +148,7 @@ TEST(BackendKernelReplay, OffloadEstimateAddsTheTransfers) {
   const LinkSpec link = LinkSpec::pcie3_x8();
   const FrameTransferConfig transfers;
   const double transfer_s =
-      sim::to_seconds(kernel_transfer_time(link, kernel_transfer(k, transfers)));
+      sim::to_seconds(kernel_transfer_time(link, kernel_transfer(k, transfers, c.matrix_format())));
   EXPECT_GT(transfer_s, 0.0);
   EXPECT_DOUBLE_EQ(estimate_offload_seconds(k, c, link, transfers),
                    kernel_seconds(k, c) + transfer_s);

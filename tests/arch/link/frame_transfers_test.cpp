@@ -30,6 +30,9 @@ trace::FrameTrace frontend_only_frame(std::int64_t left_features, bool gps) {
   return f;
 }
 
+/// Doubles, 6 pose parameters, 3 per landmark (x, y, z) where the trace does not say.
+const KernelMatrixFormat kFormat{8, 6, 3};
+
 trace::KernelRecord kernel(const std::string& name, std::int64_t m, std::int64_t n,
                            bool accelerable = true) {
   trace::KernelRecord k;
@@ -43,7 +46,7 @@ trace::KernelRecord kernel(const std::string& name, std::int64_t m, std::int64_t
 TEST(FrameTransfers, FrontendOnlyFrame) {
   const FrameTransferConfig c;
   EXPECT_EQ(c.feature_record_bytes(), 14);  // id 4 + 4 coordinates x 2 + disparity 2
-  const FrameTransfers t = frame_transfers(frontend_only_frame(200, false), c);
+  const FrameTransfers t = frame_transfers(frontend_only_frame(200, false), c, kFormat);
   EXPECT_EQ(t.frame_id, 7);
   EXPECT_EQ(t.features, 200);  // the left FC row, not the right one nor MO
   EXPECT_EQ(t.frontend_bytes, 2800);
@@ -54,24 +57,25 @@ TEST(FrameTransfers, FrontendOnlyFrame) {
   EXPECT_EQ(t.kernel_results_to_host(), 0);
   EXPECT_EQ(t.total(), 3360);
 
-  const FrameTransfers with_gps = frame_transfers(frontend_only_frame(200, true), c);
+  const FrameTransfers with_gps = frame_transfers(frontend_only_frame(200, true), c, kFormat);
   EXPECT_EQ(with_gps.gps_bytes, 32);
   EXPECT_EQ(with_gps.frontend_to_host(), 3392);
 
   FrameTransferConfig descriptors = c;
   descriptors.descriptor_bytes = 32;
-  EXPECT_EQ(frame_transfers(frontend_only_frame(100, false), descriptors).frontend_bytes, 4600);
+  EXPECT_EQ(frame_transfers(frontend_only_frame(100, false), descriptors, kFormat).frontend_bytes,
+            4600);
 }
 
 TEST(FrameTransfers, FallsBackToMatchedFeaturesWithoutAnFcRow) {
   trace::FrameTrace f = frontend_only_frame(200, false);
   f.tasks.erase(f.tasks.begin() + 1);  // drop FC L
-  EXPECT_EQ(frame_transfers(f, {}).features, 100);
+  EXPECT_EQ(frame_transfers(f, {}, kFormat).features, 100);
 }
 
 TEST(FrameTransfers, Projection) {
   // C 3x4 + X 4x1000 in, 2x1000 out, doubles.
-  const KernelTransfer t = kernel_transfer(kernel("projection", 1000, 0), {});
+  const KernelTransfer t = kernel_transfer(kernel("projection", 1000, 0), {}, kFormat);
   EXPECT_EQ(t.input_bytes, (12 + 4000) * 8);
   EXPECT_EQ(t.output_bytes, 2000 * 8);
   EXPECT_EQ(t.parts["inputs"]["camera_matrix"], 96);
@@ -79,22 +83,20 @@ TEST(FrameTransfers, Projection) {
 
 TEST(FrameTransfers, KalmanGain) {
   // H 4x3 (12) + P 3x3 (9) + R diag (4) = 25 doubles in; K 3x4 = 12 out.
-  const KernelTransfer t = kernel_transfer(kernel("kalman_gain", 4, 3), {});
+  const KernelTransfer t = kernel_transfer(kernel("kalman_gain", 4, 3), {}, kFormat);
   EXPECT_EQ(t.input_bytes, 200);
   EXPECT_EQ(t.output_bytes, 96);
   FrameTransferConfig packed;
   packed.pack_symmetric = true;  // P as 6 scalars
-  EXPECT_EQ(kernel_transfer(kernel("kalman_gain", 4, 3), packed).input_bytes, 176);
-  FrameTransferConfig floats;
-  floats.scalar_bytes = 4;
-  EXPECT_EQ(kernel_transfer(kernel("kalman_gain", 4, 3), floats).input_bytes, 100);
+  EXPECT_EQ(kernel_transfer(kernel("kalman_gain", 4, 3), packed, kFormat).input_bytes, 176);
+  EXPECT_EQ(kernel_transfer(kernel("kalman_gain", 4, 3), {}, {4, 6, 3}).input_bytes, 100);
 }
 
 TEST(FrameTransfers, Marginalization) {
   // 2 landmarks of 3 parameters, 12 kept: d_l = 6, d_m = 12.
   // A 2 x 9 = 18, B 6 x 6 = 36, D 36, A_mr 12 x 12 = 144, A_rr 144, b_m 12, b_r 12 = 402
   // doubles in; prior 144 + 12 = 156 out.
-  const KernelTransfer t = kernel_transfer(kernel("marginalization", 2, 12), {});
+  const KernelTransfer t = kernel_transfer(kernel("marginalization", 2, 12), {}, kFormat);
   EXPECT_EQ(t.input_bytes, 402 * 8);
   EXPECT_EQ(t.output_bytes, 156 * 8);
 
@@ -102,24 +104,24 @@ TEST(FrameTransfers, Marginalization) {
   // A 2 + B 12 + D 36 + A_mr 96 + A_rr 144 + b_m 8 + b_r 12 = 310.
   trace::KernelRecord detail = kernel("marginalization", 2, 12);
   detail.detail_json = R"({"landmark_dim": 1})";
-  EXPECT_EQ(kernel_transfer(detail, {}).input_bytes, 310 * 8);
+  EXPECT_EQ(kernel_transfer(detail, {}, kFormat).input_bytes, 310 * 8);
 
   // The A_mm inverse of size 10 = 2 l + 6 gives l = 2: d_l = 4, d_m = 10:
   // A 8 + B 24 + D 36 + A_mr 120 + A_rr 144 + b_m 10 + b_r 12 = 354.
   trace::KernelRecord ops = kernel("marginalization", 2, 12);
   ops.ops.push_back({trace::Op::Inverse, 10, 10, 0, trace::op_flags::kDiagonalBlock, 0});
-  EXPECT_EQ(kernel_transfer(ops, {}).input_bytes, 354 * 8);
+  EXPECT_EQ(kernel_transfer(ops, {}, kFormat).input_bytes, 354 * 8);
 
   trace::KernelRecord bad = kernel("marginalization", 2, 12);
   bad.detail_json = R"({"landmark_dim": 0})";
-  EXPECT_THROW(kernel_transfer(bad, {}), std::runtime_error);
+  EXPECT_THROW(kernel_transfer(bad, {}, kFormat), std::runtime_error);
 }
 
 TEST(FrameTransfers, SumsAccelerableKernelsAndIgnoresHostOnlyOnes) {
   trace::FrameTrace f = frontend_only_frame(150, false);
   f.kernels = {kernel("imu_propagation", 0, 15, false), kernel("kalman_gain", 4, 3),
                kernel("projection", 1000, 0)};
-  const FrameTransfers t = frame_transfers(f, {});
+  const FrameTransfers t = frame_transfers(f, {}, kFormat);
   ASSERT_EQ(t.kernels.size(), 2u);
   EXPECT_EQ(t.kernel_inputs_to_fpga(), 200 + 32096);
   EXPECT_EQ(t.kernel_results_to_host(), 96 + 16000);
@@ -132,28 +134,32 @@ TEST(FrameTransfers, RejectsUnknownAcceleratedKernels) {
   trace::FrameTrace f = frontend_only_frame(10, false);
   f.kernels = {kernel("bundle_adjustment", 5, 5)};
   try {
-    frame_transfers(f, {});
+    frame_transfers(f, {}, kFormat);
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("frame 7"), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("bundle_adjustment"), std::string::npos);
   }
-  EXPECT_THROW(kernel_transfer(kernel("projection", -1, 0), {}), std::runtime_error);
+  EXPECT_THROW(kernel_transfer(kernel("projection", -1, 0), {}, kFormat), std::runtime_error);
 }
 
 TEST(FrameTransfers, ConfigFromYaml) {
   const FrameTransferConfig c = FrameTransferConfig::from_yaml(
-      YAML::Load("scalar_bytes: 4\nimu_samples_per_frame: 20\npack_symmetric: true\n"), "car.yaml");
-  EXPECT_EQ(c.scalar_bytes, 4);
+      YAML::Load("imu_samples_per_frame: 20\npack_symmetric: true\n"), "car.yaml");
   EXPECT_EQ(c.imu_samples_per_frame, 20);
   EXPECT_TRUE(c.pack_symmetric);
-  try {
-    FrameTransferConfig::from_yaml(YAML::Load("scalar_bytes: 2\n"), "car.yaml");
-    FAIL() << "expected an error";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("car.yaml:1: transfers.scalar_bytes"), std::string::npos)
-        << e.what();
-  }
+  const auto error_of = [](const std::string& text) {
+    try {
+      FrameTransferConfig::from_yaml(YAML::Load(text), "car.yaml");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error_of("pack_symmetric: true\nimu_sample_bytes: -1\n"),
+            "car.yaml:2: transfers.imu_sample_bytes: expected an integer >= 0, got '-1'");
+  // The element size has one home, backend.scalar_bytes.
+  EXPECT_EQ(error_of("scalar_bytes: 4\n"), "car.yaml:1: transfers.scalar_bytes: unknown key");
   EXPECT_THROW(FrameTransferConfig::from_yaml(YAML::Load("imu_rate: 2\n"), "car.yaml"),
                std::runtime_error);
 }
@@ -174,7 +180,7 @@ TEST(FrameTransferTimes, EachTransferIsOneDmaTransfer) {
   FrameTransferConfig c;
   c.imu_samples_per_frame = 20;
   c.imu_sample_bytes = 60;  // 1200 B of IMU samples, nothing else on (1)
-  const FrameTransfers t = frame_transfers(f, c);
+  const FrameTransfers t = frame_transfers(f, c, kFormat);
   ASSERT_EQ(t.frontend_to_host(), 1200);
   ASSERT_EQ(t.kernel_inputs_to_fpga(), 9600);
   ASSERT_EQ(t.kernel_results_to_host(), 4752);

@@ -38,15 +38,15 @@ TEST(Platform, ReadsFieldsOverTheDefaults) {
 
 TEST(Platform, BadInputNamesFileLineAndKey) {
   EXPECT_EQ(error_of("name: car\nfrontend:\n  clock_mhz: fast\n"),
-            "p.yaml:3: frontend.clock_mhz: expected a number > 0, got 'fast'");
+            "p.yaml:3: frontend.clock_mhz: expected a number in (0, 1000], got 'fast'");
   EXPECT_EQ(error_of("name: car\nfrontend:\n  clok_mhz: 100\n"),
             "p.yaml:3: frontend.clok_mhz: unknown key");
   EXPECT_EQ(error_of("name: car\nfrontend:\n  fd_stencil: 4\n"),
-            "p.yaml:3: frontend.fd_stencil: expected an odd size >= 3");
+            "p.yaml:3: frontend.fd_stencil: expected an odd integer >= 3, got '4'");
   EXPECT_EQ(error_of("name: car\nhost: 3\n"), "p.yaml:2: platform.host: expected a map of keys");
   EXPECT_EQ(error_of("name: car\nbackend:\n  gemm_block: ~\n"),
-            "p.yaml:3: backend.gemm_block: expected an integer >= 1, got 'nothing (~ or an empty "
-            "value)'");
+            "p.yaml:3: backend.gemm_block: expected an integer in [1, 256], got 'nothing (~ or an "
+            "empty value)'");
   EXPECT_EQ(error_of("name: car\nbackend_units: {}\n"),
             "p.yaml:2: platform.backend_units: unknown key");
   EXPECT_THAT(error_of("frontend: {}\n"), HasSubstr("platform.name: required"));
@@ -85,12 +85,13 @@ TEST(Platform, BadKeysOfTheNewSectionsNameFileLineAndKey) {
   EXPECT_THAT(
       error_of("name: car\nscheduler:\n  policy: sometimes\n"),
       HasSubstr("p.yaml:3: scheduler.policy: expected never, always, regression or oracle"));
-  EXPECT_THAT(error_of("name: car\nscheduler:\n  training_fraction: 1.5\n"),
-              HasSubstr("p.yaml:3: scheduler.training_fraction: expected a fraction in [0, 1)"));
+  EXPECT_THAT(
+      error_of("name: car\nscheduler:\n  training_fraction: 1.5\n"),
+      HasSubstr("p.yaml:3: scheduler.training_fraction: expected a number in [0, 1), got '1.5'"));
   EXPECT_EQ(error_of("name: car\nscheduler:\n  polcy: never\n"),
             "p.yaml:3: scheduler.polcy: unknown key");
-  EXPECT_THAT(error_of("name: car\nhost:\n  backend_suite_ms: 0\n"),
-              HasSubstr("p.yaml:3: host.backend_suite_ms: expected a number > 0"));
+  EXPECT_THAT(error_of("name: car\nhost:\n  backend_suite_ms: -1\n"),
+              HasSubstr("p.yaml:3: host.backend_suite_ms: expected a number >= 0, got '-1'"));
   EXPECT_THAT(error_of("name: car\nhost:\n  frontend_suite_ms: 5\n"),
               HasSubstr("host.backend_suite_ms: expected both suite times or neither"));
   EXPECT_THAT(error_of("name: car\nhost:\n  suite: 0\n"),

@@ -60,7 +60,7 @@ TEST(SweepCommand, BadInputIsOneLine) {
                                                  dir.path().string(), dir.path().string()));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.err, fmt::format("edx: error: {}/s.yaml:3: backend.gemm_block: expected an integer "
-                               ">= 1, got '0'\n",
+                               "in [1, 256], got '0'\n",
                                dir.path().string()));
   r = edx::testing::run_command(fmt::format("{} export {}/none.db --table runs --out {}/x.csv",
                                             kEdx, dir.path().string(), dir.path().string()));

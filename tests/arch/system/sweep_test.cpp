@@ -88,7 +88,7 @@ TEST(Extends, ErrorsNameTheFileAndLineThatWroteTheKey) {
   write(dir.path() / "bad.yaml", "extends: ok.yaml\n\nfrontend:\n  clock_mhz: fast\n");
   EXPECT_EQ(error_of([&] { Platform::load(dir.path() / "bad.yaml"); }),
             (dir.path() / "bad.yaml").string() +
-                ":4: frontend.clock_mhz: expected a number > 0, got 'fast'");
+                ":4: frontend.clock_mhz: expected a number in (0, 1000], got 'fast'");
   write(dir.path() / "unknown.yaml", "extends: ok.yaml\nbackend:\n  gemm_blok: 4\n");
   EXPECT_EQ(error_of([&] { Platform::load(dir.path() / "unknown.yaml"); }),
             (dir.path() / "unknown.yaml").string() + ":3: backend.gemm_blok: unknown key");
@@ -213,7 +213,7 @@ TEST(SweepSpec, BadInputIsOneLineWithFileLineAndKey) {
             "s.yaml:4: parameters.backend.gemm_block: written twice (also on line 3)");
   // A value the platform rejects names the spec's line of that value.
   EXPECT_EQ(err("parameters:\n  backend.gemm_block:\n    values: [2, fast]\n" + obj),
-            "s.yaml:4: backend.gemm_block: expected an integer >= 1, got 'fast'");
+            "s.yaml:4: backend.gemm_block: expected an integer in [1, 256], got 'fast'");
   EXPECT_THAT(err("parameters:\n  backend.gemm_blok: {values: [2]}\n" + obj),
               AllOf(StartsWith("s.yaml"), HasSubstr("backend.gemm_blok: unknown key")));
   EXPECT_THAT(err("parameters:\n  x: {values: [1]}\n" + obj + "sampling: {random: {samples: 0}}\n"),

@@ -1,0 +1,172 @@
+// One field list per config struct drives parsing, checking, JSON and the reference: each of
+// those four against hand-written expectations on a small struct.
+#include "arch/common/config_fields.hpp"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace edx::arch {
+namespace {
+
+enum class Mode { kFast, kSlow };
+std::string mode_name(Mode m) { return m == Mode::kFast ? "fast" : "slow"; }
+Mode parse_mode(const std::string& text) { return text == "fast" ? Mode::kFast : Mode::kSlow; }
+
+struct Demo {
+  double clock_mhz = 150;
+  int stencil = 7;
+  std::int64_t bytes = 4096;
+  bool enabled = true;
+  std::string name = "demo";
+  std::string buffering = "dram";
+  int word = 8;
+  Mode mode = Mode::kFast;
+
+  static const FieldList<Demo>& fields() {
+    static const FieldList<Demo> list = {
+        field("clock_mhz", &Demo::clock_mhz, "MHz", "clock", Bounds::above(0).at_most(1000)),
+        field("stencil", &Demo::stencil, "pixels", "window side",
+              Bounds::at_least(3).odd_only()),
+        field("bytes", &Demo::bytes, "bytes", "size", Bounds::at_least(1)),
+        field("enabled", &Demo::enabled, "", "on or off"),
+        field("name", &Demo::name, "", "free text"),
+        choice_field("buffering", &Demo::buffering, "", {"on_chip", "dram"}, "where"),
+        choice_field("word", &Demo::word, "bytes", {"4", "8"}, "element size"),
+        enum_field("mode", &Demo::mode, {"fast", "slow"}, mode_name, parse_mode, "speed"),
+    };
+    return list;
+  }
+};
+
+Demo parse(const std::string& text) {
+  Demo d;
+  YamlFields f(YAML::Load(text), "demo.yaml", "demo");
+  parse_fields(f, d, Demo::fields());
+  f.finish();
+  return d;
+}
+
+std::string parse_error(const std::string& text) {
+  try {
+    parse(text);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Bounds, DescribeAndContain) {
+  EXPECT_EQ(Bounds::above(0).at_most(1000).describe(false), "a number in (0, 1000]");
+  EXPECT_EQ(Bounds::at_least(1).describe(true), "an integer >= 1");
+  EXPECT_EQ(Bounds::at_least(3).odd_only().describe(true), "an odd integer >= 3");
+  EXPECT_EQ(Bounds::at_least(0).below(1).describe(false), "a number in [0, 1)");
+  EXPECT_EQ(Bounds::any().describe(false), "a number");
+  EXPECT_TRUE(Bounds::above(0).contains(1e-9));
+  EXPECT_FALSE(Bounds::above(0).contains(0));
+  EXPECT_TRUE(Bounds::at_least(0).below(1).contains(0));
+  EXPECT_FALSE(Bounds::at_least(0).below(1).contains(1));
+  EXPECT_FALSE(Bounds::at_least(3).odd_only().contains(4));
+  EXPECT_TRUE(Bounds::at_least(3).odd_only().contains(5));
+  EXPECT_FALSE(Bounds::any().contains(std::numeric_limits<double>::quiet_NaN()));
+}
+
+TEST(ConfigFields, ReadsEveryKindOverTheDefaults) {
+  const Demo d = parse(
+      "clock_mhz: 200\nstencil: 5\nbytes: 3000000000\nenabled: false\nname: x y\n"
+      "buffering: on_chip\nword: 4\nmode: slow\n");
+  EXPECT_DOUBLE_EQ(d.clock_mhz, 200);
+  EXPECT_EQ(d.stencil, 5);
+  EXPECT_EQ(d.bytes, 3000000000);  // beyond an int: an int64 member keeps it
+  EXPECT_FALSE(d.enabled);
+  EXPECT_EQ(d.name, "x y");
+  EXPECT_EQ(d.buffering, "on_chip");
+  EXPECT_EQ(d.word, 4);
+  EXPECT_EQ(d.mode, Mode::kSlow);
+  const Demo defaults = parse("{}");
+  EXPECT_EQ(defaults.stencil, 7);
+  EXPECT_EQ(defaults.mode, Mode::kFast);
+  // An absent section (a null node, as a missing map key gives) leaves every default.
+  Demo absent;
+  YamlFields f(YAML::Node(), "demo.yaml", "demo");
+  parse_fields(f, absent, Demo::fields());
+  EXPECT_EQ(absent.name, "demo");
+  EXPECT_DOUBLE_EQ(absent.clock_mhz, 150);
+}
+
+TEST(ConfigFields, ErrorsNameFileLineKeyAndWhatIsAccepted) {
+  EXPECT_EQ(parse_error("stencil: 5\nclock_mhz: 0\n"),
+            "demo.yaml:2: demo.clock_mhz: expected a number in (0, 1000], got '0'");
+  EXPECT_EQ(parse_error("stencil: 4\n"),
+            "demo.yaml:1: demo.stencil: expected an odd integer >= 3, got '4'");
+  EXPECT_EQ(parse_error("stencil: 3000000001\n"),
+            "demo.yaml:1: demo.stencil: expected an odd integer >= 3, got '3000000001'");
+  EXPECT_EQ(parse_error("stencil: 2.5\n"),
+            "demo.yaml:1: demo.stencil: expected an odd integer >= 3, got '2.5'");
+  EXPECT_EQ(parse_error("enabled: maybe\n"),
+            "demo.yaml:1: demo.enabled: expected true or false, got 'maybe'");
+  EXPECT_EQ(parse_error("buffering: sram\n"),
+            "demo.yaml:1: demo.buffering: expected on_chip or dram, got 'sram'");
+  EXPECT_EQ(parse_error("word: 6\n"), "demo.yaml:1: demo.word: expected 4 or 8, got '6'");
+  EXPECT_EQ(parse_error("mode: [1]\n"),
+            "demo.yaml:1: demo.mode: expected fast or slow, got 'a list'");
+  EXPECT_EQ(parse_error("clock_mhz: .nan\n"),
+            "demo.yaml:1: demo.clock_mhz: expected a number in (0, 1000], got '.nan'");
+  EXPECT_EQ(parse_error("clockmhz: 1\n"), "demo.yaml:1: demo.clockmhz: unknown key");
+}
+
+TEST(ConfigFields, CheckFieldsFindsWhatCodeSetWrong) {
+  Demo d;
+  EXPECT_NO_THROW(check_fields(d, "demo", Demo::fields()));
+  d.word = 2;
+  try {
+    check_fields(d, "demo", Demo::fields());
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "demo.word: expected 4 or 8, got '2'");
+  }
+}
+
+TEST(ConfigFields, ValidateAtReportsARuleAtTheKeysLine) {
+  YamlFields f(YAML::Load("name: a\nbytes: 10\n"), "demo.yaml", "demo");
+  try {
+    validate_at(f, [] { require_field(false, "demo", "bytes", "at least the name's size"); });
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "demo.yaml:2: demo.bytes: expected at least the name's size");
+  }
+}
+
+TEST(ConfigFields, JsonHasEveryKeyWithItsValue) {
+  const nlohmann::json j = fields_to_json(Demo{}, Demo::fields());
+  EXPECT_EQ(j.size(), Demo::fields().size());
+  EXPECT_EQ(j["clock_mhz"], 150.0);
+  EXPECT_EQ(j["bytes"], 4096);
+  EXPECT_EQ(j["enabled"], true);
+  EXPECT_EQ(j["mode"], "fast");
+  EXPECT_EQ(j["word"], 8);
+}
+
+TEST(ConfigFields, ReferenceRowsAndMarkdown) {
+  const std::vector<ReferenceRow> rows = reference_rows("demo", Demo::fields());
+  ASSERT_EQ(rows.size(), Demo::fields().size());
+  EXPECT_EQ(rows[0].key, "demo.clock_mhz");
+  EXPECT_EQ(rows[0].type, "number");
+  EXPECT_EQ(rows[0].unit, "MHz");
+  EXPECT_EQ(rows[0].value, "150");
+  EXPECT_EQ(rows[0].accepted, "(0, 1000]");
+  EXPECT_EQ(rows[1].accepted, ">= 3, odd");
+  EXPECT_EQ(rows[3].type, "true/false");
+  EXPECT_EQ(rows[3].accepted, "");
+  EXPECT_EQ(rows[6].accepted, "4 or 8");
+  EXPECT_EQ(rows[7].accepted, "fast or slow");
+  const std::string md = render_reference(rows);
+  EXPECT_NE(md.find("## `demo:`"), std::string::npos);
+  EXPECT_NE(md.find("| `demo.stencil` | integer | pixels | 7 | >= 3, odd | window side |"),
+            std::string::npos)
+      << md;
+}
+
+}  // namespace
+}  // namespace edx::arch
