@@ -33,9 +33,11 @@ struct Bounds {
   bool odd = false;
 
   static Bounds any() { return {}; }
-  static Bounds at_least(double lo) { return {lo, std::numeric_limits<double>::infinity()}; }
+  static Bounds at_least(double lo) {
+    return {lo, std::numeric_limits<double>::infinity(), false, false, false};
+  }
   static Bounds above(double lo) {
-    return {lo, std::numeric_limits<double>::infinity(), true, false};
+    return {lo, std::numeric_limits<double>::infinity(), true, false, false};
   }
   Bounds at_most(double bound) const;
   Bounds below(double bound) const;
