@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "arch/system/sweep.hpp"
+#include "arch/sweep/sweep.hpp"
 #include "bench/benches.hpp"
 #include "bench/stretch.hpp"
 #include "workloads/trace/reader.hpp"

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "arch/system/platform.hpp"
+#include "arch/platform/platform.hpp"
 #include "arch/system/system_model.hpp"
 #include "bench/benches.hpp"
 #include "bench/stretch.hpp"

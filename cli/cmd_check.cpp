@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <string>
 
-#include "arch/system/platform.hpp"
-#include "arch/system/results_db.hpp"
+#include "arch/platform/platform.hpp"
+#include "arch/results/results_db.hpp"
 #include "arch/system/system_model.hpp"
 #include "cli/commands.hpp"
 #include "reports/metrics.hpp"

@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "arch/system/platform.hpp"
+#include "arch/platform/platform.hpp"
 #include "cli/commands.hpp"
 
 namespace edx::cli {
@@ -18,8 +18,7 @@ struct ConfigArguments {
 
 void run(const ConfigArguments& args) {
   if (args.reference == !args.file.empty()) {
-    throw CLI::ValidationError("config",
-                               "give a platform file or --reference (one of the two)");
+    throw CLI::ValidationError("config", "give a platform file or --reference (one of the two)");
   }
   if (args.reference) {
     fmt::print("{}", arch::config_reference_markdown());

@@ -1,11 +1,11 @@
 // `edx export results.db --table T --out F.csv` (or --sweep NAME): a results-database table or
-// a sweep's points as CSV (docs/SWEEPS.md). Logic: arch/system/sweep.
+// a sweep's points as CSV (docs/SWEEPS.md). Logic: arch/sweep/sweep.
 #include <fmt/core.h>
 
 #include <memory>
 #include <string>
 
-#include "arch/system/sweep.hpp"
+#include "arch/sweep/sweep.hpp"
 #include "cli/commands.hpp"
 
 namespace edx::cli {

@@ -6,9 +6,9 @@
 #include <optional>
 #include <string>
 
+#include "arch/platform/platform.hpp"
+#include "arch/results/results_db.hpp"
 #include "arch/system/frontend_study.hpp"
-#include "arch/system/platform.hpp"
-#include "arch/system/results_db.hpp"
 #include "arch/system/system_model.hpp"
 #include "cli/commands.hpp"
 #include "workloads/trace/reader.hpp"

@@ -1,12 +1,12 @@
 // `edx sweep SPEC.yaml --db results.db`: runs (or resumes) a design-space sweep and prints its
-// points and Pareto front (docs/SWEEPS.md). Logic: arch/system/sweep.
+// points and Pareto front (docs/SWEEPS.md). Logic: arch/sweep/sweep.
 #include <fmt/core.h>
 
 #include <memory>
 #include <string>
 #include <thread>
 
-#include "arch/system/sweep.hpp"
+#include "arch/sweep/sweep.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 

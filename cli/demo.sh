@@ -107,7 +107,7 @@ rm -f "$results" "$results-wal" "$results-shm"
 run simulate --config "$root/configs/edx_car.yaml" --trace "$traces/car_mix.db" --out "$results" \
   --timeline "$out/car_system_timeline.json"
 run simulate --config "$root/configs/edx_drone.yaml" --trace "$traces/drone_mix.db" \
-  --out "$results"
+  --out "$results" --timeline "$out/drone_system_timeline.json"
 for excerpt in "${excerpts[@]}"; do
   config="$root/configs/edx_car.yaml"
   [[ "$excerpt" == euroc_vio ]] && config="$root/configs/edx_drone.yaml"

@@ -1,8 +1,8 @@
-// Fuzzes the platform YAML loader (arch/system/platform.hpp): any text is a platform or a
+// Fuzzes the platform YAML loader (arch/platform/platform.hpp): any text is a platform or a
 // std::exception.
 #include <exception>
 
-#include "arch/system/platform.hpp"
+#include "arch/platform/platform.hpp"
 #include "fuzz/fuzz_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

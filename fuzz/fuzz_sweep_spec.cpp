@@ -1,8 +1,8 @@
-// Fuzzes the sweep-spec parser (arch/system/sweep.hpp) with a valid base platform beside it
+// Fuzzes the sweep-spec parser (arch/sweep/sweep.hpp) with a valid base platform beside it
 // (base.yaml, written once), and enumerates a few points of what parses.
 #include <exception>
 
-#include "arch/system/sweep.hpp"
+#include "arch/sweep/sweep.hpp"
 #include "fuzz/fuzz_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -15,9 +15,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/atomic_file.hpp"
 #include "reports/metrics.hpp"
 #include "reports/paper_check.hpp"
-#include "common/atomic_file.hpp"
 #include "workloads/trace/reader.hpp"
 
 extern char** environ;
@@ -134,6 +134,22 @@ std::vector<std::pair<double, double>> cdf(std::vector<double> values) {
 
 class RunReport {
  public:
+  /// The run's whole-system timeline, written beside the report (`run<N>_timeline.json`) and
+  /// linked; a line saying how to get one when the run has none.
+  std::string timeline_link() const {
+    if (run_.timeline_json.empty()) {
+      return "<p class=\"cap\">No whole-system timeline stored for this run (<code>edx simulate "
+             "--timeline T.json --out DB</code> keeps one).</p>\n";
+    }
+    const std::string file = prefix_ + "timeline.json";
+    common::write_file_atomically(dir_ / file, run_.timeline_json);
+    return fmt::format(
+        "<p class=\"cap\">Whole-system timeline of the accelerated streamed run, frames {}–{}: "
+        "<a href=\"{}\">{}</a> (Perfetto JSON: open it in https://ui.perfetto.dev; one track per "
+        "frontend unit, link direction, host core, backend unit and queue).</p>\n",
+        run_.timeline_first, run_.timeline_first + run_.timeline_frames - 1, file, file);
+  }
+
   RunReport(const RunData& run, std::size_t index, const fs::path& dir, const std::string& gnuplot,
             bool plot)
       : run_(run),
@@ -151,6 +167,7 @@ class RunReport {
         "<p>{} frames, offload policy {}. Baseline: CPU only; accelerated: the "
         "platform with its FPGA frontend and backend.</p>\n",
         run_.frames, html_escape(run_.policy));
+    h += timeline_link();
     h += comparison_table();
     h += section("Latency CDF per mode", latency_cdf(), images,
                  "End-to-end latency per frame (frontend + backend); dashed: baseline (CPU), "
@@ -684,11 +701,12 @@ std::string paper_check_html(const ResultsData& data, const std::vector<std::siz
                              const fs::path& dir, const std::string& gnuplot, bool plot,
                              std::vector<std::string>& images) {
   const std::vector<PaperTarget> targets = load_targets(default_targets_path());
-  // Misses are explained in one place (docs/MODEL.md); the report links there.
-  const std::string model_doc =
+  // Misses are explained in docs/MODEL.md: each target's own paragraph (its `explained`
+  // anchor), else the section of all misses.
+  const std::string model_file =
       "file://" +
-      (default_targets_path().parent_path().parent_path() / "docs" / "MODEL.md").string() +
-      "#what-is-not-reachable-honestly-and-why";
+      (default_targets_path().parent_path().parent_path() / "docs" / "MODEL.md").string();
+  const std::string model_doc = model_file + "#what-is-not-reachable-honestly-and-why";
   std::string h;
   for (std::size_t i : sections) {
     const RunData& r = data.runs[i];
@@ -720,7 +738,11 @@ std::string paper_check_html(const ResultsData& data, const std::vector<std::siz
           100 * row.target.tolerance,
           row.verdict == Verdict::kPass
               ? verdict
-              : fmt::format("<a href=\"{}\">{}</a>", html_escape(model_doc), verdict),
+              : fmt::format("<a href=\"{}\">{}</a>",
+                            html_escape(row.target.explained.empty()
+                                            ? model_doc
+                                            : model_file + "#" + row.target.explained),
+                            verdict),
           html_escape(row.target.source));
       if (row.simulated) {
         std::string label = row.target.name;

@@ -109,9 +109,16 @@ std::vector<PaperTarget> load_targets(const std::filesystem::path& path) {
         t.unit = string(path, kv.second, key);
       } else if (key == "source") {
         t.source = string(path, kv.second, key);
+      } else if (key == "explained") {
+        t.explained = string(path, kv.second, key);
+        if (t.explained.empty() ||
+            t.explained.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789-") !=
+                std::string::npos) {
+          fail(path, kv.second, key, "expected an anchor of docs/MODEL.md (a-z, 0-9, '-')");
+        }
       } else {
         fail(path, kv.first, key,
-             "unknown key (expected name, metric, paper, unit, tolerance, source)");
+             "unknown key (expected name, metric, paper, unit, tolerance, source, explained)");
       }
     }
     if (!has_name) fail(path, item, "name", "missing");
@@ -143,6 +150,7 @@ nlohmann::json CheckResult::to_json() const {
                     {"tolerance", r.target.tolerance},
                     {"unit", r.target.unit},
                     {"source", r.target.source},
+                    {"explained", r.target.explained},
                     {"verdict", r.verdict == Verdict::kPass   ? "pass"
                                 : r.verdict == Verdict::kMiss ? "miss"
                                                               : "not_found"}});

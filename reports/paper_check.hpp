@@ -16,12 +16,15 @@ struct PaperTarget {
   double paper = 0;
   double tolerance = 0.10;  ///< relative
   std::string unit, source;
+  /// Anchor of docs/MODEL.md (`<a id="...">`) explaining why the model misses this target, when
+  /// it does; empty: none (the report links the section of all misses).
+  std::string explained;
   int line = 0;  ///< 1-based line of the target in its file
 };
 
 /// Reads and validates a targets file: a map with `targets` (a sequence of maps with name,
-/// metric, paper and optional unit, tolerance, source) and an optional default `tolerance`.
-/// Errors: std::runtime_error "file:line: key: what was expected".
+/// metric, paper and optional unit, tolerance, source, explained) and an optional default
+/// `tolerance`. Errors: std::runtime_error "file:line: key: what was expected".
 std::vector<PaperTarget> load_targets(const std::filesystem::path& path);
 
 /// The targets file beside the sources (reports/paper_targets.yaml).

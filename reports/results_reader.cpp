@@ -3,9 +3,12 @@
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <limits>
 #include <set>
 #include <stdexcept>
+
+#include "arch/results/schema.hpp"
 
 namespace edx::reports {
 namespace {
@@ -142,14 +145,20 @@ ResultsData read_results(const std::filesystem::path& path) {
   try {
     SQLite::Database db(path.string(), SQLite::OPEN_READONLY);
     const std::set<std::string> tables = tables_of(db);
-    for (const char* t : {"runs", "frames", "latency", "throughput", "energy", "offload",
-                          "schedule", "resources"}) {
-      if (!tables.contains(t)) {
+    for (const std::string_view t : results::kRequiredTables) {
+      if (!tables.contains(std::string(t))) {
         throw std::runtime_error(
             fmt::format("not an edx results database (no table '{}'; write one with edx "
                         "simulate --out)",
                         t));
       }
+    }
+    const int version = db.execAndGet("PRAGMA user_version").getInt();
+    if (version > results::kSchemaVersion) {
+      throw std::runtime_error(
+          fmt::format("results schema version {} is newer than this edx reads ({}); use a newer "
+                      "edx",
+                      version, results::kSchemaVersion));
     }
     SQLite::Statement runs(db, "SELECT * FROM runs ORDER BY run_id");
     while (runs.executeStep()) {
@@ -170,8 +179,19 @@ ResultsData read_results(const std::filesystem::path& path) {
       out.runs.push_back(std::move(r));
     }
     if (out.runs.empty()) throw std::runtime_error("holds no runs");
-    for (RunData& r : out.runs) read_run(db, r);
-    if (tables.contains("sweeps") && tables.contains("sweep_points")) {
+    for (RunData& r : out.runs) {
+      read_run(db, r);
+      if (tables.contains("timelines")) {
+        each_row(db, "SELECT * FROM timelines WHERE run_id = ?1", r.run_id,
+                 [&](const SQLite::Statement& q) {
+                   r.timeline_json = text(q, "json");
+                   r.timeline_first = integer(q, "first_frame");
+                   r.timeline_frames = integer(q, "frames");
+                 });
+      }
+    }
+    if (std::ranges::all_of(results::kSweepTables,
+                            [&](std::string_view t) { return tables.contains(std::string(t)); })) {
       out.has_sweeps = true;
       SQLite::Statement q(db, "SELECT sweep_id, spec, spec_json FROM sweeps ORDER BY sweep_id");
       while (q.executeStep()) {

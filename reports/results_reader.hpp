@@ -1,9 +1,9 @@
 #pragma once
-// Reads a results database written by `edx simulate --out` (arch/system/results_db.hpp; the
-// tables are listed in docs/MODEL.md, "Results database") for `edx report` and `edx check`.
+// Reads a results database written by `edx simulate --out` (arch/results/results_db.hpp; the
+// tables and columns: arch/results/schema.hpp) for `edx report` and `edx check`.
 // Read-only: the database is opened with SQLITE_OPEN_READONLY and never changed.
 //
-// Sweep tables are optional (written by `edx sweep`, arch/system/sweep_runner.cpp, docs/SWEEPS.md):
+// Sweep tables are optional (written by `edx sweep`, arch/sweep/sweep_runner.cpp, docs/SWEEPS.md):
 //   sweeps(sweep_id, spec, base, trace, points, spec_json)   spec_json.objectives:
 //          [{"minimize"|"maximize": metric}, ...]
 //   sweep_points(sweep_id, point, run_id, parameters_json, metrics_json, feasible, pareto)
@@ -75,6 +75,10 @@ struct RunData {
   std::vector<OffloadRow> offload;
   std::vector<ScheduleRow> schedule;
   std::vector<ResourceRow> resources;
+  /// The whole-system timeline (Perfetto JSON, table timelines) when the run was simulated with
+  /// --timeline; empty otherwise. Frames [timeline_first, timeline_first + timeline_frames).
+  std::string timeline_json;
+  std::int64_t timeline_first = 0, timeline_frames = 0;
 };
 
 /// One design point of a sweep (table sweep_points).

@@ -11,7 +11,7 @@
 
 #include "arch/frontend/frontend_model.hpp"
 #include "arch/frontend/memory_plan.hpp"
-#include "arch/system/platform.hpp"
+#include "arch/platform/platform.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {

@@ -29,48 +29,11 @@
 #include <vector>
 
 #include "arch/backend/kernel_replay.hpp"
-#include "arch/common/config_fields.hpp"
 #include "arch/frontend/frontend_model.hpp"
+#include "arch/platform/system_config.hpp"
 #include "sim_core/engine.hpp"
 
-namespace YAML {
-class Node;
-}
-
 namespace edx::arch {
-
-/// What happens to a frame that arrives while the camera queue is full.
-enum class DropPolicy {
-  kOldest,  ///< the oldest waiting frame is dropped, the new one queued (fresh data first)
-  kNewest,  ///< the arriving frame is dropped
-  kNone,    ///< nothing is dropped: the queue grows without bound
-};
-const char* to_string(DropPolicy policy);
-/// "oldest" | "newest" | "none"; throws std::runtime_error otherwise.
-DropPolicy parse_drop_policy(const std::string& text);
-
-/// `system:` section of a platform.
-struct SystemConfig {
-  /// Camera frame rate of the streamed run; 0: frames back to back (the next frame is there
-  /// when the frontend can take it; the paper's throughput figures).
-  double sensor_fps = 0;
-  /// Frames waiting for the frontend (with sensor_fps > 0); a full queue drops by `drop`.
-  int queue_depth = 2;
-  DropPolicy drop = DropPolicy::kOldest;
-  /// Frontend results waiting for the backend thread; a full queue stalls the frontend
-  /// (back-pressure: the frame keeps its frame buffer until its results are queued).
-  int results_queue_depth = 2;
-  /// false: no contention (idle link per transfer, analytical kernel times, unbounded queues):
-  /// the analytical model, for cross-checking.
-  bool contention = true;
-
-  /// Every key of `system:` (docs/CONFIG.md).
-  static const FieldList<SystemConfig>& fields();
-  void validate() const;  ///< throws std::runtime_error naming the field
-  nlohmann::json to_json() const;
-  /// Reads a `system:` map over the defaults; errors name file, line and key.
-  static SystemConfig from_yaml(const YAML::Node& node, const std::string& where);
-};
 
 /// One offloaded kernel invocation as the DES runs it.
 struct OffloadWork {

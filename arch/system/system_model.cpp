@@ -10,6 +10,7 @@
 #include "arch/backend/kernel_replay.hpp"
 #include "arch/link/frame_transfers.hpp"
 #include "arch/memory/bram.hpp"
+#include "common/atomic_file.hpp"
 #include "sim_core/time.hpp"
 
 namespace edx::arch {
@@ -193,7 +194,12 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
         run(accelerated, false, accelerated ? timeline_options : SystemTimelineOptions{});
     v->stream = summarize_stream(streamed, v->frames, platform.system.sensor_fps, platform.power);
   }
-  if (options.timeline) timeline.write(*options.timeline);
+  if (options.timeline) {
+    r.timeline_json = timeline.to_json().dump();
+    r.timeline_first = options.timeline_first;
+    r.timeline_frames = std::min(options.timeline_count, frames.size() - options.timeline_first);
+    common::write_file_atomically(*options.timeline, r.timeline_json);
+  }
 }
 
 }  // namespace

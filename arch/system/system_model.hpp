@@ -35,9 +35,9 @@
 
 #include "arch/cost/energy.hpp"
 #include "arch/cost/resource_report.hpp"
+#include "arch/platform/platform.hpp"
 #include "arch/scheduler/scheduler.hpp"
 #include "arch/system/frontend_study.hpp"
-#include "arch/system/platform.hpp"
 #include "arch/system/system_des.hpp"
 #include "workloads/trace/records.hpp"
 
@@ -124,6 +124,10 @@ struct SystemResult {
   std::vector<KernelDecision> decisions;
   std::vector<KernelScheduleSummary> schedule;  ///< per kernel, over the evaluation frames
   cost::ResourceReport resources;
+  /// The whole-system timeline (Perfetto JSON) of the accelerated streamed run when one was asked
+  /// for with model "des"; empty otherwise. write_results keeps it beside the run.
+  std::string timeline_json;
+  std::size_t timeline_first = 0, timeline_frames = 0;  ///< the frames it shows
   /// baseline / accelerated mean per mode ("all" included): e2e, backend, frontend speedups, SD
   /// and energy reductions.
   nlohmann::json comparison() const;

@@ -1,13 +1,15 @@
 // edx report / edx check on a small hand-made results database written through the results_db
-// writer (arch/system/results_db.hpp), with figures computed by hand.
+// writer (arch/results/results_db.hpp), with figures computed by hand.
 #include <SQLiteCpp/SQLiteCpp.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <string>
 
-#include "arch/system/platform.hpp"
-#include "arch/system/results_db.hpp"
+#include "arch/platform/platform.hpp"
+#include "arch/results/results_db.hpp"
+#include "arch/results/schema.hpp"
 #include "arch/system/system_model.hpp"
 #include "reports/html_report.hpp"
 #include "reports/metrics.hpp"
@@ -196,6 +198,17 @@ TEST(PaperCheck, ShippedTargetsAreValid) {
   const std::vector<PaperTarget> targets = load_targets(default_targets_path());
   EXPECT_GE(targets.size(), 30u);
   for (const PaperTarget& t : targets) EXPECT_DOUBLE_EQ(t.tolerance, 0.10) << t.name;
+  // Every explanation a target points to is an anchor of docs/MODEL.md.
+  const std::string model = edx::testing::read_file(
+      default_targets_path().parent_path().parent_path() / "docs" / "MODEL.md");
+  std::size_t explained = 0;
+  for (const PaperTarget& t : targets) {
+    if (t.explained.empty()) continue;
+    ++explained;
+    EXPECT_NE(model.find("<a id=\"" + t.explained + "\"></a>"), std::string::npos)
+        << t.name << ": docs/MODEL.md has no anchor " << t.explained;
+  }
+  EXPECT_GE(explained, 20u);
 }
 
 TEST(PaperCheck, BadYamlNamesFileLineAndKey) {
@@ -215,7 +228,9 @@ TEST(PaperCheck, BadYamlNamesFileLineAndKey) {
   EXPECT_EQ(error_of("targets:\n  - {name: a, metric: x, paper: 1, colour: red}\n"),
             file +
                 ":2: colour: unknown key (expected name, metric, paper, unit, tolerance, "
-                "source)");
+                "source, explained)");
+  EXPECT_EQ(error_of("targets:\n  - {name: a, metric: x, paper: 1, explained: 'See #3'}\n"),
+            file + ":2: explained: expected an anchor of docs/MODEL.md (a-z, 0-9, '-')");
   EXPECT_EQ(error_of("targets:\n  - {name: a, paper: 1}\n"),
             file + ":2: metric: missing (expected a dotted metric path)");
   EXPECT_EQ(error_of("tolerance: 2\ntargets: []\n"),
@@ -243,6 +258,8 @@ TEST(Report, WritesIndexAndPlots) {
   EXPECT_EQ(html.find("Paper check"), std::string::npos);
   // Nothing left beside the report (no staging directory).
   EXPECT_EQ(edx::testing::entries(dir.path()).size(), 2u);  // r.db and report
+  // No timeline was stored: the page says how to keep one.
+  EXPECT_NE(html.find("No whole-system timeline stored"), std::string::npos);
   if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed: plots not checked";
   ASSERT_TRUE(result.plotted);
   // CDF, per-frame (vio, slam), backend breakdown, FPS, energy.
@@ -253,6 +270,57 @@ TEST(Report, WritesIndexAndPlots) {
     EXPECT_NE(svg.find("<svg"), std::string::npos) << image;
     EXPECT_NE(svg.find("</svg>"), std::string::npos) << image;
     EXPECT_NE(html.find("src=\"" + image + "\""), std::string::npos) << image;
+  }
+}
+
+TEST(Report, StoredTimelineIsWrittenBesideTheReportAndLinked) {
+  TempDir dir;
+  arch::SystemResult run = hand_made();
+  run.timeline_json = R"({"traceEvents":[{"name":"f2","ph":"X","ts":0,"dur":5}]})";
+  run.timeline_first = 2;
+  run.timeline_frames = 3;
+  arch::write_results(dir.path() / "r.db", run);
+  const ResultsData data = read_results(dir.path() / "r.db");
+  ASSERT_EQ(data.runs.size(), 1u);
+  EXPECT_EQ(data.runs[0].timeline_json, run.timeline_json);
+  EXPECT_EQ(data.runs[0].timeline_first, 2);
+  EXPECT_EQ(data.runs[0].timeline_frames, 3);
+  ReportOptions options;
+  options.out_dir = dir.path() / "report";
+  options.gnuplot = "/nonexistent/gnuplot";
+  write_report(data, options);
+  const std::string html = edx::testing::read_file(dir.path() / "report" / "index.html");
+  EXPECT_NE(html.find("frames 2–4: <a href=\"run1_timeline.json\">"), std::string::npos);
+  EXPECT_EQ(edx::testing::read_file(dir.path() / "report" / "run1_timeline.json"),
+            run.timeline_json);
+  // Writing the run again without a timeline removes the stored one.
+  arch::write_results(dir.path() / "r.db", hand_made());
+  EXPECT_TRUE(read_results(dir.path() / "r.db").runs[0].timeline_json.empty());
+}
+
+TEST(Report, NewerResultsSchemaIsRefusedNamingTheFile) {
+  TempDir dir;
+  const std::filesystem::path db = dir.path() / "r.db";
+  arch::write_results(db, hand_made());
+  {
+    SQLite::Database raw(db.string(), SQLite::OPEN_READWRITE);
+    raw.exec(fmt::format("PRAGMA user_version = {}", results::kSchemaVersion + 1));
+  }
+  try {
+    read_results(db);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              fmt::format("{}: results schema version {} is newer than this edx reads ({}); use "
+                          "a newer edx",
+                          db.string(), results::kSchemaVersion + 1, results::kSchemaVersion));
+  }
+  try {
+    arch::write_results(db, hand_made());
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("is newer than this edx writes"), std::string::npos)
+        << e.what();
   }
 }
 

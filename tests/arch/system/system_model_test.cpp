@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "arch/system/results_db.hpp"
+#include "arch/results/results_db.hpp"
 #include "tests/arch/system/hand_tasks.hpp"
 #include "tests/support/temp_dir.hpp"
 

@@ -13,7 +13,7 @@
 //   transfers: {feature_id_bytes: 4, ...}       FrameTransferConfig
 //   cost: {...}  power: {...}                   cost::CostConfig, cost::PowerConfig
 //   scheduler: {policy: regression, training_fraction: 0.25}
-//   system: {sensor_fps: 0, queue_depth: 2, drop: oldest, ...}   SystemConfig (system_des.hpp)
+//   system: {sensor_fps: 0, queue_depth: 2, drop: oldest, ...}   SystemConfig (system_config.hpp)
 // Every section is optional (defaults); unknown keys and wrong types are file:line:key errors.
 // Each struct declares its keys once, in a field list (arch/common/config_fields.hpp), which
 // drives parsing, validation, JSON and the reference of every key (docs/CONFIG.md).
@@ -36,8 +36,8 @@
 #include "arch/host/host_model.hpp"
 #include "arch/link/frame_transfers.hpp"
 #include "arch/link/link.hpp"
+#include "arch/platform/system_config.hpp"
 #include "arch/scheduler/scheduler.hpp"
-#include "arch/system/system_des.hpp"
 
 namespace edx::arch {
 

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "arch/system/platform.hpp"
+#include "arch/platform/platform.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {

@@ -1,5 +1,5 @@
 // Sweep specs: parsing, expansion into design points, metrics and the Pareto front.
-#include "arch/system/sweep.hpp"
+#include "arch/sweep/sweep.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>

@@ -1,4 +1,4 @@
-#include "arch/system/results_db.hpp"
+#include "arch/results/results_db.hpp"
 
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <fmt/format.h>
@@ -11,41 +11,11 @@
 #include <system_error>
 #include <vector>
 
+#include "arch/results/schema.hpp"
 #include "common/atomic_file.hpp"
 
 namespace edx::arch {
 namespace {
-
-constexpr const char* kSchema = R"sql(
-CREATE TABLE IF NOT EXISTS runs (run_id TEXT PRIMARY KEY, config_hash TEXT NOT NULL,
-  trace_hash TEXT NOT NULL, platform TEXT NOT NULL, trace TEXT NOT NULL, frames INTEGER NOT NULL,
-  policy TEXT NOT NULL, config_json TEXT NOT NULL, summary_json TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS frames (run_id TEXT NOT NULL, variant TEXT NOT NULL,
-  frame_id INTEGER NOT NULL, mode TEXT NOT NULL, frontend_ms REAL, backend_ms REAL, e2e_ms REAL,
-  host_busy_ms REAL, offloaded INTEGER, energy_j REAL, PRIMARY KEY (run_id, variant, frame_id));
-CREATE TABLE IF NOT EXISTS latency (run_id TEXT NOT NULL, variant TEXT NOT NULL,
-  mode TEXT NOT NULL, stage TEXT NOT NULL, count INTEGER, mean REAL, sd REAL, rsd REAL, p50 REAL,
-  p90 REAL, p99 REAL, max REAL, PRIMARY KEY (run_id, variant, mode, stage));
-CREATE TABLE IF NOT EXISTS throughput (run_id TEXT NOT NULL, variant TEXT NOT NULL,
-  fps_without_pipelining REAL, fps_with_pipelining REAL, PRIMARY KEY (run_id, variant));
-CREATE TABLE IF NOT EXISTS energy (run_id TEXT NOT NULL, variant TEXT NOT NULL,
-  mode TEXT NOT NULL, mean_j REAL, sd_j REAL, p99_j REAL, max_j REAL,
-  PRIMARY KEY (run_id, variant, mode));
-CREATE TABLE IF NOT EXISTS offload (run_id TEXT NOT NULL, frame_id INTEGER NOT NULL,
-  kernel_seq INTEGER NOT NULL, kernel TEXT NOT NULL, size REAL, host_ms REAL, accel_ms REAL,
-  compute_ms REAL, transfer_ms REAL, fits_spm INTEGER, training INTEGER, offloaded INTEGER,
-  PRIMARY KEY (run_id, frame_id, kernel_seq));
-CREATE TABLE IF NOT EXISTS schedule (run_id TEXT NOT NULL, kernel TEXT NOT NULL,
-  invocations INTEGER, offloaded INTEGER, host_only_s REAL, always_s REAL, policy_s REAL,
-  oracle_s REAL, r_squared_train REAL, r_squared_eval REAL, gap_to_oracle REAL,
-  PRIMARY KEY (run_id, kernel));
-CREATE TABLE IF NOT EXISTS resources (run_id TEXT NOT NULL, entry TEXT NOT NULL,
-  grp TEXT NOT NULL, kind TEXT NOT NULL, lut REAL, ff REAL, dsp REAL, bram REAL, ns_lut REAL,
-  ns_ff REAL, ns_dsp REAL, ns_bram REAL);
-)sql";
-
-constexpr const char* kTables[] = {"frames",  "latency",  "throughput", "energy",
-                                   "offload", "schedule", "resources",  "runs"};
 
 /// Binds a double, NULL when it is not finite (a kernel that does not fit has no accel time).
 void bind_real(SQLite::Statement& s, int index, double v) {
@@ -58,7 +28,7 @@ void bind_real(SQLite::Statement& s, int index, double v) {
 
 void write_run(SQLite::Database& db, const SystemResult& r, const std::string& run_id,
                const ResultsWriteOptions& options) {
-  for (const char* table : kTables) {
+  for (const std::string_view table : results::kRunTables) {
     SQLite::Statement del(db, fmt::format("DELETE FROM {} WHERE run_id = ?", table));
     del.bind(1, run_id);
     del.exec();
@@ -183,6 +153,14 @@ void write_run(SQLite::Database& db, const SystemResult& r, const std::string& r
   };
   for (const cost::CostEntry& e : r.resources.entries) put(e.name, e.group, e.kind, e.shared, e.ns);
   put("total", "all", "total", r.resources.total.shared, r.resources.total.ns);
+  if (!r.timeline_json.empty()) {
+    SQLite::Statement timeline(db, "INSERT INTO timelines VALUES (?, ?, ?, ?)");
+    timeline.bind(1, run_id);
+    timeline.bind(2, static_cast<std::int64_t>(r.timeline_first));
+    timeline.bind(3, static_cast<std::int64_t>(r.timeline_frames));
+    timeline.bind(4, r.timeline_json);
+    timeline.exec();
+  }
 }
 
 }  // namespace
@@ -191,7 +169,10 @@ std::string run_id_of(const std::string& config_hash, const std::string& trace_h
   return config_hash + "-" + trace_hash;
 }
 
-void create_results_tables(SQLite::Database& db) { db.exec(kSchema); }
+void create_results_tables(SQLite::Database& db) {
+  db.exec(std::string(results::kRunTablesSql));
+  db.exec(fmt::format("PRAGMA user_version = {}", results::kSchemaVersion));
+}
 
 void require_results_database(SQLite::Database& db, const std::string& path) {
   std::vector<std::string> tables;
@@ -204,7 +185,16 @@ void require_results_database(SQLite::Database& db, const std::string& path) {
   const auto has = [&](const char* t) {
     return std::find(tables.begin(), tables.end(), t) != tables.end();
   };
-  if (tables.empty() || has("runs")) return;
+  if (tables.empty()) return;
+  if (has("runs")) {
+    const int version = db.execAndGet("PRAGMA user_version").getInt();
+    if (version > results::kSchemaVersion) {
+      throw std::runtime_error(fmt::format(
+          "{}: results schema version {} is newer than this edx writes ({}); use a newer edx", path,
+          version, results::kSchemaVersion));
+    }
+    return;
+  }
   if (has("meta") && has("frames") && has("kernels")) {
     std::string version = "?";
     try {
@@ -248,7 +238,7 @@ void write_results(const std::filesystem::path& path, const SystemResult& result
       db.exec("PRAGMA busy_timeout = 5000");
       require_results_database(db, path.string());
       SQLite::Transaction transaction(db);  // rolled back by its destructor on an exception
-      db.exec(kSchema);
+      create_results_tables(db);
       write_run(db, result, run_id, {});
       transaction.commit();
     }

@@ -1,6 +1,6 @@
 // Platform `extends:` merging and its errors; sweep specs (expansion, errors), the Pareto front,
 // running a sweep with resume, and CSV export — on hand-written YAML and a hand-built trace.
-#include "arch/system/sweep.hpp"
+#include "arch/sweep/sweep.hpp"
 
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <fmt/format.h>
@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "bench/stretch.hpp"
-#include "tests/arch/system/sweep_fixture.hpp"
+#include "tests/arch/sweep/sweep_fixture.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "workloads/trace/reader.hpp"
 #include "workloads/trace/writer.hpp"

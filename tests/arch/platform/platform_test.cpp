@@ -1,5 +1,5 @@
 // Platform YAML: fields over defaults, and errors that name the file, line and key.
-#include "arch/system/platform.hpp"
+#include "arch/platform/platform.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

@@ -20,24 +20,15 @@
 #include <stdexcept>
 #include <thread>
 
-#include "arch/system/results_db.hpp"
-#include "arch/system/sweep.hpp"
+#include "arch/results/results_db.hpp"
+#include "arch/results/schema.hpp"
+#include "arch/sweep/sweep.hpp"
 #include "arch/system/system_model.hpp"
 #include "common/atomic_file.hpp"
 #include "workloads/trace/reader.hpp"
 
 namespace edx::arch {
 namespace {
-
-constexpr const char* kSweepSchema = R"sql(
-CREATE TABLE IF NOT EXISTS sweeps (sweep_id TEXT PRIMARY KEY, spec TEXT NOT NULL,
-  base TEXT NOT NULL, trace TEXT NOT NULL, points INTEGER NOT NULL, spec_json TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS sweep_points (sweep_id TEXT NOT NULL, point INTEGER NOT NULL,
-  run_id TEXT NOT NULL, parameters_json TEXT NOT NULL, metrics_json TEXT NOT NULL,
-  feasible INTEGER NOT NULL, pareto INTEGER NOT NULL DEFAULT 0, PRIMARY KEY (sweep_id, point));
-CREATE TABLE IF NOT EXISTS sweep_locks (sweep_id TEXT PRIMARY KEY, pid INTEGER NOT NULL,
-  host TEXT NOT NULL, started TEXT NOT NULL);
-)sql";
 
 std::string host_name() {
   char name[256] = {};
@@ -201,7 +192,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
     // first's lock row, then sees it).
     SQLite::Transaction t(db, SQLite::TransactionBehavior::IMMEDIATE);
     create_results_tables(db);
-    db.exec(kSweepSchema);
+    db.exec(std::string(results::kSweepTablesSql));
     take_sweep_lock(db, options.db.string(), out.sweep_id);
     SQLite::Statement sweep(db, "INSERT OR REPLACE INTO sweeps VALUES (?, ?, ?, ?, ?, ?)");
     sweep.bind(1, out.sweep_id);

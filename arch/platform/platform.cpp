@@ -1,4 +1,4 @@
-#include "arch/system/platform.hpp"
+#include "arch/platform/platform.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>

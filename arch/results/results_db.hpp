@@ -7,21 +7,7 @@
 // Everything of a run is written in one transaction: on any error the transaction is rolled
 // back and the file holds what it held before (a new file is removed).
 //
-// Tables (every row carries run_id = "<config_hash>-<trace_hash>"):
-//   runs(run_id PK, config_hash, trace_hash, platform, trace, frames, policy,
-//        config_json, summary_json)
-//   frames(run_id, variant, frame_id, mode, frontend_ms, backend_ms, e2e_ms, host_busy_ms,
-//          offloaded, energy_j)                       variant: baseline | accelerated
-//   latency(run_id, variant, mode, stage, count, mean, sd, rsd, p50, p90, p99, max)
-//          mode: registration | vio | slam | none | all; stage: frontend | backend | e2e
-//   throughput(run_id, variant, fps_without_pipelining, fps_with_pipelining)
-//   energy(run_id, variant, mode, mean_j, sd_j, p99_j, max_j)
-//   offload(run_id, frame_id, kernel_seq, kernel, size, host_ms, accel_ms, compute_ms,
-//           transfer_ms, fits_spm, training, offloaded)     accel_ms NULL: does not fit the SPM
-//   schedule(run_id, kernel, invocations, offloaded, host_only_s, always_s, policy_s, oracle_s,
-//            r_squared_train, r_squared_eval, gap_to_oracle)
-//   resources(run_id, entry, grp, kind, lut, ff, dsp, bram, ns_lut, ns_ff, ns_dsp, ns_bram)
-//            entries plus "total" (grp "all")
+// Tables and columns: arch/results/schema.hpp.
 #include <filesystem>
 
 #include "arch/system/system_model.hpp"

@@ -1,0 +1,60 @@
+#include "arch/platform/system_config.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+#include "arch/common/yaml_fields.hpp"
+
+namespace edx::arch {
+
+const char* to_string(DropPolicy policy) {
+  switch (policy) {
+    case DropPolicy::kOldest:
+      return "oldest";
+    case DropPolicy::kNewest:
+      return "newest";
+    case DropPolicy::kNone:
+      return "none";
+  }
+  return "oldest";
+}
+
+DropPolicy parse_drop_policy(const std::string& text) {
+  if (text == "oldest") return DropPolicy::kOldest;
+  if (text == "newest") return DropPolicy::kNewest;
+  if (text == "none") return DropPolicy::kNone;
+  throw std::runtime_error(fmt::format("expected oldest, newest or none, got '{}'", text));
+}
+
+const FieldList<SystemConfig>& SystemConfig::fields() {
+  using C = SystemConfig;
+  static const FieldList<C> list = {
+      field("sensor_fps", &C::sensor_fps, "frames/s",
+            "camera frame rate of the streamed run; 0: frames back to back",
+            Bounds::at_least(0).at_most(1e6)),
+      field("queue_depth", &C::queue_depth, "frames",
+            "frames waiting for the frontend; a full queue drops by `drop`", Bounds::at_least(1)),
+      enum_field(
+          "drop", &C::drop, {"oldest", "newest", "none"},
+          [](DropPolicy p) { return std::string(to_string(p)); }, parse_drop_policy,
+          "which frame a full camera queue drops (none: the camera waits)"),
+      field("results_queue_depth", &C::results_queue_depth, "frames",
+            "frontend results waiting for the backend; a full queue stalls the frontend",
+            Bounds::at_least(1)),
+      field("contention", &C::contention, "",
+            "false: idle link per transfer, analytical kernel times, unbounded queues (the "
+            "analytical model)"),
+  };
+  return list;
+}
+
+void SystemConfig::validate() const { check_fields(*this, "system", fields()); }
+
+nlohmann::json SystemConfig::to_json() const { return fields_to_json(*this, fields()); }
+
+SystemConfig SystemConfig::from_yaml(const YAML::Node& node, const std::string& where) {
+  return parse_section<SystemConfig>(node, where, "system");
+}
+
+}  // namespace edx::arch
