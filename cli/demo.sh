@@ -111,7 +111,8 @@ run simulate --config "$root/configs/edx_drone.yaml" --trace "$traces/drone_mix.
 for excerpt in "${excerpts[@]}"; do
   config="$root/configs/edx_car.yaml"
   [[ "$excerpt" == euroc_vio ]] && config="$root/configs/edx_drone.yaml"
-  run simulate --config "$config" --trace "$traces/$excerpt.db" --out "$results"
+  run simulate --config "$config" --trace "$traces/$excerpt.db" --out "$results" \
+    --timeline "$out/${excerpt}_system_timeline.json"
 done
 
 step "sweep: backend GEMM block size vs latency and DSP on the car mix (sweeps/gemm_block.yaml)"
