@@ -97,7 +97,8 @@ SweepParameter parse_parameter(const std::string& where, const YAML::Node& key_n
     const double count = std::floor((to - from) / step * (1 + 1e-12) + 1e-9);
     if (!(count < 100000)) {
       fail(where, range, prefix + ".range",
-           fmt::format("{:.4g} values (at most 100000)", count + 1));
+           std::isfinite(count) ? fmt::format("{:.4g} values (at most 100000)", count + 1)
+                                : std::string("more than 100000 values"));
     }
     const auto n = static_cast<std::size_t>(count);
     for (std::size_t i = 0; i <= n; ++i) generated.push_back(from + double(i) * step);

@@ -183,10 +183,6 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
   SQLite::Database& db = *db_handle;
   db.exec("PRAGMA busy_timeout = 5000");
   require_results_database(db, options.db.string());
-  // WAL with synchronous = NORMAL: a commit is not fsynced, but survives the process being
-  // killed (only a power cut can lose the last points; the file stays consistent).
-  db.exec("PRAGMA journal_mode = WAL");
-  db.exec("PRAGMA synchronous = NORMAL");
   {
     // IMMEDIATE: two processes starting at once are serialized here (the second waits for the
     // first's lock row, then sees it).
@@ -209,7 +205,6 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
     stale.exec();
     t.commit();
   }
-
   // The lock row goes when this run ends, however it ends (a kill leaves it; see above).
   struct ReleaseLock {
     SQLite::Database& db;
@@ -224,6 +219,11 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
       }
     }
   } release_lock{db, out.sweep_id};
+  // WAL with synchronous = NORMAL: a commit is not fsynced, but survives the process being
+  // killed (only a power cut can lose the last points; the file stays consistent). Set once the
+  // sweep's lock is held, so that a refused sweep leaves the file as it was.
+  db.exec("PRAGMA journal_mode = WAL");
+  db.exec("PRAGMA synchronous = NORMAL");
 
   // The pool: workers take the next point in index order, make its platform and run id, and
   // either find its run in the database (resume: evaluated from the stored summary, not counted

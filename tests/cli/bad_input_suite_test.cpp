@@ -1,0 +1,374 @@
+// The bad-input suite (issue 21; docs/RELIABILITY.md): one case per failure a new user met, by
+// class, each run through the real `edx` binary and held to the same three promises:
+//   - the exit code (1 for a bad file or value, 2 for a bad command line),
+//   - standard error is exactly one line, naming the file (with line and key where there is one),
+//   - nothing in the case's folder is created, removed or changed (a FIFO stays a FIFO).
+// Classes: 1 size checked first, 2 special files, 3 wrong kind of database, 4 nothing left by a
+// failing command, 5 failed writes to stdout, 6 bad values, 7 errors that name the file, 8 one
+// process per sweep, 9 trajectories that go back in time (repeated stamps are accepted: the
+// last test).
+#include <SQLiteCpp/SQLiteCpp.h>
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "tests/support/run_command.hpp"
+#include "tests/support/temp_dir.hpp"
+
+namespace edx::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kSource = EDX_SOURCE_DIR;
+const std::string kGolden = kSource + "/tests/data/golden/golden_mix.db";
+const std::string kCar = kSource + "/configs/edx_car.yaml";
+
+/// Replaces every "{dir}", "{edx}", "{src}", "{golden}", "{car}" and "{host}" in `text`.
+std::string expand(std::string text, const fs::path& dir) {
+  char host[256] = {};
+  ::gethostname(host, sizeof host - 1);
+  const std::pair<std::string, std::string> names[] = {
+      {"{dir}", dir.string()}, {"{edx}", built_binary("edx")},
+      {"{src}", kSource},      {"{golden}", kGolden},
+      {"{car}", kCar},         {"{host}", host}};
+  for (const auto& [key, value] : names) {
+    for (std::size_t at = text.find(key); at != std::string::npos;
+         at = text.find(key, at + value.size())) {
+      text.replace(at, key.size(), value);
+    }
+  }
+  return text;
+}
+
+void write(const fs::path& dir, const std::string& name, const std::string& text) {
+  std::ofstream(dir / name) << expand(text, dir);
+}
+
+/// A copy of the golden trace with `sql` applied.
+void spoiled_trace(const fs::path& dir, const std::string& name, const std::string& sql) {
+  fs::copy_file(kGolden, dir / name);
+  SQLite::Database db((dir / name).string(), SQLite::OPEN_READWRITE);
+  db.exec(sql);
+}
+
+/// A results database holding the golden trace's Edx-Car run.
+void results_db(const fs::path& dir, const std::string& name) {
+  const CommandResult r = run_command(
+      expand(fmt::format("'{{edx}}' simulate --config '{{car}}' --trace '{{golden}}' --out "
+                         "'{{dir}}/{}'",
+                         name),
+             dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+}
+
+/// A sweep spec over the golden trace (or `trace`) with a valid grid.
+std::string sweep_spec(const std::string& trace = "{golden}",
+                       const std::string& objective = "dsp") {
+  return "base: {car}\ntrace: " + trace +
+         "\nparameters:\n  backend.gemm_block: {values: [2, 4]}\nobjectives: [{minimize: " +
+         objective + "}]\n";
+}
+
+/// What is in a folder: each entry's type and, for regular files, their size and a hash of
+/// their bytes.
+std::map<std::string, std::string> snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    const std::string name = fs::relative(entry.path(), dir).string();
+    if (entry.is_regular_file()) {
+      const std::string bytes = read_text_file(entry.path());
+      out[name] = fmt::format("file of {} bytes, hash {:016x}", bytes.size(),
+                              std::hash<std::string>{}(bytes));
+    } else {
+      out[name] = entry.is_fifo() ? "fifo" : entry.is_directory() ? "dir" : "other";
+    }
+  }
+  return out;
+}
+
+struct BadInputCase {
+  std::string name;                            ///< c<class>_<what>
+  std::function<void(const fs::path&)> setup;  ///< writes the case's files into its folder
+  std::string command;                         ///< placeholders as expand()
+  int exit_code = 1;
+  std::string message;  ///< the whole of standard error, without its newline
+};
+
+std::vector<BadInputCase> cases() {
+  const auto none = [](const fs::path&) {};
+  return {
+      // 1. Size before anything: a 10^9-point grid is refused at once, nothing created.
+      {"c1_grid_of_a_billion_points",
+       [](const fs::path& d) {
+         write(d, "big.yaml",
+               "base: {car}\ntrace: {golden}\nparameters:\n"
+               "  backend.gemm_block: {range: {from: 1, to: 1000, step: 1}}\n"
+               "  backend.clock_mhz: {range: {from: 1, to: 1000, step: 1}}\n"
+               "  frontend.clock_mhz: {range: {from: 1, to: 1000, step: 1}}\n"
+               "objectives: [{minimize: dsp}]\n");
+       },
+       "'{edx}' sweep '{dir}/big.yaml' --db '{dir}/r.db' --limit 2", 1,
+       "edx: error: {dir}/big.yaml:4: parameters: the grid has 1e+09 points (more than 10^6); "
+       "use random sampling"},
+      // 2. Special files: a database output that is a FIFO is refused, not replaced.
+      {"c2_results_database_onto_a_fifo",
+       [](const fs::path& d) { ASSERT_EQ(::mkfifo((d / "ff").c_str(), 0600), 0); },
+       "'{edx}' simulate --config '{car}' --trace '{golden}' --out '{dir}/ff'", 1,
+       "edx: error: {dir}/ff: not a regular file (a results database is a file; give a file "
+       "path)"},
+      {"c2_report_folder_onto_a_file", [](const fs::path& d) { results_db(d, "good.db"); },
+       "'{edx}' report '{dir}/good.db' --out '{dir}/good.db'", 1,
+       "edx: error: {dir}/good.db: exists and is not a directory"},
+      // 3. The wrong kind of database: a sweep never writes into a trace.
+      {"c3_sweep_into_a_trace",
+       [](const fs::path& d) {
+         fs::copy_file(kGolden, d / "t.db");
+         write(d, "s.yaml", sweep_spec());
+       },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/t.db'", 1,
+       "edx: error: {dir}/t.db: is an edx trace (schema version 3), not a results database"},
+      {"c3_export_of_a_trace", [](const fs::path& d) { fs::copy_file(kGolden, d / "t.db"); },
+       "'{edx}' export '{dir}/t.db' --table runs --out '{dir}/x.csv'", 1,
+       "edx: error: {dir}/t.db: --table: no table 'runs' (tables: frames, kernels, meta, ops, "
+       "tasks)"},
+      // 4. A failing command leaves nothing behind.
+      {"c4_sweep_objective_names_no_metric",
+       [](const fs::path& d) { write(d, "s.yaml", sweep_spec("{golden}", "happiness")); },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
+       "edx: error: {dir}/s.yaml:5: objectives[0]: unknown metric 'happiness' (docs/SWEEPS.md "
+       "lists them)"},
+      {"c4_sweep_over_a_trace_without_frames",
+       [](const fs::path& d) {
+         spoiled_trace(d, "empty.db",
+                       "DELETE FROM ops; DELETE FROM kernels; DELETE FROM tasks; DELETE FROM "
+                       "frames; UPDATE meta SET value = '0' WHERE key = 'frames'");
+         write(d, "s.yaml", sweep_spec("{dir}/empty.db"));
+       },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
+       "edx: error: {dir}/empty.db: the trace has no frames"},
+      // 5. Output that cannot reach standard output fails the command.
+      {"c5_stdout_on_a_full_device", none,
+       "('{edx}' simulate --config '{car}' --trace '{golden}' >/dev/full)", 1,
+       "edx: error: standard output: write failed (No space left on device)"},
+      // 6. Values no run produces.
+      {"c6_random_samples_beyond_a_million",
+       [](const fs::path& d) {
+         write(d, "s.yaml",
+               "base: {car}\ntrace: {golden}\nparameters:\n  backend.gemm_block: {values: [2, "
+               "4]}\nsampling: {random: {samples: 99999999999999999999}}\nobjectives: "
+               "[{minimize: dsp}]\n");
+       },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
+       "edx: error: {dir}/s.yaml:5: sampling.random.samples: expected an integer from 1 to 10^6"},
+      {"c6_range_of_unbounded_points",
+       [](const fs::path& d) {
+         write(d, "s.yaml",
+               "base: {car}\ntrace: {golden}\nparameters:\n  backend.clock_mhz: {range: {from: 1, "
+               "to: 1e300, step: 1e-300}}\nobjectives: [{minimize: dsp}]\n");
+       },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
+       "edx: error: {dir}/s.yaml:4: parameters.backend.clock_mhz.range: more than 100000 values"},
+      {"c6_platform_key_written_twice",
+       [](const fs::path& d) {
+         write(d, "p.yaml", "name: p\nbackend:\n  gemm_block: 4\n  gemm_block: 8\n");
+       },
+       "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}' --out '{dir}/r.db'", 1,
+       "edx: error: {dir}/p.yaml:4: backend.gemm_block: written twice (also on line 3)"},
+      {"c6_sweep_parameter_written_twice",
+       [](const fs::path& d) {
+         write(d, "s.yaml",
+               "base: {car}\ntrace: {golden}\nparameters:\n  backend.gemm_block: {values: [2]}\n"
+               "  backend.gemm_block: {values: [4]}\nobjectives: [{minimize: dsp}]\n");
+       },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
+       "edx: error: {dir}/s.yaml:5: parameters.backend.gemm_block: written twice (also on line "
+       "4)"},
+      {"c6_number_beyond_a_double",
+       [](const fs::path& d) { write(d, "p.yaml", "name: p\nbackend:\n  clock_mhz: 1e400\n"); },
+       "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}' --out '{dir}/r.db'", 1,
+       "edx: error: {dir}/p.yaml:3: backend.clock_mhz: expected a number in (0, 1000], got "
+       "'1e400'"},
+      {"c6_empty_output_path", none,
+       "'{edx}' simulate --config '{car}' --trace '{golden}' --out ''", 2,
+       "edx: --out: expected a path, got '' (see edx --help)"},
+      {"c6_negative_seed", none,
+       "'{edx}' gen --scenario indoor_unknown --frames 2 --seed -1 --out '{dir}/g'", 2,
+       "edx: --seed: expected a non-negative integer, got '-1' (see edx --help)"},
+      {"c6_timeline_past_the_trace", none,
+       "'{edx}' simulate --config '{car}' --trace '{golden}' --timeline '{dir}/t.json' "
+       "--timeline-first 100000",
+       1,
+       "edx: error: {golden}: the timeline's first frame 100000 is past the trace's last (240 "
+       "frames)"},
+      {"c6_frame_count_that_disagrees_with_the_rows",
+       [](const fs::path& d) {
+         spoiled_trace(d, "t.db", "UPDATE meta SET value = '500' WHERE key = 'frames'");
+       },
+       "'{edx}' simulate --config '{car}' --trace '{dir}/t.db' --out '{dir}/r.db'", 1,
+       "edx: error: {dir}/t.db: meta.frames says 500 but the trace has 240 frame rows"},
+      {"c6_kernel_of_nine_exaseconds",
+       [](const fs::path& d) {
+         spoiled_trace(d, "t.db",
+                       "UPDATE kernels SET host_ns = 9000000000000000000 WHERE rowid = (SELECT "
+                       "min(rowid) FROM kernels)");
+       },
+       "'{edx}' simulate --config '{car}' --trace '{dir}/t.db' --out '{dir}/r.db'", 1,
+       "edx: error: {dir}/t.db: frame 0, kernel 0 (preintegration): host_ns is "
+       "9000000000000000000, above the plausible 10000000000000"},
+      {"c6_task_of_two_billion_pixels",
+       [](const fs::path& d) {
+         spoiled_trace(d, "t.db", "UPDATE tasks SET pixels = 2000000000 WHERE rowid = 1");
+       },
+       "'{edx}' simulate --config '{car}' --trace '{dir}/t.db' --out '{dir}/r.db'", 1,
+       "edx: error: {dir}/t.db: frame 0, task 0 (FD): per_level pixels sum to 192989, task says "
+       "2000000000"},
+      // 7. Errors name the file (and line, key or row).
+      {"c7_trace_without_frames",
+       [](const fs::path& d) {
+         spoiled_trace(d, "t.db",
+                       "DELETE FROM ops; DELETE FROM kernels; DELETE FROM tasks; DELETE FROM "
+                       "frames; UPDATE meta SET value = '0' WHERE key = 'frames'");
+       },
+       "'{edx}' simulate --config '{car}' --trace '{dir}/t.db' --out '{dir}/r.db'", 1,
+       "edx: error: {dir}/t.db: the trace has no frames"},
+      {"c7_bad_meta_resolution",
+       [](const fs::path& d) {
+         spoiled_trace(d, "t.db", "UPDATE meta SET value = '320by240' WHERE key = 'resolution'");
+       },
+       "'{edx}' simulate --config '{car}' --trace '{dir}/t.db'", 1,
+       "edx: error: {dir}/t.db: meta.resolution: expected WxH (e.g. 1280x720), got '320by240'"},
+      {"c7_frame_without_frontend_rows",
+       [](const fs::path& d) { spoiled_trace(d, "t.db", "DELETE FROM tasks WHERE frame_id = 0"); },
+       "'{edx}' simulate --config '{car}' --trace '{dir}/t.db'", 1,
+       "edx: error: {dir}/t.db: frame 0: no frontend task rows (the frontend model needs a "
+       "frontend trace)"},
+      {"c7_trace_of_another_schema_version",
+       [](const fs::path& d) {
+         SQLite::Database db((d / "t.db").string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+         db.exec(
+             "CREATE TABLE meta (key TEXT, value TEXT); INSERT INTO meta VALUES "
+             "('schema_version', '2'); CREATE TABLE frames (x); CREATE TABLE kernels (x)");
+       },
+       "'{edx}' simulate --config '{car}' --trace '{dir}/t.db'", 1,
+       "edx: error: {dir}/t.db: trace schema version 2, this edx reads version 3"},
+      {"c7_text_file_as_a_results_database",
+       [](const fs::path& d) { write(d, "junk.db", "hello\n"); },
+       "'{edx}' export '{dir}/junk.db' --table runs --out '{dir}/x.csv'", 1,
+       "edx: error: {dir}/junk.db: not a readable edx results database: file is not a "
+       "database"},
+      {"c7_text_file_as_a_sweep_database",
+       [](const fs::path& d) {
+         write(d, "junk.db", "hello\n");
+         write(d, "s.yaml", sweep_spec());
+       },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/junk.db'", 1,
+       "edx: error: {dir}/junk.db: not a readable SQLite database: file is not a database"},
+      {"c7_trajectory_that_is_a_folder", [](const fs::path& d) { fs::create_directory(d / "gt"); },
+       "'{edx}' eval --gt '{dir}/gt' --est '{dir}/gt' --format tum --align se3", 1,
+       "edx: error: {dir}/gt: is a directory (expected a trajectory file)"},
+      {"c7_unknown_key_of_a_sweep_spec_is_blamed_on_the_spec",
+       [](const fs::path& d) {
+         write(d, "s.yaml",
+               "base: {car}\ntrace: {golden}\nparameters:\n  backend.gemm_blok: {values: [2, "
+               "4]}\nobjectives: [{minimize: dsp}]\n");
+       },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
+       "edx: error: {dir}/s.yaml:4: backend.gemm_blok: unknown key"},
+      {"c7_tilde_is_described_as_nothing",
+       [](const fs::path& d) { write(d, "p.yaml", "name: p\nbackend:\n  gemm_block: ~\n"); },
+       "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}'", 1,
+       "edx: error: {dir}/p.yaml:3: backend.gemm_block: expected an integer in [1, 256], got "
+       "'nothing (~ or an empty value)'"},
+      {"c7_missing_platform_file", none,
+       "'{edx}' simulate --config '{dir}/none.yaml' --trace '{golden}'", 1,
+       "edx: error: {dir}/none.yaml: cannot read the platform file"},
+      {"c7_missing_trace_file", none, "'{edx}' simulate --config '{car}' --trace '{dir}/none.db'",
+       1, "edx: error: {dir}/none.db: no such trace file"},
+      {"c7_missing_dataset_folder", none,
+       "'{edx}' trace --dataset '{dir}/none' --format euroc --out '{dir}/t.db'", 1,
+       "edx: error: {dir}/none: dataset folder not found"},
+      {"c7_unknown_option", none, "'{edx}' simulate --config '{car}' --trace '{golden}' --frob", 2,
+       "edx: The following argument was not expected: --frob (see edx --help)"},
+      // 8. One process per sweep: a sweep another live process holds is refused, naming it.
+      {"c8_sweep_held_by_another_process",
+       [](const fs::path& d) {
+         results_db(d, "r.db");
+         write(d, "s.yaml", sweep_spec());
+         SQLite::Database db((d / "r.db").string(), SQLite::OPEN_READWRITE);
+         db.exec(
+             "CREATE TABLE sweep_locks (sweep_id TEXT PRIMARY KEY, pid INTEGER NOT NULL, host "
+             "TEXT NOT NULL, started TEXT NOT NULL)");
+         db.exec(expand("INSERT INTO sweep_locks VALUES ('s', 1, '{host}', '2026-11-26T00:00:00Z')",
+                        d));
+       },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
+       "edx: error: {dir}/r.db: sweep 's' is being run by process 1 on {host} since "
+       "2026-11-26T00:00:00Z (wait for it, or delete its row from sweep_locks if that process is "
+       "gone)"},
+      // 9. A trajectory that goes back in time is refused at its line.
+      {"c9_trajectory_going_back_in_time",
+       [](const fs::path& d) {
+         write(d, "gt.txt", "0 0 0 0 0 0 0 1\n2 1 0 0 0 0 0 1\n1 2 0 0 0 0 0 1\n3 3 0 0 0 0 0 1\n");
+         write(d, "est.txt",
+               "0 0 0 0 0 0 0 1\n1 1 0 0 0 0 0 1\n2 2 0 0 0 0 0 1\n3 3 0 0 0 0 0 1\n");
+       },
+       "'{edx}' eval --gt '{dir}/gt.txt' --est '{dir}/est.txt' --format tum --align se3", 1,
+       "edx: error: {dir}/gt.txt:3: timestamp 1 s comes after timestamp 2 s on line 2: poses "
+       "must be sorted"},
+  };
+}
+
+/// Names a case in test output (the default would print its bytes).
+void PrintTo(const BadInputCase& c, std::ostream* os) { *os << c.name; }
+
+class BadInput : public ::testing::TestWithParam<BadInputCase> {};
+
+TEST_P(BadInput, ExitsWithOneLineNamingTheFileAndChangesNothing) {
+  const BadInputCase& c = GetParam();
+  const TempDir dir;
+  c.setup(dir.path());
+  if (HasFatalFailure()) return;
+  const auto before = snapshot(dir.path());
+  const CommandResult r = run_command(expand(c.command, dir.path()));
+  EXPECT_EQ(r.exit_code, c.exit_code) << r.err;
+  EXPECT_EQ(r.err, expand(c.message, dir.path()) + "\n");
+  EXPECT_EQ(snapshot(dir.path()), before) << "the command created, removed or changed a file";
+}
+
+INSTANTIATE_TEST_SUITE_P(Classes, BadInput, ::testing::ValuesIn(cases()),
+                         [](const ::testing::TestParamInfo<BadInputCase>& info) {
+                           return info.param.name;
+                         });
+
+// Class 9, the other side: a ground truth with repeated stamps (public RGB-D benchmark files
+// have them) is read with a one-line warning naming the file and line, the first pose of each
+// stamp kept (docs/EVAL.md).
+TEST(BadInputAccepted, RepeatedGroundTruthStampsWarnAndAreEvaluated) {
+  const TempDir dir;
+  write(dir.path(), "gt.txt",
+        "0 0 0 0 0 0 0 1\n1 1 0 0 0 0 0 1\n1 1 0 0 0 0 0 1\n2 2 0 0 0 0 0 1\n3 3 0 0 0 0 0 1\n");
+  write(dir.path(), "est.txt",
+        "0 0 0 0 0 0 0 1\n1 1 0 0 0 0 0 1\n2 2 0 0 0 0 0 1\n3 3 0 0 0 0 0 1\n");
+  const CommandResult r = run_command(
+      expand("'{edx}' eval --gt '{dir}/gt.txt' --est '{dir}/est.txt' --format tum --align se3 "
+             "--json",
+             dir.path()));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, expand("edx: warning: {dir}/gt.txt:3: 1 pose(s) repeat the previous pose's "
+                          "stamp; the first of each kept\n",
+                          dir.path()));
+  EXPECT_NE(r.out.find("\"pairs\": 4"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace edx::testing
