@@ -18,7 +18,7 @@
 #include <string>
 
 #include "arch/common/config_fields.hpp"
-#include "arch/link/frame_transfers.hpp"
+#include "arch/kernels/kernels.hpp"
 
 namespace YAML {
 class Node;

@@ -228,46 +228,18 @@ std::int64_t op_spm_bytes(const OpRecord& op, const BackendConfig& config) {
 
 std::vector<OpRecord> kernel_ops(const trace::KernelRecord& kernel, const BackendConfig& config) {
   if (!kernel.ops.empty()) return kernel.ops;
-  const std::int64_t m = kernel.m, n = kernel.n;
-  if (m < 0 || n < 0) {
+  if (kernel.m < 0 || kernel.n < 0) {
     throw std::runtime_error(
-        fmt::format("kernel '{}': negative size (m {}, n {})", kernel.kernel, m, n));
+        fmt::format("kernel '{}': negative size (m {}, n {})", kernel.kernel, kernel.m, kernel.n));
   }
-  std::vector<OpRecord> ops;
-  const auto add = [&](Op op, std::int64_t om, std::int64_t on, std::int64_t ok, std::uint32_t f) {
-    ops.push_back(OpRecord{op, om, on, ok, f, 0});
-  };
-  if (kernel.kernel == "projection") {
-    add(Op::Gemm, 3, m, 4, 0);  // C (3x4) · X (4xM)
-  } else if (kernel.kernel == "kalman_gain") {
-    add(Op::Gemm, n, m, n, flags::kSymmetric | flags::kTransposeB);  // P H^T
-    add(Op::Gemm, m, m, n, flags::kSymmetric);                       // S = H (P H^T)
-    add(Op::Potrf, m, m, 0, flags::kSymmetric);                      // S = L L^T
-    add(Op::Trsm, m, n, 0, flags::kLower);                           // L Y = H P
-    add(Op::Trsm, m, n, 0, flags::kUpper);                           // L^T K^T = Y
-    add(Op::Transpose, m, n, 0, 0);                                  // K
-  } else if (kernel.kernel == "marginalization") {
-    const std::int64_t mm = m * config.landmark_dim + config.pose_dim;
-    const std::int64_t r = n;
-    add(Op::Inverse, mm, mm, 0,
-        flags::kDiagonalBlock | flags::kSymmetric |
-            (config.pose_dim == kPoseBlock ? flags::kBlock6x6 : 0u));
-    if (r > 0) {
-      add(Op::Transpose, mm, r, 0, 0);              // A_rm = A_mr^T
-      add(Op::Gemm, r, mm, mm, flags::kSymmetric);  // T = A_rm A_mm^-1
-      add(Op::Gemm, r, r, mm, flags::kSymmetric);   // H* = A_rr - T A_mr
-      add(Op::Gemm, r, 1, mm, 0);                   // b* = b_r - T b_m
-      add(Op::Ldlt, r, r, 0, flags::kSymmetric);    // H* = P^T L D L^T P
-      add(Op::Trsv, r, 1, 0, flags::kLower);        // L^-1 P b*
-      add(Op::Transpose, r, r, 0, flags::kLower);   // J = D^1/2 L^T P
-    }
-  } else {
+  const AccelerableKernel* descriptor = find_accelerable_kernel(kernel.kernel);
+  if (descriptor == nullptr) {
     throw std::runtime_error(
-        fmt::format("kernel '{}': no ops recorded and no rule to derive them (expected projection, "
-                    "kalman_gain or marginalization, or a trace with ops)",
-                    kernel.kernel));
+        fmt::format("kernel '{}': no ops recorded and no rule to derive them (expected {}, or a "
+                    "trace with ops)",
+                    kernel.kernel, accelerable_kernel_names()));
   }
-  return ops;
+  return descriptor->derive_ops(kernel.m, kernel.n, config.matrix_format());
 }
 
 std::int64_t kernel_cycles(const trace::KernelRecord& kernel, const BackendConfig& config) {

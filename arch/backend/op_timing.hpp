@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "arch/backend/backend_config.hpp"
+#include "arch/kernels/kernels.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {
@@ -36,10 +37,6 @@ inline constexpr std::array<BackendUnit, kBackendUnitCount> kBackendUnits = {
 const char* to_string(BackendUnit unit);
 /// The unit that serves `op` (table above).
 BackendUnit unit_of(trace::Op op);
-
-/// The pose block of the structured inverse (Sec. VI-A: "6 represents the number of degrees of
-/// freedom in a pose").
-inline constexpr std::int64_t kPoseBlock = 6;
 
 /// ⌈a / b⌉ for a >= 0, b >= 1.
 std::int64_t ceil_div(std::int64_t a, std::int64_t b);
@@ -129,16 +126,8 @@ std::int64_t op_cycles(const trace::OpRecord& op, const BackendConfig& config);
 std::int64_t op_spm_bytes(const trace::OpRecord& op, const BackendConfig& config);
 
 /// The ops an accelerable kernel runs: its recorded ops, or, when the trace recorded none, the
-/// ops derived from its sizes (docs/TRACE.md kernels table), mirroring what the backends record:
-///   projection (m = M map points): C (3x4) · X (4xM) = one gemm m=3, n=M, k=4
-///   kalman_gain (m = rows of H, n = state): gemm P H^T (n, m, n; symmetric P, B transposed),
-///     gemm S = H (P H^T) (m, m, n; symmetric), potrf m, trsm m x n lower, trsm m x n upper,
-///     transpose m x n (workloads/backend/vio/ekf_update.cpp)
-///   marginalization (m landmarks, n = r kept): mm = m landmark_dim + pose_dim; inverse mm
-///     (diagonal block, symmetric, 6x6 block when pose_dim = 6), transpose mm x r, gemm
-///     (r, mm, mm), gemm (r, r, mm; symmetric), gemm (r, 1, mm), ldlt r, trsv r, transpose
-///     r x r (workloads/backend/slam/marginalizer.cpp); with r = 0 only the inverse
-/// Throws std::runtime_error for a kernel without ops whose name is none of these.
+/// ops its descriptor derives from its sizes (arch/kernels: AccelerableKernel::derive_ops).
+/// Throws std::runtime_error for a kernel without ops that has no descriptor.
 std::vector<trace::OpRecord> kernel_ops(const trace::KernelRecord& kernel,
                                         const BackendConfig& config);
 
@@ -149,7 +138,7 @@ std::int64_t kernel_cycles(const trace::KernelRecord& kernel, const BackendConfi
 double kernel_seconds(const trace::KernelRecord& kernel, const BackendConfig& config);
 /// What a scheduler that knows only a kernel's sizes calls (Sec. VI-B: accelerator time from the
 /// latency profiles of the five building blocks): kernel_seconds of the ops kernel_ops() derives
-/// for `kernel` ("projection", "kalman_gain", "marginalization") with sizes m, n (docs/TRACE.md).
+/// for `kernel` (an accelerable kernel, arch/kernels) with sizes m, n (docs/TRACE.md).
 double predict_kernel_seconds(const std::string& kernel, std::int64_t m, std::int64_t n,
                               const BackendConfig& config);
 

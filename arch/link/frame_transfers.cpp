@@ -10,9 +10,6 @@
 namespace edx::arch {
 namespace {
 
-/// Scalars of an n x n symmetric matrix: n(n+1)/2 packed, n^2 full.
-std::int64_t symmetric(std::int64_t n, bool packed) { return packed ? n * (n + 1) / 2 : n * n; }
-
 /// The left image's feature count: FC L keypoints, else MO keypoints, else 0.
 std::int64_t left_features(const trace::FrameTrace& frame) {
   for (const trace::TaskRecord& t : frame.tasks) {
@@ -22,37 +19,6 @@ std::int64_t left_features(const trace::FrameTrace& frame) {
     if (t.task == trace::Task::MO) return t.keypoints;
   }
   return 0;
-}
-
-/// Parameters per landmark of a marginalization record (see frame_transfers.hpp).
-std::int64_t landmark_dim(const trace::KernelRecord& k, const KernelMatrixFormat& c) {
-  if (!k.detail_json.empty()) {
-    nlohmann::json detail;
-    try {
-      detail = nlohmann::json::parse(k.detail_json);
-    } catch (const nlohmann::json::exception&) {
-      throw std::runtime_error(fmt::format("kernel '{}': detail: expected a JSON object, got '{}'",
-                                           k.kernel, k.detail_json));
-    }
-    if (detail.is_object() && detail.contains("landmark_dim")) {
-      const nlohmann::json& v = detail["landmark_dim"];
-      if (!v.is_number_integer() || v.get<std::int64_t>() < 1) {
-        throw std::runtime_error(
-            fmt::format("kernel '{}': detail.landmark_dim: expected an integer >= 1, got {}",
-                        k.kernel, v.dump()));
-      }
-      return v.get<std::int64_t>();
-    }
-  }
-  if (k.m > 0) {
-    for (const trace::OpRecord& op : k.ops) {
-      const std::int64_t landmark_part = op.m - c.pose_dim;
-      if (op.op == trace::Op::Inverse && landmark_part > 0 && landmark_part % k.m == 0) {
-        return landmark_part / k.m;  // A_mm inverse: d_m = m l + p
-      }
-    }
-  }
-  return c.landmark_dim;
 }
 
 }  // namespace
@@ -144,40 +110,10 @@ KernelTransfer kernel_transfer(const trace::KernelRecord& k, const FrameTransfer
   }
   KernelTransfer t;
   t.kernel = k.kernel;
-  nlohmann::json in = nlohmann::json::object();
-  nlohmann::json out = nlohmann::json::object();
-  const std::int64_t s = format.scalar_bytes;
-  if (k.kernel == "projection") {
-    const std::int64_t points = k.m;       // M
-    in["camera_matrix"] = 12 * s;          // C 3x4
-    in["points"] = 4 * points * s;         // X 4xM homogeneous
-    out["image_points"] = 2 * points * s;  // 2xM
-  } else if (k.kernel == "kalman_gain") {
-    const std::int64_t rows = k.m, state = k.n;
-    in["H"] = rows * state * s;                        // m x n
-    in["P"] = symmetric(state, c.pack_symmetric) * s;  // n x n covariance
-    in["R"] = rows * s;                                // diagonal m x m
-    out["K"] = state * rows * s;                       // n x m
-  } else if (k.kernel == "marginalization") {
-    const std::int64_t landmarks = k.m, kept = k.n;
-    const std::int64_t l = landmark_dim(k, format);
-    const std::int64_t p = format.pose_dim;
-    const std::int64_t dl = landmarks * l;               // d_l
-    const std::int64_t dm = dl + p;                      // d_m
-    in["A_mm.A"] = landmarks * l * l * s;                // block-diagonal, m blocks l x l
-    in["A_mm.B"] = dl * p * s;                           // d_l x p
-    in["A_mm.D"] = symmetric(p, c.pack_symmetric) * s;   // p x p
-    in["A_mr"] = dm * kept * s;                          // d_m x n
-    in["A_rr"] = symmetric(kept, c.pack_symmetric) * s;  // n x n
-    in["b_m"] = dm * s;
-    in["b_r"] = kept * s;
-    out["prior_H"] = symmetric(kept, c.pack_symmetric) * s;  // Schur complement n x n
-    out["prior_b"] = kept * s;
-  } else {
-    throw std::runtime_error(fmt::format(
-        "kernel '{}': expected an accelerable kernel projection, kalman_gain or marginalization",
-        k.kernel));
-  }
+  const KernelOperands operands =
+      accelerable_kernel(k.kernel).operands(k, format, c.pack_symmetric);
+  const nlohmann::json& in = operands.inputs;
+  const nlohmann::json& out = operands.outputs;
   for (const auto& [name, bytes] : in.items()) t.input_bytes += bytes.get<std::int64_t>();
   for (const auto& [name, bytes] : out.items()) t.output_bytes += bytes.get<std::int64_t>();
   t.parts = {{"inputs", in}, {"outputs", out}};

@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "arch/common/config_fields.hpp"
+#include "arch/kernels/kernels.hpp"
 #include "arch/link/link.hpp"
 #include "workloads/trace/records.hpp"
 
@@ -42,14 +43,6 @@ class Node;
 }
 
 namespace edx::arch {
-
-/// What the link model needs of the accelerable kernels' matrices; its one home is the
-/// `backend:` section (BackendConfig::matrix_format()).
-struct KernelMatrixFormat {
-  std::int64_t scalar_bytes;  ///< s: bytes of one element
-  std::int64_t pose_dim;      ///< p, where the trace does not say
-  std::int64_t landmark_dim;  ///< l, where the trace does not say
-};
 
 /// Sizes of the per-frame records; every field is a parameter (docs/MODEL.md).
 struct FrameTransferConfig {

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "arch/kernels/kernels.hpp"
+
 namespace edx::arch {
 
 OffloadPolicy parse_offload_policy(std::string_view text) {
@@ -32,11 +34,12 @@ const char* to_string(OffloadPolicy policy) {
 }
 
 int model_degree(const std::string& kernel) {
-  if (kernel == "projection") return 1;
-  if (kernel == "kalman_gain" || kernel == "marginalization") return 2;
-  throw std::runtime_error(fmt::format(
-      "no host-time model for kernel '{}' (expected projection, kalman_gain or marginalization)",
-      kernel));
+  const AccelerableKernel* descriptor = find_accelerable_kernel(kernel);
+  if (descriptor == nullptr) {
+    throw std::runtime_error(fmt::format("no host-time model for kernel '{}' (expected {})", kernel,
+                                         accelerable_kernel_names()));
+  }
+  return descriptor->host_model_degree;
 }
 
 OffloadScheduler::OffloadScheduler(OffloadPolicy policy, double training_fraction)

@@ -294,8 +294,10 @@ SweepSpec SweepSpec::parse(const std::string& text, const std::string& where,
       if (samples < 1 || samples != std::round(samples) || samples > kMaxSweepPoints) {
         fail(where, r["samples"], "sampling.random.samples", "expected an integer from 1 to 10^6");
       }
-      if (seed < 0 || seed != std::round(seed)) {
-        fail(where, r["seed"], "sampling.random.seed", "expected an integer >= 0");
+      // 2^53: the largest range in which every integer is a double (a YAML number is read as
+      // one), far inside std::uint64_t.
+      if (seed < 0 || seed != std::round(seed) || seed > 9007199254740992.0) {
+        fail(where, r["seed"], "sampling.random.seed", "expected an integer from 0 to 2^53");
       }
       s.random = true;
       s.samples = static_cast<std::size_t>(samples);

@@ -170,6 +170,16 @@ std::vector<BadInputCase> cases() {
        },
        "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
        "edx: error: {dir}/s.yaml:5: sampling.random.samples: expected an integer from 1 to 10^6"},
+      // Found by fuzz_sweep_spec (a seed beyond 2^64 was converted to an integer: undefined).
+      {"c6_random_seed_beyond_two_to_the_53",
+       [](const fs::path& d) {
+         write(d, "s.yaml",
+               "base: {car}\ntrace: {golden}\nparameters:\n  backend.gemm_block: {values: [2, "
+               "4]}\nsampling: {random: {samples: 5, seed: 333333333333333333333337}}\nobjectives: "
+               "[{minimize: dsp}]\n");
+       },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
+       "edx: error: {dir}/s.yaml:5: sampling.random.seed: expected an integer from 0 to 2^53"},
       {"c6_range_of_unbounded_points",
        [](const fs::path& d) {
          write(d, "s.yaml",

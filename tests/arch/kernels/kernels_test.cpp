@@ -1,0 +1,105 @@
+// The accelerable-kernel registry (arch/kernels): names, derived ops and operand bytes checked
+// against hand-computed values.
+#include "arch/kernels/kernels.hpp"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace edx::arch {
+namespace {
+
+namespace flags = trace::op_flags;
+using trace::Op;
+
+TEST(AccelerableKernels, RegistryNamesAndLookups) {
+  ASSERT_EQ(accelerable_kernels().size(), 3u);
+  EXPECT_EQ(accelerable_kernel_names(), "projection, kalman_gain or marginalization");
+  EXPECT_EQ(&accelerable_kernel("kalman_gain"), &kalman_gain_kernel());
+  EXPECT_EQ(find_accelerable_kernel("pnp"), nullptr);
+  try {
+    accelerable_kernel("pnp");
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "kernel 'pnp': expected an accelerable kernel (projection, kalman_gain or "
+              "marginalization)");
+  }
+  EXPECT_EQ(projection_kernel().host_model_degree, 1);
+  EXPECT_EQ(kalman_gain_kernel().host_model_degree, 2);
+  EXPECT_EQ(marginalization_kernel().mode, "slam");
+}
+
+TEST(AccelerableKernels, DerivedOpsFollowTheBackendsRecords) {
+  const KernelMatrixFormat format{8, 6, 3};
+  const auto projection = projection_kernel().derive_ops(100, 0, format);
+  ASSERT_EQ(projection.size(), 1u);
+  EXPECT_EQ(projection[0].op, Op::Gemm);
+  EXPECT_EQ(projection[0].m, 3);
+  EXPECT_EQ(projection[0].n, 100);
+  EXPECT_EQ(projection[0].k, 4);
+
+  const auto gain = kalman_gain_kernel().derive_ops(4, 10, format);
+  ASSERT_EQ(gain.size(), 6u);
+  EXPECT_EQ(gain[0].op, Op::Gemm);  // P Hᵀ: 10 x 4 over 10
+  EXPECT_EQ(gain[0].m, 10);
+  EXPECT_EQ(gain[0].n, 4);
+  EXPECT_EQ(gain[0].flags, flags::kSymmetric | flags::kTransposeB);
+  EXPECT_EQ(gain[2].op, Op::Potrf);
+  EXPECT_EQ(gain[2].m, 4);
+  EXPECT_EQ(gain[5].op, Op::Transpose);
+
+  // 3 landmarks of 3 parameters and a 6-dof pose: A_mm is 15 x 15; 5 states kept.
+  const auto marg = marginalization_kernel().derive_ops(3, 5, format);
+  ASSERT_EQ(marg.size(), 8u);
+  EXPECT_EQ(marg[0].op, Op::Inverse);
+  EXPECT_EQ(marg[0].m, 15);
+  EXPECT_EQ(marg[0].flags, flags::kDiagonalBlock | flags::kSymmetric | flags::kBlock6x6);
+  EXPECT_EQ(marg[2].op, Op::Gemm);  // T = A_rm A_mm⁻¹: 5 x 15 over 15
+  EXPECT_EQ(marg[2].m, 5);
+  EXPECT_EQ(marg[2].n, 15);
+  EXPECT_EQ(marg[2].k, 15);
+  EXPECT_EQ(marginalization_kernel().derive_ops(3, 0, format).size(), 1u);  // r = 0: inverse
+  // A pose that is not 6-dof has no 6x6 block.
+  EXPECT_EQ(marginalization_kernel().derive_ops(3, 5, {8, 7, 3})[0].flags,
+            flags::kDiagonalBlock | flags::kSymmetric);
+}
+
+TEST(AccelerableKernels, OperandBytesByHand) {
+  const KernelMatrixFormat format{8, 6, 1};
+  trace::KernelRecord gain;
+  gain.kernel = "kalman_gain";
+  gain.m = 4;
+  gain.n = 10;
+  const KernelOperands g = kalman_gain_kernel().operands(gain, format, true);
+  EXPECT_EQ(g.inputs["H"], 4 * 10 * 8);
+  EXPECT_EQ(g.inputs["P"], 55 * 8);  // sym(10) packed
+  EXPECT_EQ(g.inputs["R"], 4 * 8);
+  EXPECT_EQ(g.outputs["K"], 10 * 4 * 8);
+  EXPECT_EQ(kalman_gain_kernel().operands(gain, format, false).inputs["P"], 100 * 8);
+
+  // landmark_dim from the recorded A_mm inverse (3 x 3 + 6 = 15), over the configured 1.
+  trace::KernelRecord marg;
+  marg.kernel = "marginalization";
+  marg.m = 3;
+  marg.n = 5;
+  marg.ops.push_back(trace::OpRecord{Op::Inverse, 15, 15, 0, 0, 0});
+  const KernelOperands m = marginalization_kernel().operands(marg, format, true);
+  EXPECT_EQ(m.inputs["A_mm.A"], 3 * 3 * 3 * 8);  // 3 blocks 3 x 3
+  EXPECT_EQ(m.inputs["A_mm.B"], 9 * 6 * 8);      // d_l x p
+  EXPECT_EQ(m.inputs["A_mm.D"], 21 * 8);         // sym(6)
+  EXPECT_EQ(m.inputs["A_mr"], 15 * 5 * 8);       // d_m x n
+  EXPECT_EQ(m.inputs["A_rr"], 15 * 8);           // sym(5)
+  EXPECT_EQ(m.inputs["b_m"], 15 * 8);
+  EXPECT_EQ(m.outputs["prior_H"], 15 * 8);
+  EXPECT_EQ(m.outputs["prior_b"], 5 * 8);
+  // A detail landmark_dim wins; a bad one is an error naming the kernel.
+  marg.detail_json = R"({"landmark_dim": 2})";
+  EXPECT_EQ(marginalization_kernel().operands(marg, format, true).inputs["A_mm.A"], 3 * 2 * 2 * 8);
+  marg.detail_json = R"({"landmark_dim": 0})";
+  EXPECT_THROW(marginalization_kernel().operands(marg, format, true), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace edx::arch
