@@ -33,41 +33,6 @@ void check_dimensions(const OpRecord& op) {
 
 }  // namespace
 
-const char* to_string(BackendUnit unit) {
-  switch (unit) {
-    case BackendUnit::kMultiply:
-      return "multiply";
-    case BackendUnit::kDecompose:
-      return "decompose";
-    case BackendUnit::kInverse:
-      return "inverse";
-    case BackendUnit::kTranspose:
-      return "transpose";
-    case BackendUnit::kSubstitute:
-      return "substitute";
-  }
-  return "?";
-}
-
-BackendUnit unit_of(Op op) {
-  switch (op) {
-    case Op::Gemm:
-    case Op::Syrk:
-      return BackendUnit::kMultiply;
-    case Op::Potrf:
-    case Op::Ldlt:
-      return BackendUnit::kDecompose;
-    case Op::Inverse:
-      return BackendUnit::kInverse;
-    case Op::Transpose:
-      return BackendUnit::kTranspose;
-    case Op::Trsm:
-    case Op::Trsv:
-      return BackendUnit::kSubstitute;
-  }
-  return BackendUnit::kMultiply;
-}
-
 std::int64_t ceil_div(std::int64_t a, std::int64_t b) { return (a + b - 1) / b; }
 
 std::int64_t gemm_tiles(std::int64_t m, std::int64_t n, int block, bool symmetric_result) {

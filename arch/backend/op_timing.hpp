@@ -22,21 +22,11 @@
 #include <vector>
 
 #include "arch/backend/backend_config.hpp"
+#include "arch/backend/units.hpp"
 #include "arch/kernels/kernels.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {
-
-/// The five building blocks of Table II / Fig. 14.
-enum class BackendUnit { kMultiply, kDecompose, kInverse, kTranspose, kSubstitute };
-inline constexpr std::size_t kBackendUnitCount = 5;
-inline constexpr std::array<BackendUnit, kBackendUnitCount> kBackendUnits = {
-    BackendUnit::kMultiply, BackendUnit::kDecompose, BackendUnit::kInverse, BackendUnit::kTranspose,
-    BackendUnit::kSubstitute};
-/// "multiply", "decompose", "inverse", "transpose", "substitute".
-const char* to_string(BackendUnit unit);
-/// The unit that serves `op` (table above).
-BackendUnit unit_of(trace::Op op);
 
 /// ⌈a / b⌉ for a >= 0, b >= 1.
 std::int64_t ceil_div(std::int64_t a, std::int64_t b);

@@ -132,12 +132,12 @@ ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConf
     v.push_back(entry(s.name, "frontend", "memory", memory_cost(s, cost),
                       is_fe_memory(s.name) ? fe_copies : modes));
   }
-  // Table II: which kernels use each building block.
-  v.push_back(entry("gemm", "backend", "unit", gemm_cost(be), kernels(3)));
-  v.push_back(entry("decomposition", "backend", "unit", decomposition_cost(be), kernels(2)));
-  v.push_back(entry("inverse", "backend", "unit", inverse_cost(be), kernels(1)));
-  v.push_back(entry("transpose", "backend", "unit", transpose_cost(be), kernels(2)));
-  v.push_back(entry("substitution", "backend", "unit", substitution_cost(be), kernels(2)));
+  // Table II: the non-shared design has one copy of a building block per kernel that uses it
+  // (from the kernels' ops: multiply 3, decompose 2, inverse 1, transpose 2, substitute 2).
+  for (const BackendUnitDescriptor& u : backend_units()) {
+    v.push_back(entry(std::string(u.cost_entry), "backend", "unit", backend_unit_cost(u.unit, be),
+                      kernels(double(kernels_using(u.unit).size()))));
+  }
   v.push_back(entry("misc", "backend", "unit", misc_cost(be), kernels(2)));
   for (const MemoryStructure& s : backend_memories(be)) {
     v.push_back(entry(s.name, "backend", "memory", memory_cost(s, cost), kernels(3)));

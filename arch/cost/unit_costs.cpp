@@ -177,6 +177,13 @@ Arithmetic backend_arithmetic(const BackendConfig& be) {
   return be.scalar_bytes == 4 ? Arithmetic::kSingle : Arithmetic::kDouble;
 }
 
+Resources backend_unit_cost(BackendUnit unit, const BackendConfig& be) {
+  // In kBackendUnits order: multiply, decompose, inverse, transpose, substitute.
+  static constexpr Resources (*kCost[kBackendUnitCount])(const BackendConfig&) = {
+      gemm_cost, decomposition_cost, inverse_cost, transpose_cost, substitution_cost};
+  return kCost[static_cast<std::size_t>(unit)](be);
+}
+
 Resources misc_cost(const BackendConfig& be) {
   Datapath d;
   d.fp(1, backend_arithmetic(be) == Arithmetic::kSingle ? kSingleAdd : kDoubleAdd);

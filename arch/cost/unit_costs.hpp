@@ -5,6 +5,7 @@
 // BackendConfig). Memories are not here: they come in as BRAM structures
 // (arch/cost/resource_report.hpp).
 #include "arch/backend/backend_config.hpp"
+#include "arch/backend/units.hpp"
 #include "arch/cost/cost_config.hpp"
 #include "arch/cost/resources.hpp"
 #include "arch/frontend/frontend_config.hpp"
@@ -54,6 +55,8 @@ Resources inverse_cost(const BackendConfig& be);
 Resources transpose_cost(const BackendConfig& be);
 /// Forward / back substitution: trsv_lanes MACs and one divider.
 Resources substitution_cost(const BackendConfig& be);
+/// The cost of a backend unit (arch/backend/units.hpp): the function above for it.
+Resources backend_unit_cost(BackendUnit unit, const BackendConfig& be);
 /// "Misc." of Fig. 14: one adder (e.g. + R in S = H P H^T + R).
 Resources misc_cost(const BackendConfig& be);
 /// The backend units' MACs: single precision for backend.scalar_bytes 4, double for 8.

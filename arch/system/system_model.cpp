@@ -21,24 +21,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// JSON has no infinity: a kernel that cannot be offloaded has no accelerator time (null).
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
 
-/// MAC lanes of a backend unit (the energy model counts busy cycles x lanes as MACs; the
-/// transpose unit moves words and does no arithmetic).
-double unit_lanes(BackendUnit unit, const BackendConfig& c) {
-  switch (unit) {
-    case BackendUnit::kMultiply:
-      return double(c.gemm_block) * c.gemm_block;
-    case BackendUnit::kDecompose:
-      return c.decomp_lanes();
-    case BackendUnit::kInverse:
-      return c.inverse_lanes;
-    case BackendUnit::kTranspose:
-      return 0;
-    case BackendUnit::kSubstitute:
-      return c.trsv_lanes;
-  }
-  return 0;
-}
-
 ModeSummary summarize(const std::vector<const FrameResult*>& frames) {
   std::vector<double> fe, be, e2e, energy;
   for (const FrameResult* f : frames) {
@@ -512,7 +494,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       host_ms -= d.host_ms;
       for (BackendUnit u : kBackendUnits) {
         acc.activity.double_macs +=
-            double(accel[next].busy_cycles(u)) * unit_lanes(u, platform.backend);
+            double(accel[next].busy_cycles(u)) * backend_unit(u).mac_lanes(platform.backend);
       }
       for (const OpTiming& op : accel[next].ops) acc.activity.bram_bytes += double(op.spm_bytes);
       acc.activity.link_bytes += double(transfers[next].input_bytes + transfers[next].output_bytes);
