@@ -557,6 +557,43 @@ std::string parameters_text(const SweepPoint& p) {
 
 /// The points of a sweep and their Pareto front (sweep_points.pareto, as `edx sweep` stored it):
 /// one plot per pair (first objective, each other objective); one objective: value per point.
+/// A search's convergence: the hypervolume of the feasible front found by each generation
+/// (a plot) and the table of sweep_generations.
+std::string convergence_html(const SweepData& sweep, int index, const fs::path& dir,
+                             const std::string& gnuplot, bool plot,
+                             std::vector<std::string>& images) {
+  std::string h = fmt::format(
+      "<p class=\"cap\">Search: {} generations, {} designs simulated. The hypervolume of the "
+      "feasible front found so far should rise and level off; a curve still rising at the last "
+      "generation says the search stopped early.</p>\n",
+      sweep.generations.back().generation, sweep.generations.back().evaluations);
+  if (plot) {
+    std::string dat = "# generation evaluations hypervolume\n";
+    for (const SweepGeneration& g : sweep.generations) {
+      dat += fmt::format("{} {} {:.9g}\n", g.generation, g.evaluations, g.hypervolume);
+    }
+    const std::string stem = fmt::format("sweep{}_convergence", index);
+    const std::string image = stem + kPlotExtension;
+    std::ofstream(dir / (stem + ".dat")) << dat;
+    std::ofstream(dir / (stem + ".gp"))
+        << kTerminal << "set output " << gp_quote((dir / image).string()) << "\n"
+        << "set title " << gp_quote("Sweep " + sweep.sweep_id + ": hypervolume per generation")
+        << "\nset xlabel 'Designs simulated'\nset ylabel 'Hypervolume of the feasible front'"
+        << "\nset grid\nunset key\nplot " << gp_quote((dir / (stem + ".dat")).string())
+        << " using 2:3 with linespoints pt 7 lw 2 lc rgb '#0072B2'\n";
+    run_gnuplot(gnuplot, dir / (stem + ".gp"), "sweep " + sweep.sweep_id + " convergence plot");
+    images.push_back(image);
+    h += fmt::format("<img src=\"{}\" alt=\"hypervolume per generation\">\n", image);
+  }
+  h += "<table><tr><th>generation</th><th>designs simulated</th><th>front</th>"
+       "<th>hypervolume</th></tr>\n";
+  for (const SweepGeneration& g : sweep.generations) {
+    h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.6g}</td></tr>\n", g.generation,
+                     g.evaluations, g.front_size, g.hypervolume);
+  }
+  return h + "</table>\n";
+}
+
 std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std::string& gnuplot,
                         bool plot, std::vector<std::string>& images) {
   std::string h = "<h2 id=\"sweeps\">Sweeps</h2>\n";
@@ -619,6 +656,9 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
       run_gnuplot(gnuplot, dir / (stem + ".gp"), "sweep " + sweep.sweep_id + " plot");
       images.push_back(png);
       h += fmt::format("<img src=\"{}\" alt=\"Pareto front\">\n", png);
+    }
+    if (!sweep.generations.empty()) {
+      h += convergence_html(sweep, index, dir, gnuplot, plot, images);
     }
     h += "<table><tr><th>point</th><th>run</th><th>parameters</th>";
     std::vector<std::string> columns = metrics;

@@ -218,6 +218,15 @@ ResultsData read_results(const std::filesystem::path& path) {
           pt.pareto = integer(p, "pareto") != 0;
           s.points.push_back(std::move(pt));
         }
+        if (tables.contains("sweep_generations")) {
+          SQLite::Statement g(
+              db, "SELECT * FROM sweep_generations WHERE sweep_id = ?1 ORDER BY generation");
+          g.bind(1, s.sweep_id);
+          while (g.executeStep()) {
+            s.generations.push_back({integer(g, "generation"), integer(g, "evaluations"),
+                                     integer(g, "front_size"), real(g, "hypervolume")});
+          }
+        }
         out.sweeps.push_back(std::move(s));
       }
     }

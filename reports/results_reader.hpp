@@ -95,10 +95,17 @@ struct SweepObjectiveInfo {
   bool maximize = false;
 };
 
+/// One generation of a search's convergence (table sweep_generations).
+struct SweepGeneration {
+  std::int64_t generation = 0, evaluations = 0, front_size = 0;
+  double hypervolume = 0;
+};
+
 struct SweepData {
   std::string sweep_id, spec;
   std::vector<SweepObjectiveInfo> objectives;  ///< from spec_json, in the spec's order
   std::vector<SweepPoint> points;              ///< ordered by point
+  std::vector<SweepGeneration> generations;    ///< a search's; empty for grids and samples
 };
 
 struct ResultsData {

@@ -25,14 +25,18 @@
 //   sweeps(sweep_id PK, spec, base, trace, points, spec_json)
 //   sweep_points(sweep_id, point, run_id, parameters_json, metrics_json, feasible, pareto)
 //   sweep_locks(sweep_id PK, pid, host, started)      the process running a sweep
+//   sweep_generations(sweep_id, generation, evaluations, front_size, hypervolume)
+//            a search's convergence: per generation, the distinct designs evaluated so far and
+//            the hypervolume of their feasible front (version 2)
 #include <array>
 #include <string_view>
 
 namespace edx::results {
 
 // SQLite's user_version of a results database. 0: written before versioning (same tables, no
-// timelines); 1 (2026-11-26): the timelines table. Readers refuse newer versions.
-inline constexpr int kSchemaVersion = 1;
+// timelines); 1 (2026-11-26): the timelines table; 2 (2026-11-26): sweep_generations (a
+// search's convergence). Readers refuse newer versions.
+inline constexpr int kSchemaVersion = 2;
 
 /// The tables of runs, created when missing (in the writer's transaction).
 inline constexpr std::string_view kRunTablesSql = R"sql(
@@ -74,6 +78,9 @@ CREATE TABLE IF NOT EXISTS sweep_points (sweep_id TEXT NOT NULL, point INTEGER N
   feasible INTEGER NOT NULL, pareto INTEGER NOT NULL DEFAULT 0, PRIMARY KEY (sweep_id, point));
 CREATE TABLE IF NOT EXISTS sweep_locks (sweep_id TEXT PRIMARY KEY, pid INTEGER NOT NULL,
   host TEXT NOT NULL, started TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS sweep_generations (sweep_id TEXT NOT NULL, generation INTEGER NOT NULL,
+  evaluations INTEGER NOT NULL, front_size INTEGER NOT NULL, hypervolume REAL NOT NULL,
+  PRIMARY KEY (sweep_id, generation));
 )sql";
 
 /// Tables holding a run's rows (keyed by run_id), "runs" last: replacing a run deletes from each.

@@ -244,6 +244,10 @@ nlohmann::json SweepSpec::to_json() const {
   }
   nlohmann::json sampling = "grid";
   if (random) sampling = {{"random", {{"samples", samples}, {"seed", seed}}}};
+  if (nsga2) {
+    sampling = {
+        {"nsga2", {{"generations", generations}, {"population", population}, {"seed", seed}}}};
+  }
   return {{"name", name},         {"base", base.string()}, {"trace", trace.string()},
           {"parameters", params}, {"sampling", sampling},  {"objectives", obj},
           {"constraints", con}};
@@ -302,8 +306,42 @@ SweepSpec SweepSpec::parse(const std::string& text, const std::string& where,
       s.random = true;
       s.samples = static_cast<std::size_t>(samples);
       s.seed = static_cast<std::uint64_t>(seed);
+    } else if (sampling.IsMap() && sampling.size() == 1 && sampling["nsga2"] &&
+               sampling["nsga2"].IsMap()) {
+      const YAML::Node n = sampling["nsga2"];
+      check_keys(where, n, "sampling.nsga2", {"generations", "population", "seed"});
+      const double generations =
+          number(where, n["generations"] ? n["generations"] : n, "sampling.nsga2.generations");
+      const double population =
+          number(where, n["population"] ? n["population"] : n, "sampling.nsga2.population");
+      const double seed = n["seed"] ? number(where, n["seed"], "sampling.nsga2.seed") : 1.0;
+      if (generations < 1 || generations != std::round(generations) || generations > 10000) {
+        fail(where, n["generations"], "sampling.nsga2.generations",
+             "expected an integer from 1 to 10000");
+      }
+      // pagmo's NSGA-II pairs parents four at a time: at least 8, a multiple of 4.
+      if (population < 8 || population != std::round(population) || population > 10000 ||
+          std::fmod(population, 4) != 0) {
+        fail(where, n["population"], "sampling.nsga2.population",
+             "expected a multiple of 4 from 8 to 10000");
+      }
+      if (population * (generations + 1) > kMaxSweepPoints) {
+        fail(where, n, "sampling.nsga2",
+             fmt::format("population x (generations + 1) = {:.4g} evaluations (more than 10^6)",
+                         population * (generations + 1)));
+      }
+      // pagmo seeds are unsigned 32-bit integers.
+      if (seed < 0 || seed != std::round(seed) || seed > 4294967295.0) {
+        fail(where, n["seed"], "sampling.nsga2.seed", "expected an integer from 0 to 2^32 - 1");
+      }
+      s.nsga2 = true;
+      s.generations = static_cast<std::size_t>(generations);
+      s.population = static_cast<std::size_t>(population);
+      s.seed = static_cast<std::uint64_t>(seed);
     } else {
-      fail(where, sampling, "sampling", "expected grid or {random: {samples: N, seed: S}}");
+      fail(where, sampling, "sampling",
+           "expected grid, {random: {samples: N, seed: S}} or {nsga2: {generations: G, "
+           "population: P, seed: S}}");
     }
   }
 
@@ -351,10 +389,15 @@ SweepSpec SweepSpec::parse(const std::string& text, const std::string& where,
   }
   // The size first: a grid is enumerated one point at a time (SweepPoints), but more than
   // 10^6 points is refused before any other work.
-  if (!s.random && grid_size(s) > kMaxSweepPoints) {
+  if (!s.random && !s.nsga2 && grid_size(s) > kMaxSweepPoints) {
     fail(where, params, "parameters",
-         fmt::format("the grid has {:.4g} points (more than 10^6); use random sampling",
+         fmt::format("the grid has {:.4g} points (more than 10^6); use random sampling or a "
+                     "search",
                      grid_size(s)));
+  }
+  if (s.nsga2 && grid_size(s) > kMaxSearchGrid) {
+    fail(where, params, "parameters",
+         fmt::format("the grid has {:.4g} points (a search indexes at most 2^53)", grid_size(s)));
   }
   // Every point must make a valid platform: check each parameter's values on the base (loaded
   // once; each check on a copy of it).
@@ -386,10 +429,20 @@ double grid_size(const SweepSpec& spec) {
 
 SweepPoints::SweepPoints(const SweepSpec& spec) : spec_(&spec) {
   const double grid = grid_size(spec);
+  if (spec.nsga2) {
+    if (grid > kMaxSearchGrid) {
+      throw std::runtime_error(
+          fmt::format("{}: parameters: the grid has {:.4g} points (a search indexes at most 2^53)",
+                      spec.file, grid));
+    }
+    size_ = static_cast<std::size_t>(grid);
+    return;
+  }
   if (!spec.random) {
     if (grid > kMaxSweepPoints) {
       throw std::runtime_error(fmt::format(
-          "{}: parameters: the grid has {:.4g} points (more than 10^6); use random sampling",
+          "{}: parameters: the grid has {:.4g} points (more than 10^6); use random sampling or a "
+          "search",
           spec.file, grid));
     }
     size_ = static_cast<std::size_t>(grid);
@@ -427,6 +480,14 @@ SweepPoint SweepPoints::at(std::size_t index) const {
     rest /= spec_->parameters[p].values.size();
   }
   return point;
+}
+
+std::size_t SweepPoints::grid_index(const std::vector<std::size_t>& choice) const {
+  std::size_t index = 0;
+  for (std::size_t p = 0; p < spec_->parameters.size(); ++p) {
+    index = index * spec_->parameters[p].values.size() + choice.at(p);
+  }
+  return index;
 }
 
 Platform sweep_platform(const SweepSpec& spec, const SweepPoint& point) {

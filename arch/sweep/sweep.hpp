@@ -15,6 +15,8 @@
 //     backend.clock_mhz: {range: {from: 100, to: 250, step: 50}}      # from, from+step, ... <= to
 //     link.bandwidth_gb_per_s: {log_range: {from: 1.2, to: 7.9, points: 5}}  # geometric
 //   sampling: grid                          # or {random: {samples: 20, seed: 1}}
+//                                           # or {nsga2: {generations: 20, population: 24, seed:
+//                                           1}}
 //   objectives: [{minimize: e2e_latency_mean}, {minimize: dsp}, {maximize: fps}]
 //   constraints: [{metric: resources, max: 1.0}]    # max and/or min
 #include <cstdint>
@@ -57,6 +59,10 @@ struct SweepSpec {
   bool random = false;
   std::size_t samples = 0;
   std::uint64_t seed = 1;
+  /// Multi-objective search (pagmo2's NSGA-II, search.hpp) over the grid's points instead of
+  /// evaluating them all: `population` designs evolved for `generations` generations.
+  bool nsga2 = false;
+  std::size_t generations = 0, population = 0;
   std::vector<SweepObjective> objectives;
   std::vector<SweepConstraint> constraints;
   nlohmann::json to_json() const;
@@ -76,21 +82,26 @@ struct SweepPoint {
   nlohmann::json parameters(const SweepSpec& spec) const;
 };
 
-/// Most design points a sweep may have (grid size, or random samples).
+/// Most design points a sweep may have (grid size, or random samples, or search evaluations).
 inline constexpr double kMaxSweepPoints = 1e6;
+/// Largest grid a search (or random sampling) may index: 2^53, every index exact as a double.
+inline constexpr double kMaxSearchGrid = 9007199254740992.0;
 
 /// Points of the full grid (the product of the parameters' value counts), as a double.
 double grid_size(const SweepSpec& spec);
 
 /// The design points, enumerated lazily: the full grid (index -> values, last parameter
 /// fastest), or `samples` distinct grid points drawn with the spec's seed (a splitmix64 stream:
-/// the same seed gives the same points; only the draws are stored). Memory does not grow with
-/// the grid. Throws when a grid has more than 10^6 points.
+/// the same seed gives the same points; only the draws are stored). A search (nsga2) indexes
+/// the full grid and visits the points it chooses. Memory does not grow with the grid. Throws
+/// when a grid sweep has more than 10^6 points.
 class SweepPoints {
  public:
   explicit SweepPoints(const SweepSpec& spec);  ///< `spec` must outlive this
   std::size_t size() const { return size_; }
   SweepPoint at(std::size_t index) const;
+  /// The grid index of a choice of value indices (the inverse of `at` on the full grid).
+  std::size_t grid_index(const std::vector<std::size_t>& choice) const;
 
  private:
   const SweepSpec* spec_;
@@ -140,13 +151,23 @@ struct SweepOptions {
   std::function<void(std::size_t, std::size_t, const SweepPointResult&)> progress;
 };
 
+/// One generation of a search: the designs evaluated so far (distinct) and the hypervolume of
+/// the feasible front among them, against the reference point of the whole search.
+struct SearchGeneration {
+  std::size_t generation = 0;   ///< 0: the initial population
+  std::size_t evaluations = 0;  ///< distinct designs evaluated up to this generation
+  std::size_t front_size = 0;
+  double hypervolume = 0;
+};
+
 struct SweepOutcome {
   std::string sweep_id;
   std::size_t total = 0, computed = 0, skipped = 0;
-  bool complete = true;                  ///< false: stopped by the limit
-  std::vector<SweepPointResult> points;  ///< finished points, by index
-  std::vector<std::size_t> front;        ///< indices into points (complete sweeps only)
-  double seconds = 0;                    ///< wall time
+  bool complete = true;                       ///< false: stopped by the limit
+  std::vector<SweepPointResult> points;       ///< finished points, by index
+  std::vector<std::size_t> front;             ///< indices into points (complete sweeps only)
+  std::vector<SearchGeneration> generations;  ///< a search's convergence table
+  double seconds = 0;                         ///< wall time
   nlohmann::json to_json(const SweepSpec& spec) const;
 };
 

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <future>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -22,6 +23,7 @@
 
 #include "arch/results/results_db.hpp"
 #include "arch/results/schema.hpp"
+#include "arch/sweep/search.hpp"
 #include "arch/sweep/sweep.hpp"
 #include "arch/system/system_model.hpp"
 #include "common/atomic_file.hpp"
@@ -121,9 +123,17 @@ nlohmann::json SweepOutcome::to_json(const SweepSpec& spec) const {
                    {"pareto", p.pareto}});
   }
   for (std::size_t i : front) front_json.push_back(points[i].index);
-  return {{"sweep", sweep_id},    {"spec", spec.to_json()}, {"total", total},
-          {"computed", computed}, {"skipped", skipped},     {"complete", complete},
-          {"seconds", seconds},   {"points", pts},          {"pareto_front", front_json}};
+  nlohmann::json convergence = nlohmann::json::array();
+  for (const SearchGeneration& g : generations) {
+    convergence.push_back({{"generation", g.generation},
+                           {"evaluations", g.evaluations},
+                           {"front_size", g.front_size},
+                           {"hypervolume", g.hypervolume}});
+  }
+  return {{"sweep", sweep_id},          {"spec", spec.to_json()}, {"total", total},
+          {"generations", convergence}, {"computed", computed},   {"skipped", skipped},
+          {"complete", complete},       {"seconds", seconds},     {"points", pts},
+          {"pareto_front", front_json}};
 }
 
 SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options) {
@@ -156,7 +166,9 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
   map_host(Platform::parse(base).host, trace_meta, trace_name);  // the trace's host speed
   SweepOutcome out;
   out.sweep_id = spec.name;
-  out.total = points.size();
+  // A search evaluates at most its population in each generation and the initial one.
+  out.total = spec.nsga2 ? std::min(points.size(), spec.population * (spec.generations + 1))
+                         : points.size();
 
   common::require_regular_output(options.db, "results database");
   // A database this sweep creates is removed again if the sweep fails before its first point
@@ -234,11 +246,12 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
   std::mutex yaml_mutex;  // guards the YAML trees of the spec and the base
   std::map<std::size_t, SweepPointResult> finished;
   std::map<std::string, std::shared_future<FrontendStudy>> studies;
-  std::atomic<std::size_t> next{0};
-  std::size_t simulations = 0;  // claimed, toward the limit
+  std::set<std::size_t> claimed;  // points a worker has taken
+  std::size_t simulations = 0;    // claimed, toward the limit
   bool limit_reached = false;
   std::exception_ptr error;
-  const std::size_t limit = options.limit > 0 ? options.limit : points.size();
+  const std::size_t limit =
+      options.limit > 0 ? options.limit : std::numeric_limits<std::size_t>::max();
   const auto finish = [&](SweepPointResult r, const SystemResult* simulated) {
     std::lock_guard<std::mutex> lock(mutex);
     SQLite::Transaction t(db);
@@ -248,89 +261,131 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
     new_database.keep = true;
     (simulated ? out.computed : out.skipped) += 1;
     const std::size_t done = finished.size() + 1;
-    if (options.progress) options.progress(done, points.size(), r);
+    if (options.progress) options.progress(done, out.total, r);
     finished.emplace(r.index, std::move(r));
   };
-  const auto worker = [&] {
-    for (;;) {
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (error || limit_reached) return;
-      }
-      const std::size_t index = next++;
-      if (index >= points.size()) return;
-      try {
-        const SweepPoint point = points.at(index);
-        // yaml-cpp nodes are not safe to read from two threads (even const access may touch
-        // their shared memory), and the base and the spec's values are shared: one at a time.
-        const Platform platform = [&] {
-          std::lock_guard<std::mutex> lock(yaml_mutex);
-          return sweep_platform(spec, point, base);
-        }();
-        SweepPointResult r;
-        r.index = index;
-        r.parameters = point.parameters(spec);
-        r.run_id = run_id_of(fnv1a_hex(platform.to_json().dump()), thash);
-        std::optional<std::string> stored;
-        {
-          std::lock_guard<std::mutex> lock(mutex);
-          SQLite::Statement q(db, "SELECT summary_json FROM runs WHERE run_id = ?");
-          q.bind(1, r.run_id);
-          if (q.executeStep()) {
-            stored = q.getColumn(0).getString();
-          } else if (simulations >= limit) {
-            limit_reached = true;
-            return;
-          } else {
-            ++simulations;
-          }
-        }
-        if (stored) {
-          evaluate(spec, nlohmann::json::parse(*stored), r);
-          finish(std::move(r), nullptr);
-          continue;
-        }
-        const std::string key = frontend_study_key(platform);
-        std::shared_future<FrontendStudy> study;
-        std::promise<FrontendStudy> mine;
-        bool owner = false;
-        {
-          std::lock_guard<std::mutex> lock(mutex);
-          auto it = studies.find(key);
-          if (it == studies.end()) {
-            it = studies.emplace(key, mine.get_future().share()).first;
-            owner = true;
-          }
-          study = it->second;
-        }
-        if (owner) {
-          try {
-            mine.set_value(study_frontend(platform, frames, trace_meta, trace_name));
-          } catch (...) {
-            mine.set_exception(std::current_exception());
-          }
-        }
-        const SystemResult result =
-            simulate_system(platform, frames, trace_meta, trace_name, study.get());
-        evaluate(spec, result.to_json(), r);
-        r.computed = true;
-        finish(std::move(r), &result);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (!error) error = std::current_exception();
-        return;
+  // One point: its platform and run id, then its run from the database (resume: evaluated
+  // from the stored summary, not counted against the limit) or simulated. Returns false when
+  // the limit stops the sweep.
+  const auto run_point = [&](std::size_t index) {
+    const SweepPoint point = points.at(index);
+    // yaml-cpp nodes are not safe to read from two threads (even const access may touch
+    // their shared memory), and the base and the spec's values are shared: one at a time.
+    const Platform platform = [&] {
+      std::lock_guard<std::mutex> lock(yaml_mutex);
+      return sweep_platform(spec, point, base);
+    }();
+    SweepPointResult r;
+    r.index = index;
+    r.parameters = point.parameters(spec);
+    r.run_id = run_id_of(fnv1a_hex(platform.to_json().dump()), thash);
+    std::optional<std::string> stored;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      SQLite::Statement q(db, "SELECT summary_json FROM runs WHERE run_id = ?");
+      q.bind(1, r.run_id);
+      if (q.executeStep()) {
+        stored = q.getColumn(0).getString();
+      } else if (simulations >= limit) {
+        limit_reached = true;
+        return false;
+      } else {
+        ++simulations;
       }
     }
+    if (stored) {
+      evaluate(spec, nlohmann::json::parse(*stored), r);
+      finish(std::move(r), nullptr);
+      return true;
+    }
+    const std::string key = frontend_study_key(platform);
+    std::shared_future<FrontendStudy> study;
+    std::promise<FrontendStudy> mine;
+    bool owner = false;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      auto it = studies.find(key);
+      if (it == studies.end()) {
+        it = studies.emplace(key, mine.get_future().share()).first;
+        owner = true;
+      }
+      study = it->second;
+    }
+    if (owner) {
+      try {
+        mine.set_value(study_frontend(platform, frames, trace_meta, trace_name));
+      } catch (...) {
+        mine.set_exception(std::current_exception());
+      }
+    }
+    const SystemResult result =
+        simulate_system(platform, frames, trace_meta, trace_name, study.get());
+    evaluate(spec, result.to_json(), r);
+    r.computed = true;
+    finish(std::move(r), &result);
+    return true;
   };
-  std::vector<std::thread> pool;
-  const int jobs =
-      std::max(1, std::min<int>(options.jobs, int(std::max<std::size_t>(1, points.size()))));
-  for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
-  for (std::thread& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+  // The pool: workers take the next of `count` points (`index_at(i)`, the i-th) in order; a
+  // point already taken (a search may ask for it twice) is skipped. Only finished points are
+  // kept: memory grows with the points run, not with the grid.
+  const auto run_pool = [&](std::size_t count,
+                            const std::function<std::size_t(std::size_t)>& index_at) {
+    std::atomic<std::size_t> next{0};
+    const auto worker = [&] {
+      for (;;) {
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (error || limit_reached) return;
+        }
+        const std::size_t i = next++;
+        if (i >= count) return;
+        const std::size_t index = index_at(i);
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (!claimed.insert(index).second) continue;
+        }
+        try {
+          if (!run_point(index)) return;
+        } catch (...) {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (!error) error = std::current_exception();
+          return;
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    const int jobs = std::max(1, std::min<int>(options.jobs, int(std::max<std::size_t>(1, count))));
+    for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
+    for (std::thread& t : pool) t.join();
+    if (error) std::rethrow_exception(error);
+  };
+  if (spec.nsga2) {
+    // The search asks for a generation at a time; a design it asked for before is read from
+    // `finished`. The limit stops it (a re-run replays the same generations from the database).
+    struct LimitReached {};
+    try {
+      out.generations = run_nsga2(spec, points, [&](const std::vector<std::size_t>& indices) {
+        run_pool(indices.size(), [&](std::size_t i) { return indices[i]; });
+        if (limit_reached) throw LimitReached{};
+        std::vector<DesignFitness> fitness;
+        for (std::size_t index : indices) {
+          const SweepPointResult& r = finished.at(index);
+          DesignFitness f{r.objectives, {}};
+          for (const SweepConstraint& c : spec.constraints) {
+            f.constraints.push_back(r.metrics.at(c.metric).get<double>());
+          }
+          fitness.push_back(std::move(f));
+        }
+        return fitness;
+      });
+    } catch (const LimitReached&) {
+    }
+  } else {
+    run_pool(points.size(), [](std::size_t i) { return i; });
+  }
 
   for (auto& [index, r] : finished) out.points.push_back(std::move(r));
-  out.complete = out.points.size() == points.size();
+  out.complete = spec.nsga2 ? !limit_reached : out.points.size() == points.size();
   if (out.complete) {
     // The front over the feasible points.
     std::vector<std::size_t> feasible;
@@ -348,6 +403,19 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
     }
     SQLite::Transaction t(db);
     for (const SweepPointResult& r : out.points) put_point(db, out.sweep_id, r);
+    SQLite::Statement stale(db, "DELETE FROM sweep_generations WHERE sweep_id = ?");
+    stale.bind(1, out.sweep_id);
+    stale.exec();
+    SQLite::Statement g(db, "INSERT INTO sweep_generations VALUES (?, ?, ?, ?, ?)");
+    for (const SearchGeneration& row : out.generations) {
+      g.bind(1, out.sweep_id);
+      g.bind(2, static_cast<std::int64_t>(row.generation));
+      g.bind(3, static_cast<std::int64_t>(row.evaluations));
+      g.bind(4, static_cast<std::int64_t>(row.front_size));
+      g.bind(5, row.hypervolume);
+      g.exec();
+      g.reset();
+    }
     t.commit();
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -378,6 +446,13 @@ std::string format_sweep(const SweepSpec& spec, const SweepOutcome& o) {
   };
   text += header;
   for (const SweepPointResult& r : o.points) text += row(r);
+  if (!o.generations.empty()) {
+    text += "search     generation  evaluated  front  hypervolume\n";
+    for (const SearchGeneration& g : o.generations) {
+      text += fmt::format("           {:>10} {:>10} {:>6}  {:.6g}\n", g.generation, g.evaluations,
+                          g.front_size, g.hypervolume);
+    }
+  }
   if (o.complete) {
     text += fmt::format("pareto     {} of {} feasible points non-dominated:\n", o.front.size(),
                         std::count_if(o.points.begin(), o.points.end(),

@@ -119,7 +119,7 @@ std::vector<BadInputCase> cases() {
        },
        "'{edx}' sweep '{dir}/big.yaml' --db '{dir}/r.db' --limit 2", 1,
        "edx: error: {dir}/big.yaml:4: parameters: the grid has 1e+09 points (more than 10^6); "
-       "use random sampling"},
+       "use random sampling or a search"},
       // 2. Special files: a database output that is a FIFO is refused, not replaced.
       {"c2_results_database_onto_a_fifo",
        [](const fs::path& d) { ASSERT_EQ(::mkfifo((d / "ff").c_str(), 0600), 0); },

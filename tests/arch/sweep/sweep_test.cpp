@@ -174,7 +174,8 @@ TEST(SweepSpec, HugeGridsAreRefusedOrSampledWithoutEnumeratingThem) {
   const auto start = std::chrono::steady_clock::now();
   EXPECT_EQ(
       error_of([&] { spec_of(dir, params); }),
-      "s.yaml:3: parameters: the grid has 1e+09 points (more than 10^6); use random sampling");
+      "s.yaml:3: parameters: the grid has 1e+09 points (more than 10^6); use random sampling or "
+      "a search");
   const SweepSpec sampled = spec_of(dir, params + "sampling: {random: {samples: 3, seed: 5}}\n");
   const SweepPoints points(sampled);
   ASSERT_EQ(points.size(), 3u);
