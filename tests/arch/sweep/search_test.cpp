@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -134,6 +135,30 @@ TEST(Search, SameSeedSameDesignsAndAResumedSearchEndsTheSame) {
   for (std::size_t i = 0; i < first.front.size(); ++i) {
     EXPECT_EQ(resumed.points[resumed.front[i]].index, first.points[first.front[i]].index);
   }
+}
+
+TEST(Search, CategoricalAndLogRangeParametersAreGenes) {
+  const testing::TempDir dir;
+  const SweepSpec spec = SweepSpec::parse(
+      "name: mixed\nbase: " + kSource +
+          "/configs/edx_car.yaml\nparameters:\n"
+          "  scheduler.policy: {values: [regression, always, never]}\n"
+          "  link.bandwidth_gb_per_s: {log_range: {from: 1.2, to: 7.9, points: 4}}\n"
+          "  backend.gemm_block: {values: [2, 4]}\n"
+          "sampling: {nsga2: {generations: 2, population: 8, seed: 3}}\n"
+          "objectives: [{minimize: e2e_latency_mean}, {minimize: dsp}]\n",
+      "mixed.yaml", dir.path());
+  const SweepOutcome o = run(spec, dir.path() / "m.db");
+  ASSERT_TRUE(o.complete);
+  EXPECT_LE(o.points.size(), 24u);  // 3 x 4 x 2 designs
+  std::set<std::string> policies;
+  for (const SweepPointResult& p : o.points) {
+    policies.insert(p.parameters["scheduler.policy"].get<std::string>());
+    // The grid index is the design's point: its parameters are the grid's at that index.
+    EXPECT_EQ(p.parameters, SweepPoints(spec).at(p.index).parameters(spec));
+  }
+  EXPECT_GE(policies.size(), 2u);
+  EXPECT_FALSE(o.front.empty());
 }
 
 TEST(Search, SpecChecksNameTheKey) {
