@@ -11,6 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
+#include "tests/support/sanitizers.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "workloads/backend/kernel_recorder.hpp"
 #include "workloads/datasets/synthetic/generator.hpp"
@@ -110,7 +111,11 @@ TEST(TraceRunner, EurocExcerptTenFrames) {
   const trace::HostSpeed speed = trace::host_speed_of(meta, "euroc.db");
   EXPECT_EQ(speed.suite, trace::kHostSpeedSuite);
   EXPECT_EQ(speed.samples, 5);
-  EXPECT_GT(speed.frontend_ms, speed.backend_ms);
+  // The frontend suite is the slower one on this machine's Release build (sanitizers slow the
+  // Eigen-heavy backend suite more: tests/support/sanitizers.hpp).
+  if (!edx::testing::kSanitizedBuild) {
+    EXPECT_GT(speed.frontend_ms, speed.backend_ms);
+  }
   const nlohmann::json params = nlohmann::json::parse(meta.at("pipeline_params"));
   EXPECT_EQ(params.at("frontend").at("features_per_image"), 1000);
   EXPECT_EQ(params.at("frontend").at("count_lk_iterations"), true);
