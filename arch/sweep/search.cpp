@@ -35,9 +35,12 @@ struct SearchState {
   std::vector<std::vector<double>> minimized;           ///< objectives (min form), by `order`
   std::vector<bool> feasible;                           ///< by `order`
 
+  /// The parameters with two or more values: one gene each (a fixed one has no gene).
+  std::vector<std::size_t> genes;
+
   std::size_t index_of(const pagmo::vector_double& x) const {
-    std::vector<std::size_t> choice(x.size());
-    for (std::size_t p = 0; p < x.size(); ++p) choice[p] = std::size_t(std::llround(x[p]));
+    std::vector<std::size_t> choice(spec->parameters.size(), 0);
+    for (std::size_t g = 0; g < x.size(); ++g) choice[genes[g]] = std::size_t(std::llround(x[g]));
     return points->grid_index(choice);
   }
 
@@ -97,15 +100,15 @@ struct GridProblem {
   }
   std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
     pagmo::vector_double lower, upper;
-    for (const SweepParameter& p : state->spec->parameters) {
+    for (std::size_t p : state->genes) {
       lower.push_back(0);
-      upper.push_back(double(p.values.size() - 1));
+      upper.push_back(double(state->spec->parameters[p].values.size() - 1));
     }
     return {lower, upper};
   }
   pagmo::vector_double::size_type get_nobj() const { return state->spec->objectives.size(); }
   pagmo::vector_double::size_type get_nic() const { return constraint_count(*state->spec); }
-  pagmo::vector_double::size_type get_nix() const { return state->spec->parameters.size(); }
+  pagmo::vector_double::size_type get_nix() const { return state->genes.size(); }
   std::string get_name() const { return "edx sweep grid"; }
   pagmo::thread_safety get_thread_safety() const { return pagmo::thread_safety::none; }
 };
@@ -133,6 +136,9 @@ struct PrefetchBfe {
   std::string get_name() const { return "edx batch evaluation"; }
   pagmo::thread_safety get_thread_safety() const { return pagmo::thread_safety::none; }
 };
+
+std::vector<SearchGeneration> evolve(const SweepSpec& spec,
+                                     const std::shared_ptr<SearchState>& state);
 
 }  // namespace
 
@@ -175,14 +181,38 @@ std::vector<SearchGeneration> run_nsga2(const SweepSpec& spec, const SweepPoints
   state->spec = &spec;
   state->points = &points;
   state->evaluate = evaluate;
+  for (std::size_t p = 0; p < spec.parameters.size(); ++p) {
+    if (spec.parameters[p].values.size() > 1) state->genes.push_back(p);
+  }
+  if (state->genes.empty()) {
+    throw std::runtime_error(fmt::format(
+        "{}: sampling.nsga2: every parameter has one value: nothing to search (use grid)",
+        spec.file));
+  }
+  try {
+    return evolve(spec, state);
+  } catch (const std::invalid_argument& e) {
+    // pagmo's own errors are several lines ("function: ...\nwhere: ...\nwhat: ..."): keep
+    // the "what".
+    std::string what = e.what();
+    if (const auto at = what.find("what: "); at != std::string::npos) what = what.substr(at + 6);
+    while (!what.empty() && (what.back() == '\n' || what.back() == ' ')) what.pop_back();
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    throw std::runtime_error(fmt::format("{}: sampling.nsga2: pagmo: {}", spec.file, what));
+  }
+}
+
+namespace {
+
+std::vector<SearchGeneration> evolve(const SweepSpec& spec,
+                                     const std::shared_ptr<SearchState>& state) {
   pagmo::problem problem{GridProblem{state}};
   if (problem.get_nc() > 0) problem = pagmo::problem{pagmo::unconstrain{problem, "death penalty"}};
   const pagmo::bfe batch{PrefetchBfe{state}};
   const auto seed = static_cast<unsigned>(spec.seed);
   // Crossover 0.95 and distribution indices 10 / 50 are pagmo's defaults; the mutation rate is
   // one gene per design on average (1 / genes), the usual choice for integer chromosomes.
-  pagmo::nsga2 algorithm(1u, 0.95, 10.,
-                         1.0 / double(std::max<std::size_t>(1, spec.parameters.size())), 50., seed);
+  pagmo::nsga2 algorithm(1u, 0.95, 10., 1.0 / double(state->genes.size()), 50., seed);
   algorithm.set_bfe(batch);
   pagmo::population population(problem, batch, spec.population, seed);
   std::vector<std::size_t> evaluated_after{state->order.size()};
@@ -216,5 +246,7 @@ std::vector<SearchGeneration> run_nsga2(const SweepSpec& spec, const SweepPoints
   }
   return table;
 }
+
+}  // namespace
 
 }  // namespace edx::arch

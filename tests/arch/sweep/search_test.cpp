@@ -137,7 +137,7 @@ TEST(Search, SameSeedSameDesignsAndAResumedSearchEndsTheSame) {
   }
 }
 
-TEST(Search, CategoricalAndLogRangeParametersAreGenes) {
+TEST(Search, CategoricalAndLogRangeParametersAreGenesAFixedOneIsNot) {
   const testing::TempDir dir;
   const SweepSpec spec = SweepSpec::parse(
       "name: mixed\nbase: " + kSource +
@@ -145,6 +145,7 @@ TEST(Search, CategoricalAndLogRangeParametersAreGenes) {
           "  scheduler.policy: {values: [regression, always, never]}\n"
           "  link.bandwidth_gb_per_s: {log_range: {from: 1.2, to: 7.9, points: 4}}\n"
           "  backend.gemm_block: {values: [2, 4]}\n"
+          "  backend.decomp_block: {values: [1]}\n"  // fixed: no gene
           "sampling: {nsga2: {generations: 2, population: 8, seed: 3}}\n"
           "objectives: [{minimize: e2e_latency_mean}, {minimize: dsp}]\n",
       "mixed.yaml", dir.path());
