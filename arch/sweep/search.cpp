@@ -61,20 +61,19 @@ struct SearchState {
     std::lock_guard<std::mutex> lock(mutex);
     for (std::size_t k = 0; k < todo.size(); ++k) {
       const DesignFitness& r = results.at(k);
+      const std::vector<double> objectives = minimization_form(*spec, r.objectives);
       pagmo::vector_double f;
-      for (double v : minimization_form(*spec, r.objectives)) f.push_back(finite(v));
-      bool ok = true;
+      for (double v : objectives) f.push_back(finite(v));
       for (std::size_t c = 0; c < spec->constraints.size(); ++c) {
         const SweepConstraint& con = spec->constraints[c];
         const double v = finite(r.constraints.at(c));
         if (con.max < 1e300) f.push_back(v - con.max);
         if (con.min > -1e300) f.push_back(con.min - v);
-        ok = ok && v >= con.min && v <= con.max;
       }
       fitness.emplace(todo[k], f);
       order.push_back(todo[k]);
-      minimized.push_back(minimization_form(*spec, r.objectives));
-      feasible.push_back(ok);
+      minimized.push_back(objectives);
+      feasible.push_back(r.feasible);
     }
   }
 

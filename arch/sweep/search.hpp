@@ -19,6 +19,7 @@ namespace edx::arch {
 struct DesignFitness {
   std::vector<double> objectives;   ///< as the spec states them (maximized ones not negated)
   std::vector<double> constraints;  ///< the constraint metrics, in spec order
+  bool feasible = true;             ///< within every constraint (the sweep's own verdict)
 };
 
 /// Evaluates designs given by grid index (SweepPoints::grid_index); returns one fitness per

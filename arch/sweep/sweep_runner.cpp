@@ -370,7 +370,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
         std::vector<DesignFitness> fitness;
         for (std::size_t index : indices) {
           const SweepPointResult& r = finished.at(index);
-          DesignFitness f{r.objectives, {}};
+          DesignFitness f{r.objectives, {}, r.feasible};
           for (const SweepConstraint& c : spec.constraints) {
             f.constraints.push_back(r.metrics.at(c.metric).get<double>());
           }

@@ -186,6 +186,25 @@ TEST(Search, SpecChecksNameTheKey) {
               HasSubstr("elitism"));
 }
 
+TEST(Search, NothingToSearchIsOneLineAndLeavesNoDatabase) {
+  const testing::TempDir dir;
+  const SweepSpec spec = SweepSpec::parse(
+      "name: fixed\nbase: " + kSource +
+          "/configs/edx_car.yaml\nparameters:\n  backend.gemm_block: {values: [4]}\n"
+          "sampling: {nsga2: {generations: 2, population: 8}}\n"
+          "objectives: [{minimize: e2e_latency_mean}, {minimize: dsp}]\n",
+      "fixed.yaml", dir.path());
+  try {
+    run(spec, dir.path() / "f.db");
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "fixed.yaml: sampling.nsga2: every parameter has one value: nothing to search (use "
+              "grid)");
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "f.db"));
+}
+
 TEST(Search, FrontHypervolumeByHand) {
   // Two points (1, 3) and (2, 1) against (4, 4): 3x1 + 2x2 = 7 (the union of two rectangles,
   // 3 + 6 - 2); a dominated point and one outside the reference change nothing.
