@@ -1,14 +1,18 @@
 // `edx sweep SPEC.yaml --db results.db`: runs (or resumes) a design-space sweep and prints its
-// points and Pareto front (docs/SWEEPS.md). Logic: arch/sweep/sweep.
+// points and Pareto front (docs/SWEEPS.md); under mpirun, spread over the ranks. Logic:
+// arch/sweep (sweep.hpp, distributed.hpp); workload points are traced by workloads/modes.
 #include <fmt/core.h>
 
 #include <memory>
 #include <string>
 #include <thread>
 
+#include "arch/sweep/distributed.hpp"
 #include "arch/sweep/sweep.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
+#include "edx_revision.hpp"
+#include "workloads/modes/sweep_workload.hpp"
 
 namespace edx::cli {
 namespace {
@@ -17,26 +21,63 @@ struct SweepArguments {
   std::string spec;
   std::string db;
   std::string trace;
+  std::string trace_store;
   int jobs = 0;
   std::size_t limit = 0;
   bool per_frame = false;
   bool json = false;
 };
 
+/// Workload points are traced as `edx trace --mix` would (workloads/modes/sweep_workload.hpp).
+arch::WorkloadTracer mix_tracer() {
+  return {[](const nlohmann::json& workload) {
+            return modes::SweepWorkload::from_json(workload).to_json();
+          },
+          [](const nlohmann::json& resolved, const std::filesystem::path& out,
+             const std::filesystem::path& data_dir) {
+            modes::trace_sweep_workload(modes::SweepWorkload::from_json(resolved), out, data_dir);
+          },
+          kSourceRevision};
+}
+
+arch::SweepOutcome run_here_or_over_mpi(const arch::SweepSpec& spec, arch::SweepOptions options) {
+  if (!arch::launched_by_mpi()) return arch::run_sweep(spec, options);
+  // Under mpirun: rank 0 runs the sweep, the others serve it; a failure on rank 0 ends the job.
+  const arch::MpiSession mpi;
+  if (mpi.rank() != 0) {
+    arch::serve_sweep(spec, options);
+    std::exit(0);  // nothing to print: rank 0 reports
+  }
+  options.distributed = true;
+  try {
+    return arch::run_sweep(spec, options);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "edx: error: {}\n", e.what());
+    mpi.abort(1);
+  }
+}
+
 void run(const SweepArguments& args) {
   const arch::SweepSpec spec = arch::SweepSpec::load(args.spec);
   arch::SweepOptions options;
   options.db = args.db;
   options.trace = args.trace;
+  options.trace_store = args.trace_store;
   options.jobs = args.jobs > 0 ? args.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
   options.limit = args.limit;
   options.per_frame = args.per_frame;
+  options.tracer = mix_tracer();
   auto bar = std::make_shared<ProgressBar>("sweep");
   options.progress = [bar, &spec](std::size_t done, std::size_t total,
                                   const arch::SweepPointResult&) {
     bar->update(done, total, "points", spec.name);
   };
-  const arch::SweepOutcome outcome = arch::run_sweep(spec, options);
+  options.trace_progress = [bar](std::size_t w, const nlohmann::json& workload,
+                                 const std::string* error) {  // after each trace
+    bar->note(error->empty() ? fmt::format("workload {} traced: {}", w, workload.dump())
+                             : fmt::format("workload {} failed: {}: {}", w, workload.dump(), *error));
+  };
+  const arch::SweepOutcome outcome = run_here_or_over_mpi(spec, options);
   if (args.json) {
     fmt::print("{}\n", outcome.to_json(spec).dump(2));
   } else {
@@ -55,7 +96,12 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_option("--db", args->db, "Results database (SQLite); points already in it are skipped")
       ->required();
   cmd->add_option("--trace", args->trace, "Trace database (overrides the spec's trace:)");
-  cmd->add_option("-j,--jobs", args->jobs, "Points simulated in parallel (default: all cores)")
+  cmd->add_option("--trace-store", args->trace_store,
+                  "Folder of the traces of workload points (default: beside --db, "
+                  "results.db -> results.traces)");
+  cmd->add_option("-j,--jobs", args->jobs,
+                  "Points simulated in parallel (default: all cores; under mpirun each rank runs "
+                  "one task at a time: start one rank per core)")
       ->check(CLI::Range(1, 256));
   cmd->add_option("--limit", args->limit,
                   "Stop after simulating this many points (a later run resumes)");

@@ -33,6 +33,12 @@ class ProgressBar {
     std::fflush(stderr);
   }
 
+  /// A line of its own (e.g. an event between updates), on a terminal below the bar.
+  void note(std::string_view text) {
+    fmt::print(stderr, "{}edx {}: {}\n", tty_ ? "\r\033[K" : "", command_, text);
+    std::fflush(stderr);
+  }
+
  private:
   std::string command_;
   bool tty_;

@@ -165,6 +165,76 @@ void write_run(SQLite::Database& db, const SystemResult& r, const std::string& r
 
 }  // namespace
 
+nlohmann::json export_run_rows(SQLite::Database& db, const std::string& run_id) {
+  nlohmann::json rows = {{"run_id", run_id}, {"tables", nlohmann::json::object()}};
+  for (std::string_view table : results::kRunTables) {
+    if (!db.tableExists(std::string(table))) continue;
+    SQLite::Statement q(db, fmt::format("SELECT * FROM {} WHERE run_id = ?", table));
+    q.bind(1, run_id);
+    nlohmann::json list = nlohmann::json::array();
+    while (q.executeStep()) {
+      nlohmann::json row = nlohmann::json::array();
+      for (int c = 0; c < q.getColumnCount(); ++c) {
+        const SQLite::Column v = q.getColumn(c);
+        if (v.isNull()) {
+          row.push_back(nullptr);
+        } else if (v.isInteger()) {
+          row.push_back(v.getInt64());
+        } else if (v.isFloat()) {
+          row.push_back(v.getDouble());
+        } else {
+          row.push_back(v.getString());
+        }
+      }
+      list.push_back(std::move(row));
+    }
+    rows["tables"][std::string(table)] = std::move(list);
+  }
+  return rows;
+}
+
+void import_run_rows(SQLite::Database& db, const nlohmann::json& rows) {
+  if (!rows.is_object() || !rows.contains("run_id") || !rows["run_id"].is_string() ||
+      !rows.contains("tables") || !rows["tables"].is_object()) {
+    throw std::runtime_error("run rows: expected {run_id, tables}");
+  }
+  const std::string run_id = rows["run_id"].get<std::string>();
+  for (std::string_view table : results::kRunTables) {
+    SQLite::Statement drop(db, fmt::format("DELETE FROM {} WHERE run_id = ?", table));
+    drop.bind(1, run_id);
+    drop.exec();
+  }
+  // "runs" last in kRunTables, first here: the other rows refer to it.
+  for (auto it = results::kRunTables.rbegin(); it != results::kRunTables.rend(); ++it) {
+    const std::string table(*it);
+    if (!rows["tables"].contains(table)) continue;
+    for (const nlohmann::json& row : rows["tables"][table]) {
+      if (!row.is_array() || row.empty()) {
+        throw std::runtime_error(fmt::format("run rows: {}: expected a list of values", table));
+      }
+      std::string marks;
+      for (std::size_t i = 0; i < row.size(); ++i) marks += i ? ", ?" : "?";
+      SQLite::Statement put(db, fmt::format("INSERT INTO {} VALUES ({})", table, marks));
+      for (std::size_t i = 0; i < row.size(); ++i) {
+        const int c = static_cast<int>(i) + 1;
+        const nlohmann::json& v = row[i];
+        if (v.is_null()) {
+          put.bind(c);
+        } else if (v.is_number_integer()) {
+          put.bind(c, v.get<std::int64_t>());
+        } else if (v.is_number()) {
+          put.bind(c, v.get<double>());
+        } else if (v.is_string()) {
+          put.bind(c, v.get<std::string>());
+        } else {
+          throw std::runtime_error(fmt::format("run rows: {}: unexpected value {}", table, v.dump()));
+        }
+      }
+      put.exec();
+    }
+  }
+}
+
 std::string run_id_of(const std::string& config_hash, const std::string& trace_hash) {
   return config_hash + "-" + trace_hash;
 }

@@ -9,6 +9,8 @@
 //
 // Tables and columns: arch/results/schema.hpp.
 #include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
 
 #include "arch/system/system_model.hpp"
 
@@ -34,6 +36,14 @@ void create_results_tables(SQLite::Database& db);
 /// Writes (or replaces) `result`'s run in an open database, inside the caller's transaction.
 void write_results(SQLite::Database& db, const SystemResult& result,
                    const ResultsWriteOptions& options = {});
+/// The rows of run `run_id` in every run table (schema.hpp kRunTables), as
+/// {table: [[column values...], ...]} (integers, reals, text and nulls as JSON): what a sweep
+/// worker that does not own the database sends to the one that does (arch/sweep, MPI).
+nlohmann::json export_run_rows(SQLite::Database& db, const std::string& run_id);
+/// Writes rows exported by export_run_rows (replacing the run's rows), inside the caller's
+/// transaction. Throws std::runtime_error on a malformed row set.
+void import_run_rows(SQLite::Database& db, const nlohmann::json& rows);
+
 /// "<config_hash>-<trace_hash>": the key of a run.
 std::string run_id_of(const std::string& config_hash, const std::string& trace_hash);
 

@@ -23,20 +23,28 @@
 //            run simulated with --timeline (optional: databases before version 1 lack it)
 // Sweep tables (edx sweep):
 //   sweeps(sweep_id PK, spec, base, trace, points, spec_json)
-//   sweep_points(sweep_id, point, run_id, parameters_json, metrics_json, feasible, pareto)
+//   sweep_points(sweep_id, point, run_id, parameters_json, metrics_json, feasible, pareto,
+//                workload, error)  workload: the hash of the point's workload point ('' when the
+//                sweep names a trace); error: why it has no run (run_id ''), else NULL (version 3)
+//   sweep_workloads(sweep_id, workload, workload_json, trace, trace_hash, error, seconds, host)
+//            a workload sweep's traces: per workload point its content hash, parameters, the
+//            trace file in the trace store and its trace_hash (the runs' trace_hash), or the
+//            error that stopped it; seconds and host of the tracing (version 3)
 //   sweep_locks(sweep_id PK, pid, host, started)      the process running a sweep
 //   sweep_generations(sweep_id, generation, evaluations, front_size, hypervolume)
 //            a search's convergence: per generation, the distinct designs evaluated so far and
 //            the hypervolume of their feasible front (version 2)
 #include <array>
+#include <utility>
 #include <string_view>
 
 namespace edx::results {
 
 // SQLite's user_version of a results database. 0: written before versioning (same tables, no
 // timelines); 1 (2026-11-26): the timelines table; 2 (2026-11-26): sweep_generations (a
-// search's convergence). Readers refuse newer versions.
-inline constexpr int kSchemaVersion = 2;
+// search's convergence); 3 (2026-11-26): sweep_points.workload and .error, sweep_workloads
+// (sweeps that trace their workload). Readers refuse newer versions.
+inline constexpr int kSchemaVersion = 3;
 
 /// The tables of runs, created when missing (in the writer's transaction).
 inline constexpr std::string_view kRunTablesSql = R"sql(
@@ -75,13 +83,21 @@ CREATE TABLE IF NOT EXISTS sweeps (sweep_id TEXT PRIMARY KEY, spec TEXT NOT NULL
   base TEXT NOT NULL, trace TEXT NOT NULL, points INTEGER NOT NULL, spec_json TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS sweep_points (sweep_id TEXT NOT NULL, point INTEGER NOT NULL,
   run_id TEXT NOT NULL, parameters_json TEXT NOT NULL, metrics_json TEXT NOT NULL,
-  feasible INTEGER NOT NULL, pareto INTEGER NOT NULL DEFAULT 0, PRIMARY KEY (sweep_id, point));
+  feasible INTEGER NOT NULL, pareto INTEGER NOT NULL DEFAULT 0, workload TEXT NOT NULL DEFAULT '',
+  error TEXT, PRIMARY KEY (sweep_id, point));
 CREATE TABLE IF NOT EXISTS sweep_locks (sweep_id TEXT PRIMARY KEY, pid INTEGER NOT NULL,
   host TEXT NOT NULL, started TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS sweep_generations (sweep_id TEXT NOT NULL, generation INTEGER NOT NULL,
   evaluations INTEGER NOT NULL, front_size INTEGER NOT NULL, hypervolume REAL NOT NULL,
   PRIMARY KEY (sweep_id, generation));
+CREATE TABLE IF NOT EXISTS sweep_workloads (sweep_id TEXT NOT NULL, workload TEXT NOT NULL,
+  workload_json TEXT NOT NULL, trace TEXT NOT NULL, trace_hash TEXT NOT NULL, error TEXT,
+  seconds REAL, host TEXT, PRIMARY KEY (sweep_id, workload));
 )sql";
+
+/// Columns added to sweep_points by version 3, for databases written before it.
+inline constexpr std::array<std::pair<std::string_view, std::string_view>, 2>
+    kSweepPointColumnsV3{{{"workload", "TEXT NOT NULL DEFAULT ''"}, {"error", "TEXT"}}};
 
 /// Tables holding a run's rows (keyed by run_id), "runs" last: replacing a run deletes from each.
 inline constexpr std::array<std::string_view, 9> kRunTables{"frames",    "latency",   "throughput",

@@ -229,6 +229,24 @@ nlohmann::json SweepPoint::parameters(const SweepSpec& spec) const {
   return j;
 }
 
+nlohmann::json SweepPoint::workload(const SweepSpec& spec) const {
+  if (!spec.traces_workload()) return nullptr;
+  nlohmann::json j = spec.workload;
+  for (std::size_t p = 0; p < spec.workload_parameters; ++p) {
+    j[spec.parameters[p].key.substr(std::string_view("workload.").size())] =
+        spec.parameters[p].texts[choice[p]];
+  }
+  return j;
+}
+
+std::size_t SweepPoint::workload_index(const SweepSpec& spec) const {
+  std::size_t index = 0;
+  for (std::size_t p = 0; p < spec.workload_parameters; ++p) {
+    index = index * spec.parameters[p].values.size() + choice[p];
+  }
+  return index;
+}
+
 nlohmann::json SweepSpec::to_json() const {
   nlohmann::json params = nlohmann::json::object();
   for (const SweepParameter& p : parameters) params[p.key] = p.texts;
@@ -248,17 +266,19 @@ nlohmann::json SweepSpec::to_json() const {
     sampling = {
         {"nsga2", {{"generations", generations}, {"population", population}, {"seed", seed}}}};
   }
-  return {{"name", name},         {"base", base.string()}, {"trace", trace.string()},
-          {"parameters", params}, {"sampling", sampling},  {"objectives", obj},
-          {"constraints", con}};
+  nlohmann::json j = {{"name", name},         {"base", base.string()}, {"trace", trace.string()},
+                      {"parameters", params}, {"sampling", sampling},  {"objectives", obj},
+                      {"constraints", con}};
+  if (traces_workload()) j["workload"] = workload;
+  return j;
 }
 
 SweepSpec SweepSpec::parse(const std::string& text, const std::string& where,
                            const std::filesystem::path& dir) {
   const YAML::Node root = load_yaml_map(text, where, "keys");
   check_keys(where, root, "sweep",
-             {"name", "description", "base", "trace", "parameters", "sampling", "objectives",
-              "constraints"});
+             {"name", "description", "base", "trace", "workload", "parameters", "sampling",
+              "objectives", "constraints"});
   SweepSpec s;
   s.file = where;
   const auto text_of = [&](const char* key, bool required) -> std::string {
@@ -277,14 +297,44 @@ SweepSpec SweepSpec::parse(const std::string& text, const std::string& where,
     fail(where, root["base"], "base", fmt::format("no such platform file '{}'", s.base.string()));
   }
   if (const std::string trace = text_of("trace", false); !trace.empty()) s.trace = dir / trace;
+  if (const YAML::Node workload = root["workload"]) {
+    if (root["trace"]) {
+      fail(where, workload, "workload",
+           "give a trace or a workload, not both (a workload sweep traces its own points)");
+    }
+    if (!workload.IsMap()) {
+      fail(where, workload, "workload", "expected a map of workload parameters to values");
+    }
+    s.workload = nlohmann::json::object();
+    for (const auto& item : workload) {
+      if (!item.second.IsScalar()) {
+        fail(where, item.second, "workload." + item.first.Scalar(), "expected a scalar value");
+      }
+      s.workload[item.first.Scalar()] = item.second.Scalar();
+    }
+  }
 
   const YAML::Node params = root["parameters"];
   if (!params || !params.IsMap() || params.size() == 0) {
     fail(where, params ? params : root, "parameters",
          "expected a map of dotted platform keys to {values | range | log_range}");
   }
-  for (const auto& item : params)
-    s.parameters.push_back(parse_parameter(where, item.first, item.second));
+  std::vector<SweepParameter> platform_parameters;
+  for (const auto& item : params) {
+    SweepParameter p = parse_parameter(where, item.first, item.second);
+    if (!p.key.starts_with("workload.")) {
+      platform_parameters.push_back(std::move(p));
+      continue;
+    }
+    if (!s.traces_workload()) {
+      fail(where, item.first, "parameters." + p.key,
+           "a workload parameter needs a workload: section (the sweep then traces each "
+           "workload point)");
+    }
+    s.parameters.push_back(std::move(p));
+  }
+  s.workload_parameters = s.parameters.size();
+  for (SweepParameter& p : platform_parameters) s.parameters.push_back(std::move(p));
 
   if (const YAML::Node sampling = root["sampling"]) {
     if (sampling.IsScalar() && sampling.Scalar() == "grid") {
@@ -333,6 +383,11 @@ SweepSpec SweepSpec::parse(const std::string& text, const std::string& where,
       // pagmo seeds are unsigned 32-bit integers.
       if (seed < 0 || seed != std::round(seed) || seed > 4294967295.0) {
         fail(where, n["seed"], "sampling.nsga2.seed", "expected an integer from 0 to 2^32 - 1");
+      }
+      if (s.workload_parameters > 0) {
+        fail(where, n, "sampling.nsga2",
+             "a search varies platform parameters only (use grid or random sampling with "
+             "workload.* parameters)");
       }
       s.nsga2 = true;
       s.generations = static_cast<std::size_t>(generations);
@@ -402,7 +457,7 @@ SweepSpec SweepSpec::parse(const std::string& text, const std::string& where,
   // Every point must make a valid platform: check each parameter's values on the base (loaded
   // once; each check on a copy of it).
   const PlatformSource base = PlatformSource::load(s.base);
-  for (std::size_t p = 0; p < s.parameters.size(); ++p) {
+  for (std::size_t p = s.workload_parameters; p < s.parameters.size(); ++p) {
     for (std::size_t v = 0; v < s.parameters[p].values.size(); ++v) {
       SweepPoint point;
       point.choice.assign(s.parameters.size(), 0);
@@ -501,7 +556,7 @@ Platform sweep_platform(const SweepSpec& spec, const SweepPoint& point,
   // 10^9-point sweep took GBs before its first point).
   PlatformSource source = base;
   source.root = YAML::Clone(base.root);
-  for (std::size_t p = 0; p < spec.parameters.size(); ++p) {
+  for (std::size_t p = spec.workload_parameters; p < spec.parameters.size(); ++p) {
     const SweepParameter& param = spec.parameters[p];
     // A fresh node with the value's text (errors then take their line from the origin: the
     // value's line in the spec, or the key's for a generated value).

@@ -10,7 +10,10 @@
 //   name: gemm_block                        # default: the spec's file stem
 //   base: ../configs/edx_car.yaml           # relative to the spec
 //   trace: ../build/sweep_vio.db            # relative to the spec; `--trace` overrides
+//   workload: {mix: paper, frames: 400, resolution: 1280x720}   # instead of trace: the sweep
+//                                           # traces each workload point (docs/SWEEPS.md)
 //   parameters:
+//     workload.features: {values: [500, 1000]}                    # a workload parameter
 //     backend.gemm_block: {values: [1, 2, 4, 8]}
 //     backend.clock_mhz: {range: {from: 100, to: 250, step: 50}}      # from, from+step, ... <= to
 //     link.bandwidth_gb_per_s: {log_range: {from: 1.2, to: 7.9, points: 5}}  # geometric
@@ -28,6 +31,7 @@
 #include <vector>
 
 #include "arch/platform/platform.hpp"
+#include "arch/sweep/workload.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {
@@ -55,7 +59,14 @@ struct SweepSpec {
   std::string file;  ///< the spec file ("" when parsed from text)
   std::string name;
   std::filesystem::path base, trace;
+  /// The `workload:` section (parameter name -> value text), null when the spec names a trace:
+  /// the sweep then traces every workload point itself (WorkloadTracer, workload.hpp).
+  nlohmann::json workload;
+  /// Platform parameters and `workload.*` parameters, the workload ones first (so the grid's
+  /// points of one workload point are consecutive).
   std::vector<SweepParameter> parameters;
+  std::size_t workload_parameters = 0;  ///< how many of `parameters` are workload.* (the first)
+  bool traces_workload() const { return !workload.is_null(); }
   bool random = false;
   std::size_t samples = 0;
   std::uint64_t seed = 1;
@@ -80,6 +91,10 @@ struct SweepPoint {
   std::vector<std::size_t> choice;
   /// {"backend.gemm_block": "4", ...}
   nlohmann::json parameters(const SweepSpec& spec) const;
+  /// The spec's workload with this point's workload.* values (null when the spec has none).
+  nlohmann::json workload(const SweepSpec& spec) const;
+  /// Which workload point this is: the index of its workload.* values in their own grid.
+  std::size_t workload_index(const SweepSpec& spec) const;
 };
 
 /// Most design points a sweep may have (grid size, or random samples, or search evaluations).
@@ -132,7 +147,9 @@ std::vector<std::size_t> pareto_front(const std::vector<std::vector<double>>& va
 /// One finished point of a sweep.
 struct SweepPointResult {
   std::size_t index = 0;
-  std::string run_id;
+  std::string run_id;  ///< "" when the point failed (error)
+  std::string workload;  ///< hash of its workload point ("" when the spec names a trace)
+  std::string error;     ///< why the point has no run (its workload could not be traced)
   nlohmann::json parameters;
   std::vector<double> objectives;
   nlohmann::json metrics;  ///< objectives and constraint metrics by name
@@ -149,6 +166,15 @@ struct SweepOptions {
   bool per_frame = false;  ///< also store frames and offload rows of every point
   /// Called after each point (done, total, that point), from one thread at a time.
   std::function<void(std::size_t, std::size_t, const SweepPointResult&)> progress;
+  /// Traces workload points (specs with a workload: section; required for them).
+  WorkloadTracer tracer;
+  /// Where workload traces go (default: default_trace_store(db)).
+  std::filesystem::path trace_store;
+  /// Called when a workload point starts and ends tracing (its index, parameters, error or "").
+  std::function<void(std::size_t, const nlohmann::json&, const std::string*)> trace_progress;
+  /// Run as rank 0 of an MPI job (distributed.hpp): this process owns the database and hands
+  /// points to the other ranks (which run serve_sweep) and to one worker thread of its own.
+  bool distributed = false;
 };
 
 /// One generation of a search: the designs evaluated so far (distinct) and the hypervolume of
@@ -167,6 +193,8 @@ struct SweepOutcome {
   std::vector<SweepPointResult> points;       ///< finished points, by index
   std::vector<std::size_t> front;             ///< indices into points (complete sweeps only)
   std::vector<SearchGeneration> generations;  ///< a search's convergence table
+  std::size_t traced = 0;                     ///< workload points traced in this run
+  std::size_t failed = 0;                     ///< points with an error (workload not traced)
   double seconds = 0;                         ///< wall time
   nlohmann::json to_json(const SweepSpec& spec) const;
 };

@@ -10,6 +10,8 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <deque>
+#include <utility>
 #include <future>
 #include <iterator>
 #include <limits>
@@ -25,6 +27,7 @@
 #include "arch/results/schema.hpp"
 #include "arch/sweep/search.hpp"
 #include "arch/sweep/sweep.hpp"
+#include "arch/sweep/sweep_engine.hpp"
 #include "arch/system/system_model.hpp"
 #include "common/atomic_file.hpp"
 #include "workloads/trace/reader.hpp"
@@ -82,7 +85,10 @@ void evaluate(const SweepSpec& spec, const nlohmann::json& summary, SweepPointRe
 }
 
 void put_point(SQLite::Database& db, const std::string& sweep_id, const SweepPointResult& r) {
-  SQLite::Statement s(db, "INSERT OR REPLACE INTO sweep_points VALUES (?, ?, ?, ?, ?, ?, ?)");
+  SQLite::Statement s(db,
+                      "INSERT OR REPLACE INTO sweep_points (sweep_id, point, run_id, "
+                      "parameters_json, metrics_json, feasible, pareto, workload, error) VALUES "
+                      "(?, ?, ?, ?, ?, ?, ?, ?, ?)");
   s.bind(1, sweep_id);
   s.bind(2, static_cast<std::int64_t>(r.index));
   s.bind(3, r.run_id);
@@ -90,6 +96,12 @@ void put_point(SQLite::Database& db, const std::string& sweep_id, const SweepPoi
   s.bind(5, r.metrics.dump());
   s.bind(6, r.feasible ? 1 : 0);
   s.bind(7, r.pareto ? 1 : 0);
+  s.bind(8, r.workload);
+  if (r.error.empty()) {
+    s.bind(9);
+  } else {
+    s.bind(9, r.error);
+  }
   s.exec();
 }
 
@@ -115,12 +127,12 @@ std::string csv_value(const SQLite::Column& c) {
 nlohmann::json SweepOutcome::to_json(const SweepSpec& spec) const {
   nlohmann::json pts = nlohmann::json::array(), front_json = nlohmann::json::array();
   for (const SweepPointResult& p : points) {
-    pts.push_back({{"point", p.index},
-                   {"run_id", p.run_id},
-                   {"parameters", p.parameters},
-                   {"metrics", p.metrics},
-                   {"feasible", p.feasible},
-                   {"pareto", p.pareto}});
+    nlohmann::json point = {{"point", p.index},          {"run_id", p.run_id},
+                            {"parameters", p.parameters}, {"metrics", p.metrics},
+                            {"feasible", p.feasible},     {"pareto", p.pareto}};
+    if (!p.workload.empty()) point["workload"] = p.workload;
+    if (!p.error.empty()) point["error"] = p.error;
+    pts.push_back(std::move(point));
   }
   for (std::size_t i : front) front_json.push_back(points[i].index);
   nlohmann::json convergence = nlohmann::json::array();
@@ -132,38 +144,42 @@ nlohmann::json SweepOutcome::to_json(const SweepSpec& spec) const {
   }
   return {{"sweep", sweep_id},          {"spec", spec.to_json()}, {"total", total},
           {"generations", convergence}, {"computed", computed},   {"skipped", skipped},
-          {"complete", complete},       {"seconds", seconds},     {"points", pts},
-          {"pareto_front", front_json}};
+          {"traced", traced},           {"failed", failed},       {"complete", complete},
+          {"seconds", seconds},         {"points", pts},          {"pareto_front", front_json}};
 }
 
-SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options) {
-  const std::filesystem::path trace_path = options.trace.empty() ? spec.trace : options.trace;
-  if (trace_path.empty()) {
-    throw std::runtime_error(
-        fmt::format("{}: trace: no trace (give trace: or --trace)", spec.file));
+namespace {
+
+using sweep_engine::LoadedTrace;
+using sweep_engine::SweepContext;
+using sweep_engine::SweepTask;
+using sweep_engine::SweepTaskResult;
+
+/// Adds the columns of schema version 3 to a sweep_points table written before it.
+void migrate_sweep_points(SQLite::Database& db) {
+  std::set<std::string> columns;
+  SQLite::Statement info(db, "PRAGMA table_info(sweep_points)");
+  while (info.executeStep()) columns.insert(info.getColumn(1).getString());
+  for (const auto& [name, type] : results::kSweepPointColumnsV3) {
+    if (!columns.contains(std::string(name))) {
+      db.exec(fmt::format("ALTER TABLE sweep_points ADD COLUMN {} {}", name, type));
+    }
   }
-  const trace::TraceReader reader(trace_path);
-  return run_sweep(spec, options, reader.read_all(), reader.meta(), trace_path.string());
 }
 
-SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
-                       const std::vector<trace::FrameTrace>& frames,
-                       const trace::TraceMeta& trace_meta, const std::string& trace_name) {
+/// The run of a sweep: the master's state and loop (docs/SWEEPS.md "How a sweep runs").
+SweepOutcome run_sweep_impl(const SweepSpec& spec, const SweepOptions& options,
+                            std::shared_ptr<const LoadedTrace> given) {
   const auto start = std::chrono::steady_clock::now();
   // Everything that can be checked is checked before the results database is touched.
   if (options.db.empty()) throw std::runtime_error("sweep: expected a results database path");
-  if (frames.empty())
-    throw std::runtime_error(fmt::format("{}: the trace has no frames", trace_name));
-  const auto resolution = trace_meta.find("resolution");
-  if (resolution == trace_meta.end()) {
-    throw std::runtime_error(fmt::format("{}: trace meta has no resolution", trace_name));
+  SweepContext context(spec, options);  // resolves the workload points (their errors first)
+  const SweepPoints& points = context.points;
+  if (given) {
+    map_host(Platform::parse(context.base).host, given->meta, given->name);  // its host speed
+    context.workloads[0].trace = given->name;
+    context.set_trace(0, given);
   }
-  const std::string thash = trace_hash(frames.size(), trace_meta);
-
-  // The points, enumerated lazily (a bad value failed in SweepSpec::parse, before any work).
-  const SweepPoints points(spec);
-  const PlatformSource base = PlatformSource::load(spec.base);
-  map_host(Platform::parse(base).host, trace_meta, trace_name);  // the trace's host speed
   SweepOutcome out;
   out.sweep_id = spec.name;
   // A search evaluates at most its population in each generation and the initial one.
@@ -201,12 +217,13 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
     SQLite::Transaction t(db, SQLite::TransactionBehavior::IMMEDIATE);
     create_results_tables(db);
     db.exec(std::string(results::kSweepTablesSql));
+    migrate_sweep_points(db);
     take_sweep_lock(db, options.db.string(), out.sweep_id);
     SQLite::Statement sweep(db, "INSERT OR REPLACE INTO sweeps VALUES (?, ?, ?, ?, ?, ?)");
     sweep.bind(1, out.sweep_id);
     sweep.bind(2, spec.file);
     sweep.bind(3, spec.base.string());
-    sweep.bind(4, trace_name);
+    sweep.bind(4, given ? given->name : context.store.string());
     sweep.bind(5, static_cast<std::int64_t>(points.size()));
     sweep.bind(6, spec.to_json().dump());
     sweep.exec();
@@ -237,127 +254,214 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
   db.exec("PRAGMA journal_mode = WAL");
   db.exec("PRAGMA synchronous = NORMAL");
 
-  // The pool: workers take the next point in index order, make its platform and run id, and
-  // either find its run in the database (resume: evaluated from the stored summary, not counted
-  // against the limit) or simulate it. Frontend studies are shared between points with the same
-  // frontend_study_key (computed once, by the first worker asking). Only finished points are
-  // kept: memory grows with the points run, not with the grid.
-  std::mutex mutex;       // guards db, the results, the counters, the studies, the first error
-  std::mutex yaml_mutex;  // guards the YAML trees of the spec and the base
+  // Per workload point: whether its trace is there (in the store already, or given).
+  enum class TraceState { kMissing, kQueued, kReady, kFailed };
+  struct WorkloadState {
+    TraceState state = TraceState::kMissing;
+    std::string trace_hash, error;
+    std::vector<std::size_t> waiting;  ///< points admitted before their trace was ready
+  };
+  std::vector<WorkloadState> states(context.workloads.size());
+  if (given) {
+    states[0] = {TraceState::kReady, given->hash, {}, {}};
+  } else {
+    for (std::size_t w = 0; w < context.workloads.size(); ++w) {
+      const std::filesystem::path& file = context.workloads[w].trace;
+      if (!std::filesystem::exists(file)) continue;
+      const trace::TraceReader reader(file);  // meta and frame count only
+      states[w].state = TraceState::kReady;
+      states[w].trace_hash = trace_hash(reader.frame_count(), reader.meta());
+    }
+  }
+  const auto record_workload = [&](std::size_t w, const SweepTaskResult* traced) {
+    const sweep_engine::Workload& workload = context.workloads[w];
+    SQLite::Statement s(db,
+                        "INSERT OR REPLACE INTO sweep_workloads VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
+    s.bind(1, out.sweep_id);
+    s.bind(2, workload.hash);
+    s.bind(3, workload.resolved.dump());
+    s.bind(4, workload.trace.string());
+    s.bind(5, states[w].trace_hash);
+    if (states[w].error.empty()) {
+      s.bind(6);
+    } else {
+      s.bind(6, states[w].error);
+    }
+    if (traced) {
+      s.bind(7, traced->seconds);
+      s.bind(8, traced->host);
+    } else {
+      s.bind(7);
+      s.bind(8);
+    }
+    s.exec();
+  };
+
+  std::unique_ptr<sweep_engine::SweepExecutor> executor =
+      options.distributed ? sweep_engine::make_mpi_executor(context)
+                          : std::make_unique<sweep_engine::LocalExecutor>(context, options.jobs);
+  struct FinishExecutor {
+    sweep_engine::SweepExecutor& executor;
+    ~FinishExecutor() { executor.finish(); }
+  } finish_executor{*executor};
+
   std::map<std::size_t, SweepPointResult> finished;
-  std::map<std::string, std::shared_future<FrontendStudy>> studies;
-  std::set<std::size_t> claimed;  // points a worker has taken
-  std::size_t simulations = 0;    // claimed, toward the limit
+  std::set<std::size_t> claimed;  // points admitted (a search may ask for one twice)
+  std::size_t simulations = 0;    // started, toward the limit
   bool limit_reached = false;
-  std::exception_ptr error;
   const std::size_t limit =
       options.limit > 0 ? options.limit : std::numeric_limits<std::size_t>::max();
-  const auto finish = [&](SweepPointResult r, const SystemResult* simulated) {
-    std::lock_guard<std::mutex> lock(mutex);
+  // A finished point: its run (simulated here, or found in the database) and its row, in one
+  // transaction.
+  const auto finish = [&](SweepPointResult r, const std::function<void()>& write_run) {
     SQLite::Transaction t(db);
-    if (simulated) write_results(db, *simulated, ResultsWriteOptions{options.per_frame});
+    if (write_run) write_run();
     put_point(db, out.sweep_id, r);
     t.commit();
     new_database.keep = true;
-    (simulated ? out.computed : out.skipped) += 1;
-    const std::size_t done = finished.size() + 1;
-    if (options.progress) options.progress(done, out.total, r);
+    if (!r.error.empty()) {
+      ++out.failed;
+    } else {
+      (r.computed ? out.computed : out.skipped) += 1;
+    }
+    if (options.progress) options.progress(finished.size() + 1, out.total, r);
     finished.emplace(r.index, std::move(r));
   };
-  // One point: its platform and run id, then its run from the database (resume: evaluated
-  // from the stored summary, not counted against the limit) or simulated. Returns false when
-  // the limit stops the sweep.
-  const auto run_point = [&](std::size_t index) {
-    const SweepPoint point = points.at(index);
-    // yaml-cpp nodes are not safe to read from two threads (even const access may touch
-    // their shared memory), and the base and the spec's values are shared: one at a time.
-    const Platform platform = [&] {
-      std::lock_guard<std::mutex> lock(yaml_mutex);
-      return sweep_platform(spec, point, base);
-    }();
+  std::deque<SweepTask> ready;       // simulations to start
+  std::deque<std::size_t> to_trace;  // workload points to trace
+  std::size_t in_flight = 0;
+  const auto point_result = [&](std::size_t index) {
     SweepPointResult r;
     r.index = index;
-    r.parameters = point.parameters(spec);
-    r.run_id = run_id_of(fnv1a_hex(platform.to_json().dump()), thash);
-    std::optional<std::string> stored;
-    {
-      std::lock_guard<std::mutex> lock(mutex);
-      SQLite::Statement q(db, "SELECT summary_json FROM runs WHERE run_id = ?");
-      q.bind(1, r.run_id);
-      if (q.executeStep()) {
-        stored = q.getColumn(0).getString();
-      } else if (simulations >= limit) {
-        limit_reached = true;
-        return false;
-      } else {
-        ++simulations;
-      }
-    }
-    if (stored) {
-      evaluate(spec, nlohmann::json::parse(*stored), r);
-      finish(std::move(r), nullptr);
-      return true;
-    }
-    const std::string key = frontend_study_key(platform);
-    std::shared_future<FrontendStudy> study;
-    std::promise<FrontendStudy> mine;
-    bool owner = false;
-    {
-      std::lock_guard<std::mutex> lock(mutex);
-      auto it = studies.find(key);
-      if (it == studies.end()) {
-        it = studies.emplace(key, mine.get_future().share()).first;
-        owner = true;
-      }
-      study = it->second;
-    }
-    if (owner) {
-      try {
-        mine.set_value(study_frontend(platform, frames, trace_meta, trace_name));
-      } catch (...) {
-        mine.set_exception(std::current_exception());
-      }
-    }
-    const SystemResult result =
-        simulate_system(platform, frames, trace_meta, trace_name, study.get());
-    evaluate(spec, result.to_json(), r);
-    r.computed = true;
-    finish(std::move(r), &result);
-    return true;
+    r.parameters = points.at(index).parameters(spec);
+    r.workload = context.workloads[context.workload_of(index)].hash;
+    return r;
   };
-  // The pool: workers take the next of `count` points (`index_at(i)`, the i-th) in order; a
-  // point already taken (a search may ask for it twice) is skipped. Only finished points are
-  // kept: memory grows with the points run, not with the grid.
-  const auto run_pool = [&](std::size_t count,
-                            const std::function<std::size_t(std::size_t)>& index_at) {
-    std::atomic<std::size_t> next{0};
-    const auto worker = [&] {
-      for (;;) {
-        {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (error || limit_reached) return;
-        }
-        const std::size_t i = next++;
-        if (i >= count) return;
-        const std::size_t index = index_at(i);
-        {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (!claimed.insert(index).second) continue;
-        }
-        try {
-          if (!run_point(index)) return;
-        } catch (...) {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (!error) error = std::current_exception();
-          return;
+  // A point whose trace is ready: read back from the database, or queued for simulation.
+  const auto consider = [&](std::size_t index, std::size_t w) {
+    auto platform = std::make_shared<const Platform>(context.platform(index));
+    SweepPointResult r = point_result(index);
+    r.run_id = run_id_of(fnv1a_hex(platform->to_json().dump()), states[w].trace_hash);
+    SQLite::Statement q(db, "SELECT summary_json FROM runs WHERE run_id = ?");
+    q.bind(1, r.run_id);
+    if (q.executeStep()) {
+      evaluate(spec, nlohmann::json::parse(q.getColumn(0).getString()), r);
+      q.reset();
+      finish(std::move(r), {});
+    } else if (simulations >= limit) {
+      limit_reached = true;
+    } else {
+      ++simulations;
+      ready.push_back(SweepTask{SweepTask::Kind::kSimulate, w, index, std::move(platform)});
+    }
+  };
+  const auto fail = [&](std::size_t index, std::size_t w) {
+    SweepPointResult r = point_result(index);
+    r.feasible = false;
+    r.metrics = nlohmann::json::object();
+    r.error = states[w].error;
+    finish(std::move(r), {});
+  };
+  const auto admit = [&](std::size_t index) {
+    if (!claimed.insert(index).second) return;
+    const std::size_t w = context.workload_of(index);
+    switch (states[w].state) {
+      case TraceState::kReady:
+        return consider(index, w);
+      case TraceState::kFailed:
+        return fail(index, w);
+      case TraceState::kMissing:
+        states[w].state = TraceState::kQueued;
+        to_trace.push_back(w);
+        [[fallthrough]];
+      case TraceState::kQueued:
+        states[w].waiting.push_back(index);
+    }
+  };
+  const auto handle = [&](SweepTaskResult r) {
+    const std::size_t w = r.task.workload;
+    if (r.task.kind == SweepTask::Kind::kTrace) {
+      if (options.trace_progress) {
+        options.trace_progress(w, context.workloads[w].resolved, &r.error);
+      }
+      if (r.error.empty()) {
+        const trace::TraceReader reader(context.workloads[w].trace);
+        states[w].state = TraceState::kReady;
+        states[w].trace_hash = trace_hash(reader.frame_count(), reader.meta());
+        ++out.traced;
+      } else {
+        states[w].state = TraceState::kFailed;
+        states[w].error = r.error;
+      }
+      {
+        SQLite::Transaction t(db);
+        record_workload(w, &r);
+        t.commit();
+      }
+      for (std::size_t index : std::exchange(states[w].waiting, {})) {
+        if (r.error.empty()) {
+          consider(index, w);
+        } else {
+          fail(index, w);
         }
       }
-    };
-    std::vector<std::thread> pool;
-    const int jobs = std::max(1, std::min<int>(options.jobs, int(std::max<std::size_t>(1, count))));
-    for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
-    for (std::thread& t : pool) t.join();
-    if (error) std::rethrow_exception(error);
+      return;
+    }
+    if (!r.error.empty()) {
+      throw std::runtime_error(fmt::format("point {}: {}", r.task.point, r.error));
+    }
+    SweepPointResult p = point_result(r.task.point);
+    p.computed = true;
+    if (r.result) {
+      p.run_id = run_id_of(r.result->config_hash, r.result->trace_hash);
+      evaluate(spec, r.result->to_json(), p);
+      finish(std::move(p), [&] {
+        write_results(db, *r.result, ResultsWriteOptions{options.per_frame});
+      });
+    } else {
+      p.run_id = r.rows.at("run_id").get<std::string>();
+      evaluate(spec, r.rows.at("summary"), p);
+      finish(std::move(p), [&] { import_run_rows(db, r.rows); });
+    }
+  };
+  // Runs points (indices in the order given) to the end or the limit: traces first, then the
+  // simulations of points whose trace is ready; points are admitted lazily, as workers free up,
+  // so memory grows with the points finished, not with the grid.
+  const auto run_points = [&](std::size_t count,
+                              const std::function<std::size_t(std::size_t)>& index_at) {
+    // Every workload point the points need is queued for tracing up front.
+    for (std::size_t i = 0; spec.traces_workload() && i < count; ++i) {
+      const std::size_t w = context.workload_of(index_at(i));
+      if (states[w].state == TraceState::kMissing) {
+        states[w].state = TraceState::kQueued;
+        to_trace.push_back(w);
+      }
+    }
+    std::size_t cursor = 0;
+    for (;;) {
+      while (executor->has_idle_worker()) {
+        if (!to_trace.empty()) {
+          executor->start(SweepTask{SweepTask::Kind::kTrace, to_trace.front(), 0, nullptr});
+          to_trace.pop_front();
+        } else if (!ready.empty()) {
+          executor->start(std::move(ready.front()));
+          ready.pop_front();
+        } else if (cursor < count && !limit_reached) {
+          admit(index_at(cursor++));
+          continue;
+        } else {
+          break;
+        }
+        ++in_flight;
+      }
+      if (in_flight == 0) {
+        if (cursor < count && !limit_reached) continue;
+        break;
+      }
+      SweepTaskResult r = executor->wait();
+      --in_flight;
+      handle(std::move(r));
+    }
   };
   if (spec.nsga2) {
     // The search asks for a generation at a time; a design it asked for before is read from
@@ -365,7 +469,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
     struct LimitReached {};
     try {
       out.generations = run_nsga2(spec, points, [&](const std::vector<std::size_t>& indices) {
-        run_pool(indices.size(), [&](std::size_t i) { return indices[i]; });
+        run_points(indices.size(), [&](std::size_t i) { return indices[i]; });
         if (limit_reached) throw LimitReached{};
         std::vector<DesignFitness> fitness;
         for (std::size_t index : indices) {
@@ -381,7 +485,22 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
     } catch (const LimitReached&) {
     }
   } else {
-    run_pool(points.size(), [](std::size_t i) { return i; });
+    run_points(points.size(), [](std::size_t i) { return i; });
+  }
+  executor->finish();
+  // Workloads found in the store are recorded too (a resumed sweep lists every trace it used).
+  {
+    SQLite::Transaction t(db);
+    for (std::size_t w = 0; spec.traces_workload() && w < context.workloads.size(); ++w) {
+      if (states[w].state == TraceState::kReady) {
+        SQLite::Statement has(db,
+                              "SELECT 1 FROM sweep_workloads WHERE sweep_id = ? AND workload = ?");
+        has.bind(1, out.sweep_id);
+        has.bind(2, context.workloads[w].hash);
+        if (!has.executeStep()) record_workload(w, nullptr);
+      }
+    }
+    t.commit();
   }
 
   for (auto& [index, r] : finished) out.points.push_back(std::move(r));
@@ -422,6 +541,44 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
   return out;
 }
 
+}  // namespace
+
+SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options) {
+  if (spec.traces_workload()) {
+    if (!options.trace.empty()) {
+      throw std::runtime_error(fmt::format(
+          "{}: --trace: this sweep traces its workload points (workload:), it takes no trace",
+          spec.file));
+    }
+    return run_sweep_impl(spec, options, nullptr);
+  }
+  const std::filesystem::path trace_path = options.trace.empty() ? spec.trace : options.trace;
+  if (trace_path.empty()) {
+    throw std::runtime_error(
+        fmt::format("{}: trace: no trace (give trace: or --trace)", spec.file));
+  }
+  return run_sweep_impl(spec, options,
+                        std::make_shared<const LoadedTrace>(
+                            sweep_engine::load_trace(trace_path, trace_path.string())));
+}
+
+SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
+                       const std::vector<trace::FrameTrace>& frames,
+                       const trace::TraceMeta& trace_meta, const std::string& trace_name) {
+  if (frames.empty())
+    throw std::runtime_error(fmt::format("{}: the trace has no frames", trace_name));
+  if (!trace_meta.contains("resolution")) {
+    throw std::runtime_error(fmt::format("{}: trace meta has no resolution", trace_name));
+  }
+  auto trace = std::make_shared<LoadedTrace>();
+  trace->frames = frames;
+  trace->meta = trace_meta;
+  trace->name = trace_name;
+  trace->hash = trace_hash(frames.size(), trace_meta);
+  return run_sweep_impl(spec, options, std::move(trace));
+}
+
+
 std::string format_sweep(const SweepSpec& spec, const SweepOutcome& o) {
   std::string text =
       fmt::format("sweep      {}: {} points ({} simulated, {} from the database) in {:.2f} s{}\n",
@@ -429,6 +586,10 @@ std::string format_sweep(const SweepSpec& spec, const SweepOutcome& o) {
                   o.complete ? ""
                              : fmt::format("; stopped by the limit, {} left (re-run to resume)",
                                            o.total - o.points.size()));
+  if (spec.traces_workload()) {
+    text += fmt::format("workloads  {} traced in this run, {} points failed (no trace)\n", o.traced,
+                        o.failed);
+  }
   std::string header = fmt::format("{:>6}", "point");
   for (const SweepParameter& p : spec.parameters)
     header += fmt::format(" {:>14}", p.key.substr(p.key.rfind('.') + 1));
@@ -441,6 +602,7 @@ std::string format_sweep(const SweepSpec& spec, const SweepOutcome& o) {
     for (const SweepParameter& p : spec.parameters) {
       line += fmt::format(" {:>14}", r.parameters[p.key].get<std::string>());
     }
+    if (!r.error.empty()) return line + fmt::format("  error: {}\n", r.error);
     for (double v : r.objectives) line += fmt::format(" {:>14.4g}", v);
     return line + fmt::format("  {:<8} {}\n", r.feasible ? "yes" : "no", r.pareto ? "*" : "");
   };

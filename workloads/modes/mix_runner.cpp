@@ -81,6 +81,14 @@ std::shared_ptr<const bow::Vocabulary> load_or_train_vocabulary(const MixRunOpti
   return std::make_shared<const bow::Vocabulary>(std::move(trained.vocabulary));
 }
 
+/// Whether a later segment revisits a world (it then registers against that world's map).
+bool needs_registration(const MixPlan& plan) {
+  return std::any_of(plan.segments.begin(), plan.segments.end(), [&](const MixSegment& s) {
+    return std::count_if(plan.segments.begin(), plan.segments.end(),
+                         [&](const MixSegment& o) { return o.world == s.world; }) > 1;
+  });
+}
+
 std::string world_key(const MixPlan& plan, const MixSegment& segment) {
   return fmt::format("{}-{}x{}-s{}", segment.world, plan.resolution.width, plan.resolution.height,
                      plan.seed);
@@ -88,24 +96,27 @@ std::string world_key(const MixPlan& plan, const MixSegment& segment) {
 
 }  // namespace
 
+void prepare_mix_data(const MixRunOptions& options, const MixProgress& progress) {
+  fs::create_directories(options.data_dir);
+  generate_mix_data(options.plan, options.data_dir,
+                    [&](std::string_view run, int done, int total) {
+                      if (progress) progress(fmt::format("data {}", run), done, total);
+                    });
+  if (needs_registration(options.plan)) load_or_train_vocabulary(options, progress);
+}
+
 MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress) {
   const auto run_start = std::chrono::steady_clock::now();
   const frontend::TracingThreads threads(options.frontend.parallel_images);
   options.frontend.validate();
   options.mode_switch.validate();
+  options.vio.validate();
+  options.slam.validate();
   trace::TraceWriter::check_output(options.out, options.overwrite);  // before any work
   const MixPlan& plan = options.plan;
-  fs::create_directories(options.data_dir);
-  generate_mix_data(plan, options.data_dir, [&](std::string_view run, int done, int total) {
-    if (progress) progress(fmt::format("data {}", run), done, total);
-  });
-  const bool needs_registration =
-      std::any_of(plan.segments.begin(), plan.segments.end(), [&](const MixSegment& s) {
-        return std::count_if(plan.segments.begin(), plan.segments.end(),
-                             [&](const MixSegment& o) { return o.world == s.world; }) > 1;
-      });
+  prepare_mix_data(options, progress);
   std::shared_ptr<const bow::Vocabulary> vocabulary;
-  if (needs_registration) vocabulary = load_or_train_vocabulary(options, progress);
+  if (needs_registration(plan)) vocabulary = load_or_train_vocabulary(options, progress);
 
   MixRunSummary summary;
   summary.out = options.out;
@@ -137,7 +148,9 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
                                            {"backend_mode", "mixed"},
                                            {"mix", plan.name},
                                            {"segments", segments_json},
-                                           {"mode_switch", options.mode_switch.to_string()}}
+                                           {"mode_switch", options.mode_switch.to_string()},
+                                           {"vio", options.vio.to_json()},
+                                           {"slam", options.slam.to_json()}}
                                 .dump();
   meta["frames"] = std::to_string(plan.total_frames());
   meta["opencv_version"] = CV_VERSION;
@@ -185,10 +198,10 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
       if (!backend) {
         switch (decision.mode) {
           case BackendMode::Vio:
-            backend = backend::vio::make_vio_backend(dataset, backend::vio::VioOptions{});
+            backend = backend::vio::make_vio_backend(dataset, options.vio);
             break;
           case BackendMode::Slam:
-            backend = backend::slam::make_slam_backend(dataset, backend::slam::SlamOptions{});
+            backend = backend::slam::make_slam_backend(dataset, options.slam);
             break;
           case BackendMode::Registration:
             backend = backend::registration::make_registration_backend(
@@ -271,10 +284,12 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
     if (const auto it = backends.find(BackendMode::Slam); it != backends.end()) {
       const auto& slam = dynamic_cast<const backend::slam::SlamBackend&>(*it->second);
       auto map = std::make_shared<const backend::slam::Map>(slam.map());
-      const fs::path file = options.data_dir / fmt::format("{}-map.json", world);
-      backend::slam::save_map(*map, file);
+      if (options.save_maps) {
+        const fs::path file = options.data_dir / fmt::format("{}-map.json", world);
+        backend::slam::save_map(*map, file);
+        segment_summary.map_saved = file;
+      }
       maps[world] = std::move(map);
-      segment_summary.map_saved = file;
     }
     summary.segments.push_back(std::move(segment_summary));
   }

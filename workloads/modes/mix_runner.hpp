@@ -16,6 +16,8 @@
 #include <string_view>
 #include <vector>
 
+#include "workloads/backend/slam/slam_options.hpp"
+#include "workloads/backend/vio/vio_options.hpp"
 #include "workloads/eval/evaluate.hpp"
 #include "workloads/frontend/frontend_options.hpp"
 #include "workloads/frontend/sample_stats.hpp"
@@ -37,6 +39,11 @@ struct MixRunOptions {
     return o;
   }();
   ModeSwitchOptions mode_switch;
+  backend::vio::VioOptions vio;     ///< of the VIO backend (outdoor segments)
+  backend::slam::SlamOptions slam;  ///< of the SLAM backend (mapping segments)
+  /// Save each SLAM segment's map as <data>/<world>-map.json (later segments use it from
+  /// memory either way; sweeps tracing several workloads into one data folder turn this off).
+  bool save_maps = true;
   /// Vocabulary file for registration; empty: trained into data_dir (vocabulary-s<seed>.bin).
   std::filesystem::path vocabulary;
   /// When the machine-speed reference suite samples (meta host_speed).
@@ -79,6 +86,11 @@ struct MixRunSummary {
 /// Progress: stage ("data", "vocabulary", or the segment name), done, total.
 using MixProgress =
     std::function<void(std::string_view stage, std::size_t done, std::size_t total)>;
+
+/// Generates the plan's worlds under data_dir and trains the registration vocabulary when the
+/// plan needs one and none is given, reusing what is already there (run_mix calls it first).
+/// Not safe to run twice at once on one data_dir: callers sharing a folder serialize it.
+void prepare_mix_data(const MixRunOptions& options, const MixProgress& progress = {});
 
 /// Generates the data, runs the segments and writes the trace (all or nothing: the trace file
 /// appears only when complete). Throws std::runtime_error naming the file or option on bad input.

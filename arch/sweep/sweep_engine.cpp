@@ -1,0 +1,286 @@
+// The workers' side of a sweep: workload points, tracing one, simulating a point on its trace,
+// the caches a process keeps, and the thread executor.
+#include "arch/sweep/sweep_engine.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <stdexcept>
+
+#include "arch/host/host_model.hpp"
+#include "workloads/trace/reader.hpp"
+
+namespace edx::arch {
+
+std::string workload_hash(const nlohmann::json& resolved, const std::string& version) {
+  return fnv1a_hex(resolved.dump() + "\nversion=" + version);
+}
+
+std::filesystem::path default_trace_store(const std::filesystem::path& db) {
+  std::filesystem::path store = db;
+  store.replace_extension(".traces");
+  return store;
+}
+
+namespace sweep_engine {
+namespace {
+
+std::string this_host() {
+  char name[256] = {};
+  if (::gethostname(name, sizeof name - 1) != 0) return "unknown";
+  return name;
+}
+
+}  // namespace
+
+LoadedTrace load_trace(const std::filesystem::path& path, const std::string& name) {
+  const trace::TraceReader reader(path);
+  LoadedTrace t;
+  t.frames = reader.read_all();
+  t.meta = reader.meta();
+  t.name = name;
+  if (t.frames.empty()) throw std::runtime_error(fmt::format("{}: the trace has no frames", name));
+  if (!t.meta.contains("resolution")) {
+    throw std::runtime_error(fmt::format("{}: trace meta has no resolution", name));
+  }
+  t.hash = trace_hash(t.frames.size(), t.meta);
+  return t;
+}
+
+std::filesystem::path temporary_trace_path(const std::filesystem::path& store,
+                                           const std::string& hash) {
+  static std::atomic<unsigned> counter{0};
+  return store / "tmp" /
+         fmt::format("{}-{}-{}-{}.db", hash, this_host(), ::getpid(), counter.fetch_add(1));
+}
+
+SweepContext::SweepContext(const SweepSpec& spec_in, const SweepOptions& options_in)
+    : spec(spec_in),
+      options(options_in),
+      base(PlatformSource::load(spec_in.base)),
+      points(spec_in) {
+  if (!spec.traces_workload()) {
+    workloads.push_back(Workload{});
+    return;
+  }
+  if (!options.tracer) {
+    throw std::runtime_error(
+        fmt::format("{}: workload: this program cannot trace workloads (no tracer given)",
+                    spec.file));
+  }
+  store = options.trace_store.empty() ? default_trace_store(options.db) : options.trace_store;
+  // One workload per combination of the workload.* values, in grid order; each resolved (a bad
+  // value is an error before any work, naming the parameter).
+  std::size_t count = 1;
+  for (std::size_t p = 0; p < spec.workload_parameters; ++p)
+    count *= spec.parameters[p].values.size();
+  for (std::size_t w = 0; w < count; ++w) {
+    SweepPoint point;
+    point.choice.assign(spec.parameters.size(), 0);
+    std::size_t rest = w;
+    for (std::size_t p = spec.workload_parameters; p-- > 0;) {
+      point.choice[p] = rest % spec.parameters[p].values.size();
+      rest /= spec.parameters[p].values.size();
+    }
+    Workload workload;
+    try {
+      workload.resolved = options.tracer.resolve(point.workload(spec));
+    } catch (const std::exception& e) {
+      // Name the parameter when one of the point's values is the culprit.
+      std::string where = "workload";
+      for (std::size_t p = 0; p < spec.workload_parameters; ++p) {
+        const std::string key = spec.parameters[p].key.substr(std::string("workload.").size());
+        if (std::string(e.what()).starts_with(key + ":")) {
+          where = fmt::format("parameters.{} = {}", spec.parameters[p].key,
+                              spec.parameters[p].texts[point.choice[p]]);
+        }
+      }
+      throw std::runtime_error(fmt::format("{}: {}: {}", spec.file, where, e.what()));
+    }
+    workload.hash = workload_hash(workload.resolved, options.tracer.version);
+    workload.trace = store / (workload.hash + ".db");
+    workloads.push_back(std::move(workload));
+  }
+}
+
+std::size_t SweepContext::workload_of(std::size_t point) const {
+  return points.at(point).workload_index(spec);
+}
+
+Platform SweepContext::platform(std::size_t point) const {
+  return sweep_platform(spec, points.at(point), base);
+}
+
+std::string SweepContext::execute_trace(std::size_t w, const std::filesystem::path& out) const {
+  try {
+    std::filesystem::create_directories(out.parent_path());
+    options.tracer.trace(workloads.at(w).resolved, out, store / "data");
+    return {};
+  } catch (const std::exception& e) {
+    return e.what()[0] ? e.what() : "tracing failed";
+  }
+}
+
+std::shared_ptr<const LoadedTrace> SweepContext::trace_of(std::size_t w) {
+  std::promise<std::shared_ptr<const LoadedTrace>> mine;
+  std::shared_future<std::shared_ptr<const LoadedTrace>> future;
+  bool owner = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = traces_.find(w);
+    if (it == traces_.end()) {
+      it = traces_.emplace(w, mine.get_future().share()).first;
+      owner = true;
+    }
+    future = it->second;
+  }
+  if (owner) {
+    try {
+      const Workload& workload = workloads.at(w);
+      mine.set_value(std::make_shared<const LoadedTrace>(
+          load_trace(workload.trace, workload.trace.string())));
+    } catch (...) {
+      mine.set_exception(std::current_exception());
+    }
+  }
+  return future.get();
+}
+
+void SweepContext::set_trace(std::size_t w, std::shared_ptr<const LoadedTrace> trace) {
+  std::promise<std::shared_ptr<const LoadedTrace>> ready;
+  ready.set_value(std::move(trace));
+  std::lock_guard<std::mutex> lock(mutex_);
+  traces_[w] = ready.get_future().share();
+}
+
+SystemResult SweepContext::execute_simulate(const Platform& platform, std::size_t w) {
+  const std::shared_ptr<const LoadedTrace> trace = trace_of(w);
+  // Frontend studies are shared between points with the same frontend_study_key (computed once
+  // per process, by the first worker asking).
+  const std::string key = frontend_study_key(platform) + "\ntrace=" + trace->hash;
+  std::shared_future<FrontendStudy> study;
+  std::promise<FrontendStudy> mine;
+  bool owner = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = studies_.find(key);
+    if (it == studies_.end()) {
+      it = studies_.emplace(key, mine.get_future().share()).first;
+      owner = true;
+    }
+    study = it->second;
+  }
+  if (owner) {
+    try {
+      mine.set_value(study_frontend(platform, trace->frames, trace->meta, trace->name));
+    } catch (...) {
+      mine.set_exception(std::current_exception());
+    }
+  }
+  return simulate_system(platform, trace->frames, trace->meta, trace->name, study.get());
+}
+
+SweepTaskResult SweepContext::execute_local(const SweepTask& task) {
+  const auto start = std::chrono::steady_clock::now();
+  SweepTaskResult r;
+  r.task = task;
+  r.host = this_host();
+  if (task.kind == SweepTask::Kind::kTrace) {
+    // Written beside the store's files and renamed into place: the store only ever holds
+    // complete traces (a killed worker leaves a file in <store>/tmp, never a partial <hash>.db).
+    const Workload& workload = workloads.at(task.workload);
+    const std::filesystem::path temporary = temporary_trace_path(store, workload.hash);
+    r.error = execute_trace(task.workload, temporary);
+    if (r.error.empty()) {
+      std::error_code ec;
+      std::filesystem::rename(temporary, workload.trace, ec);
+      if (ec) r.error = fmt::format("{}: cannot move the trace into the store: {}",
+                                    workload.trace.string(), ec.message());
+    }
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+  } else {
+    r.result = std::make_shared<const SystemResult>(execute_simulate(*task.platform, task.workload));
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+LocalExecutor::LocalExecutor(SweepContext& context, int jobs)
+    : context_(context), jobs_(std::max(1, jobs)) {
+  for (int j = 0; j < jobs_; ++j) threads_.emplace_back([this] { work(); });
+}
+
+LocalExecutor::~LocalExecutor() { finish(); }
+
+void LocalExecutor::finish() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (stop_) return;
+    stop_ = true;
+  }
+  task_ready_.notify_all();
+  for (std::thread& t : threads_) t.join();
+}
+
+bool LocalExecutor::has_idle_worker() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return busy_ < jobs_;
+}
+
+void LocalExecutor::start(SweepTask task) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++busy_;
+    tasks_.push_back(std::move(task));
+  }
+  task_ready_.notify_one();
+}
+
+void LocalExecutor::work() {
+  for (;;) {
+    SweepTask task;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      task_ready_.wait(lock, [&] { return stop_ || !tasks_.empty(); });
+      if (tasks_.empty()) return;  // stopping
+      task = std::move(tasks_.front());
+      tasks_.pop_front();
+    }
+    SweepTaskResult r;
+    try {
+      r = context_.execute_local(task);
+    } catch (const std::exception& e) {
+      r.task = task;
+      r.error = e.what();
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      results_.push_back(std::move(r));
+    }
+    result_ready_.notify_one();
+  }
+}
+
+SweepTaskResult LocalExecutor::wait() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  result_ready_.wait(lock, [&] { return !results_.empty(); });
+  SweepTaskResult r = std::move(results_.front());
+  results_.pop_front();
+  --busy_;
+  return r;
+}
+
+std::optional<SweepTaskResult> LocalExecutor::poll() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (results_.empty()) return std::nullopt;
+  SweepTaskResult r = std::move(results_.front());
+  results_.pop_front();
+  --busy_;
+  return r;
+}
+
+}  // namespace sweep_engine
+}  // namespace edx::arch

@@ -1,0 +1,150 @@
+#pragma once
+// The inside of a sweep run (internal to arch/sweep): what a worker is asked to do, how it does
+// it, and where it runs. One master (run_sweep, the process owning the results database) turns
+// points into tasks, workload traces first, then the design points whose trace is ready; workers
+// execute them: threads of this process (LocalExecutor), and under MPI also the other ranks
+// (sweep_mpi.cpp), which run the same SweepContext::execute_* code on their own copy of the spec.
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <filesystem>
+#include <future>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "arch/platform/platform.hpp"
+#include "arch/sweep/sweep.hpp"
+#include "arch/system/frontend_study.hpp"
+#include "arch/system/system_model.hpp"
+#include "workloads/trace/records.hpp"
+
+namespace edx::arch::sweep_engine {
+
+/// A trace in memory, as the points simulated on it need it.
+struct LoadedTrace {
+  std::vector<trace::FrameTrace> frames;
+  trace::TraceMeta meta;
+  std::string name;  ///< stored with runs (the trace file as the master names it)
+  std::string hash;  ///< trace_hash(frames, meta): the runs' trace_hash
+};
+
+/// Reads a trace file (`name` is what runs record).
+LoadedTrace load_trace(const std::filesystem::path& path, const std::string& name);
+
+/// One workload point of the sweep: the given trace (specs with trace:), or a traced one.
+struct Workload {
+  nlohmann::json resolved;       ///< full parameters (null for a given trace)
+  std::string hash;              ///< content hash ("" for a given trace)
+  std::filesystem::path trace;   ///< its trace file (in the store for a traced workload)
+  std::size_t first_point = 0;   ///< one of its design points (names it in messages)
+};
+
+struct SweepTask {
+  enum class Kind { kTrace, kSimulate };
+  Kind kind = Kind::kSimulate;
+  std::size_t workload = 0;  ///< index into SweepContext::workloads
+  std::size_t point = 0;     ///< kSimulate: the design point
+  /// kSimulate on a local worker: the point's platform (made by the master; remote workers make
+  /// it again from `point`).
+  std::shared_ptr<const Platform> platform;
+};
+
+struct SweepTaskResult {
+  SweepTask task;
+  std::string error;  ///< kTrace: why the workload could not be traced ("" when it was)
+  double seconds = 0;
+  std::string host;                            ///< where it ran
+  std::shared_ptr<const SystemResult> result;  ///< kSimulate on a local worker
+  nlohmann::json rows;                         ///< kSimulate on a remote one (export_run_rows)
+};
+
+/// What every process of a sweep knows: the spec, the base platform, the workload points, and
+/// caches of traces and frontend studies shared by the workers of this process.
+class SweepContext {
+ public:
+  /// Resolves the workload points (bad workload values throw, naming the spec and the key).
+  SweepContext(const SweepSpec& spec, const SweepOptions& options);
+
+  const SweepSpec& spec;
+  const SweepOptions& options;
+  const PlatformSource base;
+  const SweepPoints points;
+  std::filesystem::path store;  ///< trace store (workload sweeps)
+  std::vector<Workload> workloads;
+
+  /// The workload index of a design point.
+  std::size_t workload_of(std::size_t point) const;
+  /// The point's platform (yaml-cpp is not thread safe: call from one thread at a time).
+  Platform platform(std::size_t point) const;
+
+  /// Traces workload `w` into `out` (all or nothing); the error message when it fails.
+  std::string execute_trace(std::size_t w, const std::filesystem::path& out) const;
+  /// Simulates a point on its workload's trace (loaded once per process).
+  SystemResult execute_simulate(const Platform& platform, std::size_t w);
+  /// Executes a task on a worker of this process (never throws for a trace task: its failure is
+  /// the result's error).
+  SweepTaskResult execute_local(const SweepTask& task);
+
+  /// The trace of workload `w`, loaded once (thread safe); `load` reads it when first asked.
+  std::shared_ptr<const LoadedTrace> trace_of(std::size_t w);
+  /// Installs a trace loaded elsewhere (frames in memory, or bytes received over MPI).
+  void set_trace(std::size_t w, std::shared_ptr<const LoadedTrace> trace);
+
+ private:
+  std::mutex mutex_;
+  std::map<std::size_t, std::shared_future<std::shared_ptr<const LoadedTrace>>> traces_;
+  std::map<std::string, std::shared_future<FrontendStudy>> studies_;
+};
+
+/// Where tasks run.
+class SweepExecutor {
+ public:
+  virtual ~SweepExecutor() = default;
+  /// Whether a worker can take a task now.
+  virtual bool has_idle_worker() = 0;
+  virtual void start(SweepTask task) = 0;
+  /// The next finished task (blocks; only called with tasks in flight).
+  virtual SweepTaskResult wait() = 0;
+  /// Called once when the sweep ends (however it ends): release the workers.
+  virtual void finish() {}
+};
+
+/// `jobs` threads of this process.
+class LocalExecutor : public SweepExecutor {
+ public:
+  LocalExecutor(SweepContext& context, int jobs);
+  ~LocalExecutor() override;
+  bool has_idle_worker() override;
+  void start(SweepTask task) override;
+  SweepTaskResult wait() override;
+  /// A finished task if there is one (does not block).
+  std::optional<SweepTaskResult> poll();
+  void finish() override;
+
+ private:
+  void work();
+  SweepContext& context_;
+  const int jobs_;
+  std::mutex mutex_;
+  std::condition_variable task_ready_, result_ready_;
+  std::deque<SweepTask> tasks_;
+  std::deque<SweepTaskResult> results_;
+  int busy_ = 0;  ///< tasks started and not yet taken back by wait/poll
+  bool stop_ = false;
+  std::vector<std::thread> threads_;
+};
+
+/// The MPI executor of rank 0 (sweep_mpi.cpp; throws when edx was built without MPI).
+std::unique_ptr<SweepExecutor> make_mpi_executor(SweepContext& context);
+
+/// A task's trace file name while it is written (unique per process and task).
+std::filesystem::path temporary_trace_path(const std::filesystem::path& store,
+                                           const std::string& hash);
+
+}  // namespace edx::arch::sweep_engine

@@ -1,0 +1,36 @@
+#pragma once
+// Sweeps over workload parameters (docs/SWEEPS.md "Workload parameters"): a spec with a
+// `workload:` section traces each distinct workload point once into a trace store beside the
+// results database, content-addressed: the file is <store>/<hash>.db with hash = FNV-1a of the
+// resolved workload (every parameter, defaults filled in) and the tracing code's version, so the
+// same workload and code reuse the trace. Tracing is the pipeline's job (workloads/modes), which
+// arch does not link (DESIGN.md: data flows one way): the caller hands run_sweep a tracer.
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace edx::arch {
+
+struct WorkloadTracer {
+  /// The workload's full parameters (defaults filled in, typed): what the hash covers. Throws
+  /// std::runtime_error "key: message" on an unknown key or a malformed value.
+  std::function<nlohmann::json(const nlohmann::json& workload)> resolve;
+  /// Traces a resolved workload into `out` (all or nothing), generating data under `data_dir`
+  /// (shared by the workloads of a store; the tracer serializes its own use of it).
+  std::function<void(const nlohmann::json& resolved, const std::filesystem::path& out,
+                     const std::filesystem::path& data_dir)>
+      trace;
+  /// The tracing code's version (the source revision): part of the hash.
+  std::string version;
+  explicit operator bool() const { return resolve && trace; }
+};
+
+/// FNV-1a 64 of the resolved workload's JSON and the version, as 16 hex digits.
+std::string workload_hash(const nlohmann::json& resolved, const std::string& version);
+
+/// The default trace store of a results database: results.db -> results.traces (a folder beside
+/// it); traces are <store>/<hash>.db, generated worlds under <store>/data.
+std::filesystem::path default_trace_store(const std::filesystem::path& db);
+
+}  // namespace edx::arch
