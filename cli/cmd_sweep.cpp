@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -40,13 +41,15 @@ arch::WorkloadTracer mix_tracer() {
           kSourceRevision};
 }
 
-arch::SweepOutcome run_here_or_over_mpi(const arch::SweepSpec& spec, arch::SweepOptions options) {
+/// The sweep's outcome; nothing on ranks 1..N-1 of an MPI job (rank 0 reports).
+std::optional<arch::SweepOutcome> run_here_or_over_mpi(const arch::SweepSpec& spec,
+                                                       arch::SweepOptions options) {
   if (!arch::launched_by_mpi()) return arch::run_sweep(spec, options);
   // Under mpirun: rank 0 runs the sweep, the others serve it; a failure on rank 0 ends the job.
   const arch::MpiSession mpi;
   if (mpi.rank() != 0) {
     arch::serve_sweep(spec, options);
-    std::exit(0);  // nothing to print: rank 0 reports
+    return std::nullopt;
   }
   options.distributed = true;
   try {
@@ -77,7 +80,9 @@ void run(const SweepArguments& args) {
     bar->note(error->empty() ? fmt::format("workload {} traced: {}", w, workload.dump())
                              : fmt::format("workload {} failed: {}: {}", w, workload.dump(), *error));
   };
-  const arch::SweepOutcome outcome = run_here_or_over_mpi(spec, options);
+  const std::optional<arch::SweepOutcome> ran = run_here_or_over_mpi(spec, options);
+  if (!ran) return;
+  const arch::SweepOutcome& outcome = *ran;
   if (args.json) {
     fmt::print("{}\n", outcome.to_json(spec).dump(2));
   } else {

@@ -1,0 +1,243 @@
+// Sweeps over workload parameters (arch/sweep/workload.hpp): the spec's workload section, one
+// trace per workload point in a content-addressed store, reuse across runs and sweeps, a failed
+// workload point recorded without stopping the sweep, and the rows a remote worker sends.
+#include <SQLiteCpp/SQLiteCpp.h>
+#include <fmt/format.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <fstream>
+#include <set>
+#include <stdexcept>
+
+#include "arch/results/results_db.hpp"
+#include "arch/sweep/sweep.hpp"
+#include "arch/sweep/workload.hpp"
+#include "tests/arch/sweep/sweep_fixture.hpp"
+#include "tests/support/temp_dir.hpp"
+
+namespace edx::arch {
+namespace {
+
+using ::testing::HasSubstr;
+
+/// A stand-in for the pipeline: workload {features: N} traces the fixture's four frames with
+/// projection kernels of N points more each (so each workload point simulates differently);
+/// features 13 fails as a bad workload would.
+struct FakeTracer {
+  std::atomic<int> traced{0};
+  WorkloadTracer tracer(const std::string& version = "v1") {
+    return {[](const nlohmann::json& w) {
+              nlohmann::json resolved = {{"features", 100}};
+              for (const auto& [key, value] : w.items()) {
+                if (key != "features") throw std::runtime_error(key + ": unknown parameter");
+                const int n = std::stoi(value.get<std::string>());
+                if (n < 1) throw std::runtime_error("features: expected at least 1");
+                resolved["features"] = n;
+              }
+              return resolved;
+            },
+            [this](const nlohmann::json& resolved, const std::filesystem::path& out,
+                   const std::filesystem::path& data_dir) {
+              EXPECT_EQ(data_dir.filename(), "data");
+              const int features = resolved.at("features").get<int>();
+              if (features == 13) throw std::runtime_error("features 13 cannot be traced");
+              ++traced;
+              trace::TraceMeta meta;
+              for (const char* key : {"dataset", "sequence", "camera_model", "pipeline_params",
+                                      "host_cpu", "host_cores", "compiler_flags",
+                                      "source_revision", "created_utc"}) {
+                meta[key] = "test";
+              }
+              meta["pipeline_params"] = resolved.dump();
+              meta["resolution"] = "40x25";
+              meta["host_speed"] =
+                  R"({"suite": 1, "frontend_ms": 10.0, "backend_ms": 2.0, "samples": 1})";
+              trace::TraceWriter writer(out, meta);
+              for (int i = 0; i < 4; ++i) writer.append(sweep_frame(i, 1000 * features + 500 * i));
+              writer.finish();
+            },
+            version};
+  }
+};
+
+struct WorkloadSweep : ::testing::Test {
+  edx::testing::TempDir dir;
+  FakeTracer fake;
+  void SetUp() override {
+    std::ofstream(dir.path() / "base.yaml")
+        << "name: w\nbackend: {clock_mhz: 100, gemm_block: 2, spm_bytes: 67108864}\n"
+           "scheduler: {policy: always, training_fraction: 0}\n";
+  }
+  SweepSpec spec(const std::string& features, const std::string& extra = {}) const {
+    return SweepSpec::parse(
+        "base: base.yaml\nworkload: {features: 2}\nparameters:\n"
+        "  backend.gemm_block: {values: [1, 4]}\n"
+        "  workload.features: {values: [" +
+            features + "]}\n" + extra + "objectives: [{minimize: e2e_latency_mean}]\n",
+        "w.yaml", dir.path());
+  }
+  SweepOptions options(const std::string& db, const std::string& version = "v1") {
+    SweepOptions o;
+    o.db = dir.path() / db;
+    o.jobs = 2;
+    o.tracer = fake.tracer(version);
+    return o;
+  }
+};
+
+TEST_F(WorkloadSweep, WorkloadParametersComeFirstAndNeedTheSection) {
+  const SweepSpec s = spec("1, 3");
+  ASSERT_EQ(s.parameters.size(), 2u);
+  EXPECT_EQ(s.parameters[0].key, "workload.features");  // written second, enumerated first
+  EXPECT_EQ(s.workload_parameters, 1u);
+  const SweepPoints points(s);
+  ASSERT_EQ(points.size(), 4u);
+  EXPECT_EQ(points.at(0).workload(s), (nlohmann::json{{"features", "1"}}));
+  EXPECT_EQ(points.at(1).workload_index(s), 0u);  // gemm_block varies fastest
+  EXPECT_EQ(points.at(2).workload_index(s), 1u);
+  EXPECT_EQ(points.at(3).workload(s), (nlohmann::json{{"features", "3"}}));
+
+  const auto error = [&](const std::string& text) {
+    try {
+      SweepSpec::parse(text, "w.yaml", dir.path());
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error("base: base.yaml\nparameters:\n  workload.features: {values: [1]}\n"
+                  "objectives: [{minimize: dsp}]\n"),
+            "w.yaml:3: parameters.workload.features: a workload parameter needs a workload: "
+            "section (the sweep then traces each workload point)");
+  EXPECT_THAT(error("base: base.yaml\ntrace: t.db\nworkload: {features: 1}\nparameters:\n"
+                    "  backend.gemm_block: {values: [1]}\nobjectives: [{minimize: dsp}]\n"),
+              HasSubstr("w.yaml:3: workload: give a trace or a workload, not both"));
+  EXPECT_THAT(error("base: base.yaml\nworkload: {features: 1}\nparameters:\n"
+                    "  workload.features: {values: [1, 2]}\n  backend.gemm_block: {values: [1]}\n"
+                    "sampling: {nsga2: {generations: 1, population: 8}}\n"
+                    "objectives: [{minimize: dsp}]\n"),
+              HasSubstr("sampling.nsga2: a search varies platform parameters only"));
+}
+
+TEST_F(WorkloadSweep, EachWorkloadPointIsTracedOnceIntoTheStoreAndReused) {
+  const SweepSpec s = spec("1, 3");
+  const SweepOutcome first = run_sweep(s, options("r.db"));
+  EXPECT_EQ(fake.traced, 2);
+  EXPECT_EQ(first.traced, 2u);
+  EXPECT_EQ(first.computed, 4u);
+  ASSERT_EQ(first.points.size(), 4u);
+  // Two workload points, two traces: the points on one trace share its hash, and the larger
+  // kernels of features 3 take longer.
+  EXPECT_EQ(first.points[0].workload, first.points[1].workload);
+  EXPECT_NE(first.points[0].workload, first.points[2].workload);
+  EXPECT_LT(first.points[0].objectives[0], first.points[2].objectives[0]);
+  const std::filesystem::path store = dir.path() / "r.traces";
+  EXPECT_TRUE(std::filesystem::exists(store / (first.points[0].workload + ".db")));
+  EXPECT_TRUE(std::filesystem::exists(store / (first.points[2].workload + ".db")));
+  EXPECT_EQ(workload_hash({{"features", 1}}, "v1"), first.points[0].workload);
+
+  SQLite::Database db((dir.path() / "r.db").string());
+  EXPECT_EQ(db.execAndGet("SELECT COUNT(*) FROM sweep_workloads WHERE error IS NULL").getInt(), 2);
+  // The run of each point used its workload's trace.
+  SQLite::Statement q(db,
+                      "SELECT COUNT(*) FROM sweep_points p JOIN sweep_workloads w ON "
+                      "p.workload = w.workload JOIN runs r ON r.run_id = p.run_id WHERE "
+                      "r.trace_hash = w.trace_hash");
+  ASSERT_TRUE(q.executeStep());
+  EXPECT_EQ(q.getColumn(0).getInt(), 4);
+
+  // Resumed: nothing traced or simulated again.
+  const SweepOutcome again = run_sweep(s, options("r.db"));
+  EXPECT_EQ(fake.traced, 2);
+  EXPECT_EQ(again.computed, 0u);
+  EXPECT_EQ(again.skipped, 4u);
+  // Another sweep on the same store reuses the traces of the same workload points; a new code
+  // version traces again.
+  SweepOptions other = options("other.db");
+  other.trace_store = store;
+  EXPECT_EQ(run_sweep(spec("3, 5"), other).traced, 1u);
+  EXPECT_EQ(fake.traced, 3);
+  SweepOptions newer = options("newer.db", "v2");
+  newer.trace_store = store;
+  EXPECT_EQ(run_sweep(s, newer).traced, 2u);
+  EXPECT_EQ(fake.traced, 5);
+}
+
+TEST_F(WorkloadSweep, AFailedWorkloadPointIsRecordedAndTheSweepGoesOn) {
+  const SweepOutcome out = run_sweep(spec("1, 13"), options("r.db"));
+  EXPECT_TRUE(out.complete);
+  EXPECT_EQ(out.failed, 2u);
+  EXPECT_EQ(out.computed, 2u);
+  ASSERT_EQ(out.points.size(), 4u);
+  EXPECT_EQ(out.points[2].error, "features 13 cannot be traced");
+  EXPECT_FALSE(out.points[2].feasible);
+  EXPECT_EQ(out.points[2].run_id, "");
+  ASSERT_FALSE(out.front.empty());
+  for (std::size_t i : out.front) EXPECT_LT(out.points[i].index, 2u);  // traced points only
+  SQLite::Database db((dir.path() / "r.db").string());
+  EXPECT_EQ(db.execAndGet("SELECT COUNT(*) FROM sweep_points WHERE error = 'features 13 cannot "
+                          "be traced'")
+                .getInt(),
+            2);
+  EXPECT_EQ(
+      db.execAndGet("SELECT error FROM sweep_workloads WHERE error IS NOT NULL").getString(),
+      "features 13 cannot be traced");
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "r.traces" /
+                                       (workload_hash({{"features", 13}}, "v1") + ".db")));
+}
+
+TEST_F(WorkloadSweep, BadWorkloadValuesFailBeforeAnyWork) {
+  try {
+    run_sweep(spec("1, 0"), options("r.db"));
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_STREQ(e.what(),
+                 "w.yaml: parameters.workload.features = 0: features: expected at least 1");
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "r.db"));
+  SweepOptions no_tracer = options("r.db");
+  no_tracer.tracer = {};
+  EXPECT_THROW(run_sweep(spec("1"), no_tracer), std::runtime_error);
+  EXPECT_EQ(fake.traced, 0);
+}
+
+TEST(WorkloadStore, HashCoversParametersAndVersion) {
+  const nlohmann::json a = {{"features", 500}, {"resolution", "640x480"}};
+  EXPECT_EQ(workload_hash(a, "r1"), workload_hash(a, "r1"));
+  EXPECT_NE(workload_hash(a, "r1"), workload_hash(a, "r2"));
+  EXPECT_NE(workload_hash(a, "r1"), workload_hash({{"features", 1000}, {"resolution", "640x480"}},
+                                                  "r1"));
+  EXPECT_EQ(workload_hash(a, "r1").size(), 16u);
+  EXPECT_EQ(default_trace_store("/x/results.db"), "/x/results.traces");
+  EXPECT_EQ(default_trace_store("out"), "out.traces");
+}
+
+TEST(RunRows, ExportedRowsImportToTheSameTables) {
+  edx::testing::TempDir dir;
+  FakeTracer fake;
+  std::ofstream(dir.path() / "base.yaml") << "name: w\n";
+  const SweepSpec s = SweepSpec::parse(
+      "base: base.yaml\nworkload: {}\nparameters:\n  workload.features: {values: [1]}\n"
+      "objectives: [{minimize: e2e_latency_mean}]\n",
+      "w.yaml", dir.path());
+  SweepOptions o;
+  o.db = dir.path() / "a.db";
+  o.tracer = fake.tracer();
+  o.per_frame = true;
+  const SweepOutcome out = run_sweep(s, o);
+  SQLite::Database a(o.db.string());
+  const nlohmann::json rows = export_run_rows(a, out.points.at(0).run_id);
+  EXPECT_EQ(rows["tables"]["runs"].size(), 1u);
+  EXPECT_EQ(rows["tables"]["frames"].size(), 8u);  // 4 frames, baseline and accelerated
+  SQLite::Database b(":memory:", SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+  create_results_tables(b);
+  import_run_rows(b, rows);
+  import_run_rows(b, rows);  // replaces, never duplicates
+  EXPECT_EQ(export_run_rows(b, out.points.at(0).run_id), rows);
+  EXPECT_THROW(import_run_rows(b, nlohmann::json{{"tables", 1}}), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace edx::arch
