@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <chrono>
 #include <deque>
+#include <fstream>
 #include <utility>
 #include <future>
 #include <iterator>
@@ -41,6 +42,17 @@ std::string host_name() {
   return name;
 }
 
+/// Whether process `pid` of this host is running: it exists (kill(pid, 0)) and is not a zombie
+/// (a killed process whose parent has not reaped it, as under an init that never reaps, e.g. in
+/// containers; /proc/<pid>/stat's state 'Z').
+bool process_running(pid_t pid) {
+  if (::kill(pid, 0) != 0 && errno != EPERM) return false;
+  std::ifstream stat(fmt::format("/proc/{}/stat", pid));
+  std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+  const std::size_t paren = text.rfind(')');  // the command name may hold spaces and parentheses
+  return paren == std::string::npos || paren + 2 >= text.size() || text[paren + 2] != 'Z';
+}
+
 /// Takes the sweep's lock row (inside the caller's write transaction): one process runs a sweep
 /// on a database at a time. A lock held by a live process is refused with a line naming it; a
 /// lock left by a process of this host that is gone (killed) is taken over.
@@ -52,7 +64,7 @@ void take_sweep_lock(SQLite::Database& db, const std::string& db_name,
   if (q.executeStep()) {
     const auto pid = static_cast<pid_t>(q.getColumn(0).getInt64());
     const std::string holder = q.getColumn(1).getString();
-    const bool alive = holder != host || ::kill(pid, 0) == 0 || errno == EPERM;
+    const bool alive = holder != host || process_running(pid);
     if (alive && !(holder == host && pid == ::getpid())) {
       throw std::runtime_error(fmt::format(
           "{}: sweep '{}' is being run by process {} on {} since {} (wait for it, or delete its "
