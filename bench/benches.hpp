@@ -17,5 +17,7 @@ void add_frontend_bench(CLI::App& app);
 void add_system_bench(CLI::App& app);
 /// `edx-bench sweep`: design points per second of `edx sweep` (arch/system/sweep).
 void add_sweep_bench(CLI::App& app);
+/// `edx-bench sweep-mpi`: a workload sweep under mpirun -np 1 and -np N (arch/sweep MPI).
+void add_sweep_mpi_bench(CLI::App& app);
 
 }  // namespace edx::bench

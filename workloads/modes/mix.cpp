@@ -71,7 +71,7 @@ std::filesystem::path segment_mav0(const MixPlan& plan, const MixSegment& segmen
 }
 
 void generate_mix_data(const MixPlan& plan, const std::filesystem::path& dir,
-                       const synthetic::ProgressFn& progress) {
+                       const synthetic::ProgressFn& progress, int threads) {
   std::map<std::filesystem::path, const MixSegment*> worlds;
   for (const MixSegment& s : plan.segments) worlds.emplace(world_dir(plan, s, dir), &s);
   for (const auto& [path, segment] : worlds) {
@@ -88,6 +88,7 @@ void generate_mix_data(const MixPlan& plan, const std::filesystem::path& dir,
     options.resolution = plan.resolution;
     options.seed = plan.seed;
     options.out = path;
+    options.threads = threads;
     synthetic::generate_dataset(options, progress);
   }
 }

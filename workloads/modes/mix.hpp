@@ -58,7 +58,8 @@ std::filesystem::path segment_mav0(const MixPlan& plan, const MixSegment& segmen
 
 /// Generates the datasets of the plan under `dir` (one per world), reusing those already there
 /// (same options give the same bytes, docs/DATASETS.md). Progress: segment name, done, total.
+/// `threads`: render threads of the generator.
 void generate_mix_data(const MixPlan& plan, const std::filesystem::path& dir,
-                       const synthetic::ProgressFn& progress = {});
+                       const synthetic::ProgressFn& progress = {}, int threads = 2);
 
 }  // namespace edx::modes

@@ -61,6 +61,7 @@ std::shared_ptr<const bow::Vocabulary> load_or_train_vocabulary(const MixRunOpti
   world.frames = 100;
   world.resolution = plan.resolution;
   world.seed = seed;
+  world.threads = options.generator_threads;
   world.out = options.data_dir / fmt::format("vocabulary-world-{}x{}-s{}", plan.resolution.width,
                                              plan.resolution.height, seed);
   if (!fs::exists(world.out / "edx_gen.yaml")) {
@@ -98,10 +99,12 @@ std::string world_key(const MixPlan& plan, const MixSegment& segment) {
 
 void prepare_mix_data(const MixRunOptions& options, const MixProgress& progress) {
   fs::create_directories(options.data_dir);
-  generate_mix_data(options.plan, options.data_dir,
-                    [&](std::string_view run, int done, int total) {
-                      if (progress) progress(fmt::format("data {}", run), done, total);
-                    });
+  generate_mix_data(
+      options.plan, options.data_dir,
+      [&](std::string_view run, int done, int total) {
+        if (progress) progress(fmt::format("data {}", run), done, total);
+      },
+      options.generator_threads);
   if (needs_registration(options.plan)) load_or_train_vocabulary(options, progress);
 }
 

@@ -44,6 +44,8 @@ struct MixRunOptions {
   /// Save each SLAM segment's map as <data>/<world>-map.json (later segments use it from
   /// memory either way; sweeps tracing several workloads into one data folder turn this off).
   bool save_maps = true;
+  /// Render threads of the world generator (a sweep running several traces at once uses 1).
+  int generator_threads = 2;
   /// Vocabulary file for registration; empty: trained into data_dir (vocabulary-s<seed>.bin).
   std::filesystem::path vocabulary;
   /// When the machine-speed reference suite samples (meta host_speed).

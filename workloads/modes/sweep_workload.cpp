@@ -128,11 +128,15 @@ void trace_sweep_workload(const SweepWorkload& workload, const std::filesystem::
   options.frontend.features_per_image = workload.features;
   options.vio.max_clones = workload.msckf_window;
   options.slam.window_size = workload.slam_window;
+  // A sweep runs one trace per worker: one render thread each.
+  options.generator_threads = 1;
   std::filesystem::create_directories(data_dir);
   {
-    // Worlds and vocabulary are shared by every workload with the same resolution, frames and
-    // seed: generated once, by whoever holds the lock first.
-    const FileLock lock(data_dir / ".lock");
+    // Worlds and vocabulary are shared by every workload with the same resolution and seed
+    // (worlds also by frames): made once, by whoever holds their lock first; others wait, then
+    // reuse them. Workloads of other resolutions or seeds generate at the same time.
+    const FileLock lock(data_dir / fmt::format(".lock-{}x{}-s{}", workload.resolution.width,
+                                               workload.resolution.height, workload.seed));
     prepare_mix_data(options);
   }
   run_mix(options);
