@@ -594,6 +594,87 @@ std::string convergence_html(const SweepData& sweep, int index, const fs::path& 
   return h + "</table>\n";
 }
 
+/// A workload sweep's points side by side: frame rate (FE/BE pipelined) and energy per frame of
+/// the CPU baseline and the accelerated platform, one group per point, labelled with its
+/// workload.* values (and its platform values when the sweep varies both).
+std::string workload_html(const ResultsData& data, const SweepData& sweep, int index,
+                          const fs::path& dir, const std::string& gnuplot, bool plot,
+                          std::vector<std::string>& images) {
+  std::string dat = "# label baseline_fps accelerated_fps baseline_mj accelerated_mj\n";
+  std::string rows;
+  std::size_t plotted = 0;
+  bool platform_varies = false;
+  for (const SweepPoint& p : sweep.points) {
+    for (const auto& [k, v] : p.parameters.items()) platform_varies |= !k.starts_with("workload.");
+  }
+  for (const SweepPoint& p : sweep.points) {
+    std::string label, platform;  // workload values first
+    for (const auto& [k, v] : p.parameters.items()) {
+      const bool workload = k.starts_with("workload.");
+      std::string& to = workload ? label : platform;
+      if (!to.empty()) to += ' ';
+      to += fmt::format("{}={}", k.substr(k.rfind('.') + 1),
+                        v.is_string() ? v.get<std::string>() : v.dump());
+    }
+    if (platform_varies && !platform.empty()) label += label.empty() ? platform : ' ' + platform;
+    const RunData* run = p.error.empty() ? data.find(p.run_id) : nullptr;
+    const auto number = [&](const char* pointer) {
+      const nlohmann::json::json_pointer ptr(pointer);
+      return run && run->summary.contains(ptr) && run->summary[ptr].is_number()
+                 ? run->summary[ptr].get<double>()
+                 : NAN;
+    };
+    const double fps[2] = {number("/baseline/fps_with_pipelining"),
+                           number("/accelerated/fps_with_pipelining")};
+    const double mj[2] = {1e3 * number("/baseline/modes/all/energy_j/mean"),
+                          1e3 * number("/accelerated/modes/all/energy_j/mean")};
+    rows += fmt::format("<tr><td>{}</td><td>{}</td>", p.point, html_escape(label));
+    if (!run) {
+      rows += fmt::format("<td colspan=\"4\">{}</td></tr>\n",
+                          html_escape(p.error.empty() ? "no run" : "failed: " + p.error));
+      continue;
+    }
+    rows += fmt::format("<td>{:.4g}</td><td>{:.4g}</td><td>{:.4g}</td><td>{:.4g}</td></tr>\n",
+                        fps[0], fps[1], mj[0], mj[1]);
+    // Data files quote text with double quotes (gnuplot's only quoting there).
+    std::string quoted = label;
+    std::replace(quoted.begin(), quoted.end(), '"', '\'');
+    dat += fmt::format("\"{}\" {:.9g} {:.9g} {:.9g} {:.9g}\n", quoted, fps[0], fps[1], mj[0],
+                       mj[1]);
+    ++plotted;
+  }
+  std::string h = fmt::format(
+      "<h4>Per workload point</h4>\n<p class=\"cap\">Each workload point was traced once (the "
+      "real pipeline over the mix) and simulated on the platform; frame rate with FE/BE "
+      "pipelining and mean energy per frame, CPU baseline against the accelerated platform.</p>\n");
+  if (plot && plotted > 0) {
+    const std::string stem = fmt::format("sweep{}_workloads", index);
+    const std::string image = stem + kPlotExtension;
+    const std::string data_file = gp_quote((dir / (stem + ".dat")).string());
+    std::ofstream(dir / (stem + ".dat")) << dat;
+    std::ofstream(dir / (stem + ".gp"))
+        << kTerminal << "set output " << gp_quote((dir / image).string()) << "\n"
+        << "set multiplot layout 1,2 title "
+        << gp_quote("Sweep " + sweep.sweep_id + ": frame rate and energy per workload point")
+        << "\nset style data histograms\nset style histogram clustered gap 1"
+        << "\nset style fill solid 0.85 border -1\nset boxwidth 0.9\nset grid ytics"
+        << "\nset xtics rotate by -30\nset key top left\nset yrange [0:*]"
+        << "\nset ylabel 'Frames per second (FE/BE pipelined)'\nplot " << data_file
+        << " using 2:xtic(1) title 'CPU baseline' lc rgb '#BBBBBB', '' using 3 title "
+           "'accelerated' lc rgb '#0072B2'"
+        << "\nset ylabel 'Energy per frame (mJ)'\nplot " << data_file
+        << " using 4:xtic(1) title 'CPU baseline' lc rgb '#BBBBBB', '' using 5 title "
+           "'accelerated' lc rgb '#D55E00'\nunset multiplot\n";
+    run_gnuplot(gnuplot, dir / (stem + ".gp"), "sweep " + sweep.sweep_id + " workload plot");
+    images.push_back(image);
+    h += fmt::format("<img src=\"{}\" alt=\"frame rate and energy per workload point\">\n", image);
+  }
+  return h +
+         "<table><tr><th>point</th><th>workload</th><th>baseline FPS</th><th>accelerated "
+         "FPS</th><th>baseline mJ/frame</th><th>accelerated mJ/frame</th></tr>\n" +
+         rows + "</table>\n";
+}
+
 std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std::string& gnuplot,
                         bool plot, std::vector<std::string>& images) {
   std::string h = "<h2 id=\"sweeps\">Sweeps</h2>\n";
@@ -660,6 +741,7 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
     if (!sweep.generations.empty()) {
       h += convergence_html(sweep, index, dir, gnuplot, plot, images);
     }
+    if (sweep.traces_workload) h += workload_html(data, sweep, index, dir, gnuplot, plot, images);
     h += "<table><tr><th>point</th><th>run</th><th>parameters</th>";
     std::vector<std::string> columns = metrics;
     for (const SweepPoint& p : sweep.points) {

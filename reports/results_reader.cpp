@@ -206,6 +206,12 @@ ResultsData read_results(const std::filesystem::path& path) {
                 {o.begin().value().get<std::string>(), o.begin().key() == "maximize"});
           }
         }
+        s.traces_workload = spec.is_object() && spec.contains("workload");
+        // workload and error: results schema 3 (older databases lack them).
+        std::set<std::string> point_columns;
+        SQLite::Statement info(db, "PRAGMA table_info(sweep_points)");
+        while (info.executeStep()) point_columns.insert(info.getColumn(1).getString());
+        const bool v3 = point_columns.contains("workload") && point_columns.contains("error");
         SQLite::Statement p(db, "SELECT * FROM sweep_points WHERE sweep_id = ?1 ORDER BY point");
         p.bind(1, s.sweep_id);
         while (p.executeStep()) {
@@ -216,6 +222,10 @@ ResultsData read_results(const std::filesystem::path& path) {
           pt.metrics = nlohmann::json::parse(text(p, "metrics_json"), nullptr, false);
           pt.feasible = integer(p, "feasible") != 0;
           pt.pareto = integer(p, "pareto") != 0;
+          if (v3) {
+            pt.workload = text(p, "workload");
+            pt.error = text(p, "error");
+          }
           s.points.push_back(std::move(pt));
         }
         if (tables.contains("sweep_generations")) {

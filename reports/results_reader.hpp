@@ -88,6 +88,8 @@ struct SweepPoint {
   nlohmann::json parameters;  ///< {dotted platform key: value}
   nlohmann::json metrics;     ///< {objective or constraint metric: value}
   bool feasible = true, pareto = false;
+  std::string workload;  ///< hash of its workload point ("" when the sweep named a trace)
+  std::string error;     ///< why the point has no run (its workload failed to trace)
 };
 
 struct SweepObjectiveInfo {
@@ -106,6 +108,7 @@ struct SweepData {
   std::vector<SweepObjectiveInfo> objectives;  ///< from spec_json, in the spec's order
   std::vector<SweepPoint> points;              ///< ordered by point
   std::vector<SweepGeneration> generations;    ///< a search's; empty for grids and samples
+  bool traces_workload = false;                ///< the spec had a workload: section
 };
 
 struct ResultsData {

@@ -203,6 +203,20 @@ TEST_F(WorkloadSweep, BadWorkloadValuesFailBeforeAnyWork) {
   EXPECT_EQ(fake.traced, 0);
 }
 
+TEST(WorkloadSweepSpec, TheResolutionFeaturesStudyIsFourWorkloadPointsOnEdxCar) {
+  const SweepSpec s = SweepSpec::load(std::filesystem::path(EDX_SOURCE_DIR) / "sweeps" /
+                                      "resolution_features.yaml");
+  EXPECT_TRUE(s.traces_workload());
+  EXPECT_EQ(s.workload_parameters, 2u);
+  EXPECT_EQ(s.parameters.size(), 2u);  // no platform parameter: the base, Edx-Car
+  EXPECT_EQ(grid_size(s), 4.0);
+  EXPECT_EQ(s.workload, (nlohmann::json{{"mix", "paper"}, {"frames", "400"}, {"seed", "1"}}));
+  EXPECT_EQ(s.base.filename(), "edx_car.yaml");
+  const SweepPoints points(s);
+  EXPECT_EQ(points.at(3).workload(s)["resolution"], "1280x720");
+  EXPECT_EQ(points.at(3).workload(s)["features"], "1000");
+}
+
 TEST(WorkloadStore, HashCoversParametersAndVersion) {
   const nlohmann::json a = {{"features", 500}, {"resolution", "640x480"}};
   EXPECT_EQ(workload_hash(a, "r1"), workload_hash(a, "r1"));

@@ -1,4 +1,5 @@
 // Mixed sequences (workloads/modes/mix.hpp): the paper's scenario shares and data generation.
+#include "workloads/modes/sweep_workload.hpp"
 #include "workloads/modes/mix.hpp"
 
 #include <gtest/gtest.h>
@@ -51,6 +52,50 @@ TEST(PaperMix, GeneratesEachWorldOnceAndReusesIt) {
   EXPECT_EQ(std::filesystem::last_write_time(segment_mav0(plan, plan.segments[0], dir.path()) /
                                              "cam0" / "data.csv"),
             stamp);
+}
+
+}  // namespace
+}  // namespace edx::modes
+
+// ---- workload points of sweeps (sweep_workload.hpp) ----
+
+namespace edx::modes {
+namespace {
+
+TEST(SweepWorkload, TextAndNumbersResolveToOneTypedForm) {
+  const SweepWorkload w = SweepWorkload::from_json(
+      {{"features", "500"}, {"resolution", "1280x720"}, {"frames", 40}, {"msckf_window", 15.0}});
+  EXPECT_EQ(w.features, 500);
+  EXPECT_EQ(w.resolution.width, 1280);
+  EXPECT_EQ(w.resolution.height, 720);
+  EXPECT_EQ(w.frames, 40);
+  EXPECT_EQ(w.msckf_window, 15);
+  EXPECT_EQ(w.slam_window, 10);  // default
+  EXPECT_EQ(w.to_json(), SweepWorkload::from_json(w.to_json()).to_json());
+  EXPECT_EQ(w.to_json(), SweepWorkload::from_json({{"features", 500},
+                                                   {"resolution", "1280x720"},
+                                                   {"frames", "40"},
+                                                   {"msckf_window", "15"}})
+                             .to_json());
+  EXPECT_EQ(SweepWorkload::from_json(nlohmann::json::object()).to_json()["mix"], "paper");
+}
+
+TEST(SweepWorkload, BadValuesNameTheParameter) {
+  const auto error = [](const nlohmann::json& j) {
+    try {
+      SweepWorkload::from_json(j);
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error({{"features", "0"}}), "features: expected an integer from 1 to 100000, got \"0\"");
+  EXPECT_EQ(error({{"frames", "12.5"}}),
+            "frames: expected an integer from 8 to 1000000, got \"12.5\"");
+  EXPECT_EQ(error({{"slam_window", 1}}), "slam_window: expected an integer from 2 to 1000, got 1");
+  EXPECT_EQ(error({{"mix", "city"}}), "mix: unknown mix 'city' (expected one of: paper)");
+  EXPECT_EQ(error({{"resolution", "wide"}}).rfind("resolution: ", 0), 0u);
+  EXPECT_EQ(error({{"speed", 3}}).rfind("speed: unknown workload parameter", 0), 0u);
 }
 
 }  // namespace
