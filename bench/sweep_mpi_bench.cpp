@@ -69,17 +69,16 @@ void add_sweep_mpi_bench(CLI::App& app) {
           EDX_MPIEXEC, ranks, edx_binary().string(), (dir / "spec.yaml").string(), db, db, db);
       const auto start = std::chrono::steady_clock::now();
       if (std::system(command.c_str()) != 0) {
-        throw std::runtime_error(fmt::format("sweep-mpi: mpirun -np {} failed (log: {}.log)",
-                                             ranks, db));
+        throw std::runtime_error(
+            fmt::format("sweep-mpi: mpirun -np {} failed (log: {}.log)", ranks, db));
       }
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::ifstream out(db + ".json");
       const nlohmann::json j = nlohmann::json::parse(out);
       if (j.at("traced") != 8 || j.at("computed") != 24) {
-        throw std::runtime_error(fmt::format("sweep-mpi: -np {} traced {} and simulated {}",
-                                             ranks, j.at("traced").dump(),
-                                             j.at("computed").dump()));
+        throw std::runtime_error(fmt::format("sweep-mpi: -np {} traced {} and simulated {}", ranks,
+                                             j.at("traced").dump(), j.at("computed").dump()));
       }
       return seconds;
     };
@@ -87,22 +86,18 @@ void add_sweep_mpi_bench(CLI::App& app) {
     const double many = run(args->ranks);
     std::filesystem::remove_all(dir);
     const unsigned cores = std::thread::hardware_concurrency();
-    const nlohmann::json result = {{"workload_points", 8},
-                                   {"platform_points", 24},
-                                   {"frames", args->frames},
-                                   {"resolution", args->resolution},
-                                   {"cores", cores},
-                                   {"seconds_np1", one},
-                                   {"ranks", args->ranks},
-                                   {"seconds_npN", many},
-                                   {"speedup", one / many}};
+    const nlohmann::json result = {
+        {"workload_points", 8},           {"platform_points", 24}, {"frames", args->frames},
+        {"resolution", args->resolution}, {"cores", cores},        {"seconds_np1", one},
+        {"ranks", args->ranks},           {"seconds_npN", many},   {"speedup", one / many}};
     if (args->json) {
       fmt::print("{}\n", result.dump(2));
       return;
     }
-    fmt::print("sweep-mpi: 8 workload points (paper mix, {} frames at {}) x 3 platform points, "
-               "{} cores\n",
-               args->frames, args->resolution, cores);
+    fmt::print(
+        "sweep-mpi: 8 workload points (paper mix, {} frames at {}) x 3 platform points, "
+        "{} cores\n",
+        args->frames, args->resolution, cores);
     fmt::print("  mpirun -np 1   {:8.1f} s\n", one);
     fmt::print("  mpirun -np {}   {:8.1f} s\n", args->ranks, many);
     fmt::print("  speedup        {:8.2f}x (goal >= 1.8 at -np 2)\n", one / many);

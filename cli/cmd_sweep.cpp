@@ -77,8 +77,9 @@ void run(const SweepArguments& args) {
   };
   options.trace_progress = [bar](std::size_t w, const nlohmann::json& workload,
                                  const std::string* error) {  // after each trace
-    bar->note(error->empty() ? fmt::format("workload {} traced: {}", w, workload.dump())
-                             : fmt::format("workload {} failed: {}: {}", w, workload.dump(), *error));
+    bar->note(error->empty()
+                  ? fmt::format("workload {} traced: {}", w, workload.dump())
+                  : fmt::format("workload {} failed: {}: {}", w, workload.dump(), *error));
   };
   const std::optional<arch::SweepOutcome> ran = run_here_or_over_mpi(spec, options);
   if (!ran) return;

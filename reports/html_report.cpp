@@ -639,8 +639,8 @@ std::string workload_html(const ResultsData& data, const SweepData& sweep, int i
     // Data files quote text with double quotes (gnuplot's only quoting there).
     std::string quoted = label;
     std::replace(quoted.begin(), quoted.end(), '"', '\'');
-    dat += fmt::format("\"{}\" {:.9g} {:.9g} {:.9g} {:.9g}\n", quoted, fps[0], fps[1], mj[0],
-                       mj[1]);
+    dat +=
+        fmt::format("\"{}\" {:.9g} {:.9g} {:.9g} {:.9g}\n", quoted, fps[0], fps[1], mj[0], mj[1]);
     ++plotted;
   }
   std::string h = fmt::format(

@@ -227,7 +227,8 @@ void import_run_rows(SQLite::Database& db, const nlohmann::json& rows) {
         } else if (v.is_string()) {
           put.bind(c, v.get<std::string>());
         } else {
-          throw std::runtime_error(fmt::format("run rows: {}: unexpected value {}", table, v.dump()));
+          throw std::runtime_error(
+              fmt::format("run rows: {}: unexpected value {}", table, v.dump()));
         }
       }
       put.exec();

@@ -35,8 +35,8 @@
 //            a search's convergence: per generation, the distinct designs evaluated so far and
 //            the hypervolume of their feasible front (version 2)
 #include <array>
-#include <utility>
 #include <string_view>
+#include <utility>
 
 namespace edx::results {
 
@@ -96,8 +96,8 @@ CREATE TABLE IF NOT EXISTS sweep_workloads (sweep_id TEXT NOT NULL, workload TEX
 )sql";
 
 /// Columns added to sweep_points by version 3, for databases written before it.
-inline constexpr std::array<std::pair<std::string_view, std::string_view>, 2>
-    kSweepPointColumnsV3{{{"workload", "TEXT NOT NULL DEFAULT ''"}, {"error", "TEXT"}}};
+inline constexpr std::array<std::pair<std::string_view, std::string_view>, 2> kSweepPointColumnsV3{
+    {{"workload", "TEXT NOT NULL DEFAULT ''"}, {"error", "TEXT"}}};
 
 /// Tables holding a run's rows (keyed by run_id), "runs" last: replacing a run deletes from each.
 inline constexpr std::array<std::string_view, 9> kRunTables{"frames",    "latency",   "throughput",

@@ -147,7 +147,7 @@ std::vector<std::size_t> pareto_front(const std::vector<std::vector<double>>& va
 /// One finished point of a sweep.
 struct SweepPointResult {
   std::size_t index = 0;
-  std::string run_id;  ///< "" when the point failed (error)
+  std::string run_id;    ///< "" when the point failed (error)
   std::string workload;  ///< hash of its workload point ("" when the spec names a trace)
   std::string error;     ///< why the point has no run (its workload could not be traced)
   nlohmann::json parameters;

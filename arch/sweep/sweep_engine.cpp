@@ -66,9 +66,8 @@ SweepContext::SweepContext(const SweepSpec& spec_in, const SweepOptions& options
     return;
   }
   if (!options.tracer) {
-    throw std::runtime_error(
-        fmt::format("{}: workload: this program cannot trace workloads (no tracer given)",
-                    spec.file));
+    throw std::runtime_error(fmt::format(
+        "{}: workload: this program cannot trace workloads (no tracer given)", spec.file));
   }
   store = options.trace_store.empty() ? default_trace_store(options.db) : options.trace_store;
   // One workload per combination of the workload.* values, in grid order; each resolved (a bad
@@ -139,8 +138,8 @@ std::shared_ptr<const LoadedTrace> SweepContext::trace_of(std::size_t w) {
   if (owner) {
     try {
       const Workload& workload = workloads.at(w);
-      mine.set_value(std::make_shared<const LoadedTrace>(
-          load_trace(workload.trace, workload.trace.string())));
+      mine.set_value(
+          std::make_shared<const LoadedTrace>(load_trace(workload.trace, workload.trace.string())));
     } catch (...) {
       mine.set_exception(std::current_exception());
     }
@@ -196,13 +195,15 @@ SweepTaskResult SweepContext::execute_local(const SweepTask& task) {
     if (r.error.empty()) {
       std::error_code ec;
       std::filesystem::rename(temporary, workload.trace, ec);
-      if (ec) r.error = fmt::format("{}: cannot move the trace into the store: {}",
-                                    workload.trace.string(), ec.message());
+      if (ec)
+        r.error = fmt::format("{}: cannot move the trace into the store: {}",
+                              workload.trace.string(), ec.message());
     }
     std::error_code ignored;
     std::filesystem::remove(temporary, ignored);
   } else {
-    r.result = std::make_shared<const SystemResult>(execute_simulate(*task.platform, task.workload));
+    r.result =
+        std::make_shared<const SystemResult>(execute_simulate(*task.platform, task.workload));
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;

@@ -39,10 +39,10 @@ LoadedTrace load_trace(const std::filesystem::path& path, const std::string& nam
 
 /// One workload point of the sweep: the given trace (specs with trace:), or a traced one.
 struct Workload {
-  nlohmann::json resolved;       ///< full parameters (null for a given trace)
-  std::string hash;              ///< content hash ("" for a given trace)
-  std::filesystem::path trace;   ///< its trace file (in the store for a traced workload)
-  std::size_t first_point = 0;   ///< one of its design points (names it in messages)
+  nlohmann::json resolved;      ///< full parameters (null for a given trace)
+  std::string hash;             ///< content hash ("" for a given trace)
+  std::filesystem::path trace;  ///< its trace file (in the store for a traced workload)
+  std::size_t first_point = 0;  ///< one of its design points (names it in messages)
 };
 
 struct SweepTask {

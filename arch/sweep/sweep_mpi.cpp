@@ -94,7 +94,8 @@ std::pair<int, nlohmann::json> receive(int source = MPI_ANY_SOURCE) {
 /// Rank 0's executor: one worker thread of its own, and the other ranks.
 class MpiExecutor : public sweep_engine::SweepExecutor {
  public:
-  explicit MpiExecutor(sweep_engine::SweepContext& context) : context_(context), local_(context, 1) {
+  explicit MpiExecutor(sweep_engine::SweepContext& context)
+      : context_(context), local_(context, 1) {
     MPI_Comm_size(MPI_COMM_WORLD, &size_);
     ranks_.resize(static_cast<std::size_t>(size_));
   }
@@ -112,12 +113,11 @@ class MpiExecutor : public sweep_engine::SweepExecutor {
     pump();
     for (int r = 1; r < size_; ++r) {
       if (!ranks_[r].waiting) continue;
-      nlohmann::json message = {{"type", "task"},
-                                {"kind", task.kind == sweep_engine::SweepTask::Kind::kTrace
-                                             ? "trace"
-                                             : "simulate"},
-                                {"workload", task.workload},
-                                {"point", task.point}};
+      nlohmann::json message = {
+          {"type", "task"},
+          {"kind", task.kind == sweep_engine::SweepTask::Kind::kTrace ? "trace" : "simulate"},
+          {"workload", task.workload},
+          {"point", task.point}};
       if (task.kind == sweep_engine::SweepTask::Kind::kSimulate &&
           !ranks_[r].holds.contains(task.workload)) {
         message["trace"] =
@@ -155,7 +155,8 @@ class MpiExecutor : public sweep_engine::SweepExecutor {
       while (!ranks_[r].waiting) {
         const auto [source, message] = receive(r);
         (void)source;
-        ranks_[r].waiting = message.value("type", "") == "ready" || message.value("type", "") == "result";
+        ranks_[r].waiting =
+            message.value("type", "") == "ready" || message.value("type", "") == "result";
       }
       send(r, {{"type", "stop"}});
     }
@@ -233,7 +234,8 @@ void MpiSession::abort(int code) const {
 
 void serve_sweep(const SweepSpec& spec, const SweepOptions& options) {
   sweep_engine::SweepContext context(spec, options);
-  if (!spec.traces_workload()) context.workloads[0].trace = options.trace.empty() ? spec.trace : options.trace;
+  if (!spec.traces_workload())
+    context.workloads[0].trace = options.trace.empty() ? spec.trace : options.trace;
   // A trace file received or written here: loaded, then removed (the store is rank 0's).
   const auto install = [&](std::size_t w, const std::filesystem::path& file) {
     const sweep_engine::Workload& workload = context.workloads.at(w);
@@ -274,8 +276,7 @@ void serve_sweep(const SweepSpec& spec, const SweepOptions& options) {
         SQLite::Database memory(":memory:", SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
         create_results_tables(memory);
         write_results(memory, run, ResultsWriteOptions{options.per_frame});
-        nlohmann::json rows =
-            export_run_rows(memory, run_id_of(run.config_hash, run.trace_hash));
+        nlohmann::json rows = export_run_rows(memory, run_id_of(run.config_hash, run.trace_hash));
         rows["summary"] = run.to_json();
         result["rows"] = std::move(rows);
         result["error"] = "";

@@ -12,7 +12,6 @@
 #include <chrono>
 #include <deque>
 #include <fstream>
-#include <utility>
 #include <future>
 #include <iterator>
 #include <limits>
@@ -23,6 +22,7 @@
 #include <set>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include "arch/results/results_db.hpp"
 #include "arch/results/schema.hpp"
@@ -139,7 +139,7 @@ std::string csv_value(const SQLite::Column& c) {
 nlohmann::json SweepOutcome::to_json(const SweepSpec& spec) const {
   nlohmann::json pts = nlohmann::json::array(), front_json = nlohmann::json::array();
   for (const SweepPointResult& p : points) {
-    nlohmann::json point = {{"point", p.index},          {"run_id", p.run_id},
+    nlohmann::json point = {{"point", p.index},           {"run_id", p.run_id},
                             {"parameters", p.parameters}, {"metrics", p.metrics},
                             {"feasible", p.feasible},     {"pareto", p.pareto}};
     if (!p.workload.empty()) point["workload"] = p.workload;
@@ -427,9 +427,8 @@ SweepOutcome run_sweep_impl(const SweepSpec& spec, const SweepOptions& options,
     if (r.result) {
       p.run_id = run_id_of(r.result->config_hash, r.result->trace_hash);
       evaluate(spec, r.result->to_json(), p);
-      finish(std::move(p), [&] {
-        write_results(db, *r.result, ResultsWriteOptions{options.per_frame});
-      });
+      finish(std::move(p),
+             [&] { write_results(db, *r.result, ResultsWriteOptions{options.per_frame}); });
     } else {
       p.run_id = r.rows.at("run_id").get<std::string>();
       evaluate(spec, r.rows.at("summary"), p);
@@ -589,7 +588,6 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& options,
   trace->hash = trace_hash(frames.size(), trace_meta);
   return run_sweep_impl(spec, options, std::move(trace));
 }
-
 
 std::string format_sweep(const SweepSpec& spec, const SweepOutcome& o) {
   std::string text =

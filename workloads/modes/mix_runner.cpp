@@ -147,14 +147,15 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
                              {"data", mav0.string()}});
   }
   meta["camera_model"] = cameras.dump();
-  meta["pipeline_params"] = nlohmann::json{{"frontend", frontend::to_json(options.frontend)},
-                                           {"backend_mode", "mixed"},
-                                           {"mix", plan.name},
-                                           {"segments", segments_json},
-                                           {"mode_switch", options.mode_switch.to_string()},
-                                           {"vio", options.vio.to_json()},
-                                           {"slam", options.slam.to_json()}}
-                                .dump();
+  meta["pipeline_params"] = nlohmann::json{
+      {"frontend", frontend::to_json(options.frontend)},
+      {"backend_mode", "mixed"},
+      {"mix", plan.name},
+      {"segments", segments_json},
+      {"mode_switch", options.mode_switch.to_string()},
+      {"vio", options.vio.to_json()},
+      {"slam",
+       options.slam.to_json()}}.dump();
   meta["frames"] = std::to_string(plan.total_frames());
   meta["opencv_version"] = CV_VERSION;
 

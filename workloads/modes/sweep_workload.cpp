@@ -3,10 +3,9 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <sys/file.h>
 #include <unistd.h>
-
-#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <charconv>
@@ -86,8 +85,8 @@ SweepWorkload SweepWorkload::from_json(const nlohmann::json& parameters) {
       w.mix = value.get<std::string>();
       const std::vector<std::string> names = mix_names();
       if (std::find(names.begin(), names.end(), w.mix) == names.end()) {
-        throw std::runtime_error(
-            fmt::format("mix: unknown mix '{}' (expected one of: {})", w.mix, fmt::join(names, ", ")));
+        throw std::runtime_error(fmt::format("mix: unknown mix '{}' (expected one of: {})", w.mix,
+                                             fmt::join(names, ", ")));
       }
     } else if (key == "frames") {
       w.frames = static_cast<int>(integer(value, key, 8, 1000000));

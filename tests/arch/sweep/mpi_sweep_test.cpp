@@ -57,8 +57,8 @@ struct MpiSweep : ::testing::Test {
 };
 
 TEST_F(MpiSweep, TwoRanksGiveTheRowsOfOneProcess) {
-  const std::filesystem::path s =
-      spec("wl", "workload.features: {values: [100, 200]}", "backend.gemm_block: {values: [1, 2, 4]}");
+  const std::filesystem::path s = spec("wl", "workload.features: {values: [100, 200]}",
+                                       "backend.gemm_block: {values: [1, 2, 4]}");
   const std::filesystem::path store = dir.path() / "store";
   auto r = edx::testing::run_command(fmt::format("{} {} sweep {} --db {} --trace-store {} --json",
                                                  mpirun(2), kEdx, s.string(),
@@ -93,9 +93,8 @@ TEST_F(MpiSweep, TwoRanksGiveTheRowsOfOneProcess) {
 
 TEST_F(MpiSweep, AKilledRankLosesAndDuplicatesNothing) {
   // The larger workload point traces for longer: the worker is killed while it does.
-  const std::filesystem::path s =
-      spec("kill", "workload.resolution: {values: [320x240, 640x480]}",
-           "backend.clock_mhz: {values: [100, 150, 200, 250]}");
+  const std::filesystem::path s = spec("kill", "workload.resolution: {values: [320x240, 640x480]}",
+                                       "backend.clock_mhz: {values: [100, 150, 200, 250]}");
   const std::string db = (dir.path() / "k.db").string();
   const std::string sweep = fmt::format("{} {} sweep {} --db {}", mpirun(2), kEdx, s.string(), db);
   // Start the job, wait for the first workload's trace, SIGKILL the last rank.

@@ -45,9 +45,9 @@ struct FakeTracer {
               if (features == 13) throw std::runtime_error("features 13 cannot be traced");
               ++traced;
               trace::TraceMeta meta;
-              for (const char* key : {"dataset", "sequence", "camera_model", "pipeline_params",
-                                      "host_cpu", "host_cores", "compiler_flags",
-                                      "source_revision", "created_utc"}) {
+              for (const char* key :
+                   {"dataset", "sequence", "camera_model", "pipeline_params", "host_cpu",
+                    "host_cores", "compiler_flags", "source_revision", "created_utc"}) {
                 meta[key] = "test";
               }
               meta["pipeline_params"] = resolved.dump();
@@ -181,9 +181,8 @@ TEST_F(WorkloadSweep, AFailedWorkloadPointIsRecordedAndTheSweepGoesOn) {
                           "be traced'")
                 .getInt(),
             2);
-  EXPECT_EQ(
-      db.execAndGet("SELECT error FROM sweep_workloads WHERE error IS NOT NULL").getString(),
-      "features 13 cannot be traced");
+  EXPECT_EQ(db.execAndGet("SELECT error FROM sweep_workloads WHERE error IS NOT NULL").getString(),
+            "features 13 cannot be traced");
   EXPECT_FALSE(std::filesystem::exists(dir.path() / "r.traces" /
                                        (workload_hash({{"features", 13}}, "v1") + ".db")));
 }
@@ -221,8 +220,8 @@ TEST(WorkloadStore, HashCoversParametersAndVersion) {
   const nlohmann::json a = {{"features", 500}, {"resolution", "640x480"}};
   EXPECT_EQ(workload_hash(a, "r1"), workload_hash(a, "r1"));
   EXPECT_NE(workload_hash(a, "r1"), workload_hash(a, "r2"));
-  EXPECT_NE(workload_hash(a, "r1"), workload_hash({{"features", 1000}, {"resolution", "640x480"}},
-                                                  "r1"));
+  EXPECT_NE(workload_hash(a, "r1"),
+            workload_hash({{"features", 1000}, {"resolution", "640x480"}}, "r1"));
   EXPECT_EQ(workload_hash(a, "r1").size(), 16u);
   EXPECT_EQ(default_trace_store("/x/results.db"), "/x/results.traces");
   EXPECT_EQ(default_trace_store("out"), "out.traces");

@@ -1,5 +1,4 @@
 // Mixed sequences (workloads/modes/mix.hpp): the paper's scenario shares and data generation.
-#include "workloads/modes/sweep_workload.hpp"
 #include "workloads/modes/mix.hpp"
 
 #include <gtest/gtest.h>
@@ -7,6 +6,7 @@
 #include <stdexcept>
 
 #include "tests/support/temp_dir.hpp"
+#include "workloads/modes/sweep_workload.hpp"
 
 namespace edx::modes {
 namespace {
@@ -72,11 +72,11 @@ TEST(SweepWorkload, TextAndNumbersResolveToOneTypedForm) {
   EXPECT_EQ(w.msckf_window, 15);
   EXPECT_EQ(w.slam_window, 10);  // default
   EXPECT_EQ(w.to_json(), SweepWorkload::from_json(w.to_json()).to_json());
-  EXPECT_EQ(w.to_json(), SweepWorkload::from_json({{"features", 500},
-                                                   {"resolution", "1280x720"},
-                                                   {"frames", "40"},
-                                                   {"msckf_window", "15"}})
-                             .to_json());
+  EXPECT_EQ(
+      w.to_json(),
+      SweepWorkload::from_json(
+          {{"features", 500}, {"resolution", "1280x720"}, {"frames", "40"}, {"msckf_window", "15"}})
+          .to_json());
   EXPECT_EQ(SweepWorkload::from_json(nlohmann::json::object()).to_json()["mix"], "paper");
 }
 
@@ -89,7 +89,8 @@ TEST(SweepWorkload, BadValuesNameTheParameter) {
     }
     return std::string("no error");
   };
-  EXPECT_EQ(error({{"features", "0"}}), "features: expected an integer from 1 to 100000, got \"0\"");
+  EXPECT_EQ(error({{"features", "0"}}),
+            "features: expected an integer from 1 to 100000, got \"0\"");
   EXPECT_EQ(error({{"frames", "12.5"}}),
             "frames: expected an integer from 8 to 1000000, got \"12.5\"");
   EXPECT_EQ(error({{"slam_window", 1}}), "slam_window: expected an integer from 2 to 1000, got 1");
