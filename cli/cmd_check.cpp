@@ -101,7 +101,8 @@ void add_check_command(CLI::App& app) {
   cmd->add_option("--run", args->run_id, "Run of the results database (default: its only run)")
       ->needs(results);
   cmd->add_option("--targets", args->targets,
-                  "Targets file (default: reports/paper_targets.yaml of the sources)");
+                  "Targets file (default: reports/paper_targets.yaml of edx's data folder, see "
+                  "edx --version)");
   cmd->add_flag("--json", args->json, "Print the table as JSON");
   cmd->callback([args] {
     if (args->results.empty() && args->config.empty()) {

@@ -15,6 +15,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/version.hpp"
+#include "common/resources.hpp"
 #include "edx_revision.hpp"
 
 namespace {
@@ -30,8 +31,12 @@ int main(int argc, char** argv) {
   spdlog::set_pattern("edx: %^%l%$: %v");
 
   CLI::App app{kDescription, "edx"};
-  app.set_version_flag(
-      "--version", std::string("edx ") + edx::cli::kVersion + " (" + edx::kSourceRevision + ")");
+  // The second line names the folder edx reads its own files from (common/resources.hpp).
+  app.set_version_flag("--version", [] {
+    const edx::common::DataRoot data = edx::common::data_root();
+    return fmt::format("edx {} ({})\ndata: {} ({})", edx::cli::kVersion, edx::kSourceRevision,
+                       data.path.empty() ? "-" : data.path.string(), data.how);
+  });
   // At most one subcommand; a missing one is reported after parsing so that an unknown word
   // is named as such rather than as a missing subcommand (CLI11 checks requirements first).
   app.require_subcommand(0, 1);

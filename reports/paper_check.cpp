@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "common/resources.hpp"
 #include "reports/metrics.hpp"
 
 namespace edx::reports {
@@ -57,7 +58,9 @@ const char* verdict_name(Verdict v) {
 
 }  // namespace
 
-std::filesystem::path default_targets_path() { return EDX_PAPER_TARGETS; }
+std::filesystem::path default_targets_path() {
+  return common::find_resource("reports/paper_targets.yaml");
+}
 
 std::vector<PaperTarget> load_targets(const std::filesystem::path& path) {
   YAML::Node root;

@@ -27,7 +27,8 @@ struct PaperTarget {
 /// `tolerance`. Errors: std::runtime_error "file:line: key: what was expected".
 std::vector<PaperTarget> load_targets(const std::filesystem::path& path);
 
-/// The targets file beside the sources (reports/paper_targets.yaml).
+/// The default targets file: reports/paper_targets.yaml of edx's data folder (installed, else
+/// the source tree; common/resources.hpp). Throws std::runtime_error when it is missing.
 std::filesystem::path default_targets_path();
 
 enum class Verdict { kPass, kMiss, kNotFound };
