@@ -16,8 +16,6 @@
 namespace edx::arch {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 /// JSON has no infinity: a kernel that cannot be offloaded has no accelerator time (null).
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
 
@@ -144,7 +142,8 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
         if (off) {
           w.offloads.push_back({&accel[next], transfers[next].input_bytes,
                                 transfers[next].output_bytes,
-                                fmt::format("f{} {}", w.frame_id, d.kernel)});
+                                fmt::format("f{} {}", w.frame_id, d.kernel),
+                                accel[next].spill.read_bytes, accel[next].spill.write_bytes});
         }
         ++next;
       }
@@ -222,6 +221,7 @@ nlohmann::json KernelDecision::to_json() const {
           {"kernel", kernel},         {"size", size},
           {"host_ms", host_ms},       {"accel_ms", finite_or_null(accel_ms)},
           {"compute_ms", compute_ms}, {"transfer_ms", transfer_ms},
+          {"spill_ms", spill_ms},     {"spill_bytes", spill_bytes},
           {"fits_spm", fits_spm},     {"training", training},
           {"offloaded", offloaded}};
 }
@@ -270,38 +270,50 @@ nlohmann::json SystemResult::to_json() const {
     j["always_s"] = finite_or_null(s.always_s);
     sched.push_back(j);
   }
-  std::size_t offloaded = 0, accelerable = 0;
+  std::size_t offloaded = 0, accelerable = 0, spilling = 0, spilled = 0;
+  std::int64_t spilled_bytes = 0;
   for (const KernelDecision& d : decisions) {
     ++accelerable;
     if (d.offloaded) ++offloaded;
+    if (!d.fits_spm) ++spilling;
+    if (!d.fits_spm && d.offloaded) {
+      ++spilled;
+      spilled_bytes += d.spill_bytes;
+    }
   }
   nlohmann::json table3 = nlohmann::json::array();
   for (const cost::PaperComparison& c : cost::compare_to_table_iii(resources)) {
     table3.push_back(c.to_json());
   }
-  return {
-      {"platform", platform},
-      {"model", to_string(model)},
-      {"config_hash", config_hash},
-      {"trace_hash", trace_hash},
-      {"trace", trace_path},
-      {"frames", baseline.frames.size()},
-      {"policy", to_string(config.scheduler.policy)},
-      {"baseline", baseline.to_json()},
-      {"accelerated", accelerated.to_json()},
-      {"comparison", comparison()},
-      {"offload",
-       {{"accelerable_invocations", accelerable}, {"offloaded", offloaded}, {"kernels", sched}}},
-      {"resources",
-       {{"device", resources.device.name},
-        {"total", resources.total.shared.to_json()},
-        {"ns_total", resources.total.ns.to_json()},
-        {"utilization", resources.utilization.to_json()},
-        {"bram_mib", resources.bram_mib},
-        {"ns_bram_mib", resources.ns_bram_mib},
-        {"frontend_share", resources.frontend_share.to_json()},
-        {"fits", resources.fits},
-        {"edx_car_table_iii", table3}}}};
+  return {{"platform", platform},
+          {"model", to_string(model)},
+          {"config_hash", config_hash},
+          {"trace_hash", trace_hash},
+          {"trace", trace_path},
+          {"frames", baseline.frames.size()},
+          {"policy", to_string(config.scheduler.policy)},
+          {"baseline", baseline.to_json()},
+          {"accelerated", accelerated.to_json()},
+          {"comparison", comparison()},
+          {"offload",
+           {{"accelerable_invocations", accelerable},
+            {"offloaded", offloaded},
+            // SPM spills (docs/MODEL.md): invocations whose operands exceed backend.spm_bytes,
+            // those of them offloaded (run out of core), and the DRAM bytes those moved.
+            {"exceeding_spm", spilling},
+            {"spilled_offloaded", spilled},
+            {"spilled_bytes", spilled_bytes},
+            {"kernels", sched}}},
+          {"resources",
+           {{"device", resources.device.name},
+            {"total", resources.total.shared.to_json()},
+            {"ns_total", resources.total.ns.to_json()},
+            {"utilization", resources.utilization.to_json()},
+            {"bram_mib", resources.bram_mib},
+            {"ns_bram_mib", resources.ns_bram_mib},
+            {"frontend_share", resources.frontend_share.to_json()},
+            {"fits", resources.fits},
+            {"edx_car_table_iii", table3}}}};
 }
 
 cost::FrameActivity frontend_activity(const trace::FrameTrace& frame, const FrontendConfig& fe,
@@ -436,13 +448,16 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       d.compute_ms = 1e3 * a.seconds;
       d.transfer_ms = 1e3 * link_s;
       d.fits_spm = a.fits_spm;
-      d.accel_ms = a.fits_spm ? d.compute_ms + d.transfer_ms : kInf;
+      d.spill_ms = 1e3 * spill_seconds(a, platform.link);
+      d.spill_bytes = a.spill.bytes();
+      d.accel_ms = d.compute_ms + d.transfer_ms + d.spill_ms;
       KernelInvocation inv;
       inv.frame_index = f;
       inv.kernel = kernel.kernel;
       inv.size = d.size;
       inv.host_s = 1e-3 * d.host_ms;
-      // The scheduler's estimate is the same analytical profile + idle-link time.
+      // The scheduler's estimate is the same analytical profile + idle-link time (spills
+      // included: a kernel whose spill costs more than the host saves stays there).
       inv.accel_s = inv.accel_estimate_s = 1e-3 * d.accel_ms;
       invocations.push_back(inv);
       r.decisions.push_back(d);
@@ -454,7 +469,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   r.schedule = evaluate_schedule(scheduler, invocations);  // trains the models
   for (std::size_t i = 0; i < invocations.size(); ++i) {
     r.decisions[i].training = scheduler.in_training(invocations[i]);
-    r.decisions[i].offloaded = r.decisions[i].fits_spm && scheduler.offload(invocations[i]);
+    r.decisions[i].offloaded = scheduler.offload(invocations[i]);
   }
 
   // Per frame, both variants.
@@ -498,6 +513,9 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       }
       for (const OpTiming& op : accel[next].ops) acc.activity.bram_bytes += double(op.spm_bytes);
       acc.activity.link_bytes += double(transfers[next].input_bytes + transfers[next].output_bytes);
+      // Spill traffic: DRAM bytes carried by the link (kernel_replay.hpp: spill_seconds).
+      acc.activity.dram_bytes += double(d.spill_bytes);
+      acc.activity.link_bytes += double(d.spill_bytes);
     }
     acc.backend_ms = std::max(0.0, backend_ms);
     acc.e2e_ms = acc.frontend_ms + acc.backend_ms;
@@ -562,6 +580,23 @@ std::string format_system_result(const SystemResult& r) {
         "speedup    {:<6} e2e {:.2f}x, backend {:.2f}x, e2e SD {:+.1f}%, energy {:+.1f}%\n", mode,
         c["e2e_speedup"].get<double>(), c["backend_speedup"].get<double>(),
         -100 * c["e2e_sd_reduction"].get<double>(), -100 * c["energy_reduction"].get<double>());
+  }
+  std::size_t exceeding = 0, spilled = 0;
+  std::int64_t spilled_bytes = 0;
+  for (const KernelDecision& d : r.decisions) {
+    if (d.fits_spm) continue;
+    ++exceeding;
+    if (d.offloaded) {
+      ++spilled;
+      spilled_bytes += d.spill_bytes;
+    }
+  }
+  if (exceeding > 0) {
+    text += fmt::format(
+        "spills     {} of {} accelerable invocations exceed the {} B SPM; {} offloaded out of "
+        "core, {:.2f} MiB of DRAM traffic\n",
+        exceeding, r.decisions.size(), r.config.backend.spm_bytes, spilled,
+        static_cast<double>(spilled_bytes) / (1024.0 * 1024.0));
   }
   for (const KernelScheduleSummary& s : r.schedule) {
     const std::string model =

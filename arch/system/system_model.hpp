@@ -17,10 +17,10 @@
 //   be_cpu(f) = s_b · backend_host_ns(f)
 //   be_acc(f) = be_cpu(f) − Σ_{k∈O_f} s_b · host_ns(k) + Σ_{k∈O_f} (t_accel(k) + t_link(k))
 // t_accel: Σ op cycles of the kernel on the backend units / clock (accelerate_kernel);
-// t_link: its inputs and results over an idle link (kernel_transfer_time). A kernel whose
-// operands do not fit the backend SPM is never offloaded. Throughput (frames back to back):
-// without FE/BE pipelining N / Σ_f e2e(f); with it, the backend of frame f starts when its
-// frontend results are in and the backend of f−1 is done:
+// t_link: its inputs and results over an idle link (kernel_transfer_time), plus, for a kernel
+// whose operands exceed the backend SPM, its spill traffic (kernel_replay.hpp: spill_seconds).
+// Throughput (frames back to back): without FE/BE pipelining N / Σ_f e2e(f); with it, the backend
+// of frame f starts when its frontend results are in and the backend of f−1 is done:
 //   b_start(f) = max(fe_end(f), b_end(f−1)),  b_end(f) = b_start(f) + be(f),
 //   FPS = (N − 1) / (b_end(N−1) − b_end(0))
 // fe_end: accelerated, the frontend DES run with the platform's FE/SM pipelining, frames back
@@ -48,13 +48,15 @@ struct KernelDecision {
   std::int64_t frame_id = 0;
   int kernel_seq = 0;  ///< position among the frame's kernels
   std::string kernel;
-  double size = 0;         ///< the kernel's m (the scheduler's feature)
-  double host_ms = 0;      ///< on the target CPU
-  double accel_ms = 0;     ///< units + transfers (infinite when it does not fit the SPM)
-  double compute_ms = 0;   ///< units only
-  double transfer_ms = 0;  ///< inputs + results on an idle link
-  bool fits_spm = true;
-  bool training = false;  ///< profiled on the host to fit the models
+  double size = 0;               ///< the kernel's m (the scheduler's feature)
+  double host_ms = 0;            ///< on the target CPU
+  double accel_ms = 0;           ///< units + transfers + spill traffic
+  double compute_ms = 0;         ///< units only
+  double transfer_ms = 0;        ///< inputs + results on an idle link
+  double spill_ms = 0;           ///< spill traffic on an idle link (0 when it fits the SPM)
+  std::int64_t spill_bytes = 0;  ///< DRAM bytes read and written out of core
+  bool fits_spm = true;          ///< false: its operands exceed the SPM and it spills
+  bool training = false;         ///< profiled on the host to fit the models
   bool offloaded = false;
   nlohmann::json to_json() const;
 };
