@@ -25,6 +25,7 @@
 //   FPS = (N − 1) / (b_end(N−1) − b_end(0))
 // fe_end: accelerated, the frontend DES run with the platform's FE/SM pipelining, frames back
 // to back; CPU, Σ_{g≤f} fe_cpu(g) (one frontend thread, a backend thread beside it).
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -61,6 +62,14 @@ struct KernelDecision {
   nlohmann::json to_json() const;
 };
 
+/// Where an accelerated frame's work-proportional energy (compute + memory + link) goes, by
+/// resource (docs/MODEL.md, "Energy per resource"): the seven frontend task units (trace::Task
+/// order), the five backend units (BackendUnit order), each link direction, DRAM.
+inline constexpr std::size_t kFrontendPart = 0, kBackendPart = 7,
+                             kLinkToFpgaPart = kBackendPart + kBackendUnitCount,
+                             kLinkToHostPart = kLinkToFpgaPart + 1, kDramPart = kLinkToHostPart + 1,
+                             kEnergyParts = kDramPart + 1;
+
 /// One frame of one variant.
 struct FrameResult {
   std::int64_t frame_id = 0;
@@ -70,6 +79,8 @@ struct FrameResult {
   int offloaded = 0;        ///< kernels offloaded
   cost::FrameActivity activity;
   cost::FrameEnergy energy;
+  /// activity's dynamic energy (J) split by resource, kEnergyParts entries (accelerated only).
+  std::array<double, kEnergyParts> part_j{};
 };
 
 /// Which model computes latency and throughput.
@@ -93,8 +104,11 @@ struct StreamSummary {
   std::size_t frames = 0, dropped = 0;
   double fps = 0;
   Distribution latency_ms;  ///< arrival to backend end, queueing included (processed frames)
-  double energy_j = 0;      ///< per processed frame, from the run's busy times (docs/MODEL.md)
+  double energy_j = 0;      ///< per processed frame: Σ energy_by_resource / processed frames
   std::vector<ResourceUse> resources;
+  /// Every resource's busy/idle energy over the run (docs/MODEL.md, "Energy per resource"),
+  /// plus "fpga.static" (device static power over the run) and "dram" (bytes x energy).
+  std::vector<cost::ResourceEnergy> energy_by_resource;
   nlohmann::json to_json() const;
 };
 
@@ -140,9 +154,11 @@ struct SystemResult {
 std::string fnv1a_hex(const std::string& text);
 
 /// The frontend's work of one frame as the energy model counts it (docs/MODEL.md, "Energy"):
-/// pixel operations, MACs of IF and LSS, on-chip memory bytes.
+/// pixel operations, MACs of IF and LSS, on-chip memory bytes. `per_task` (optional): the same
+/// split by task unit, in trace::Task order (their sum is the result).
 cost::FrameActivity frontend_activity(const trace::FrameTrace& frame, const FrontendConfig& fe,
-                                      const cost::CostConfig& cost);
+                                      const cost::CostConfig& cost,
+                                      std::array<cost::FrameActivity, 7>* per_task = nullptr);
 
 /// The trace's key in results: FNV-1a of its frame count and meta table (SystemResult::trace_hash).
 std::string trace_hash(std::size_t frames, const trace::TraceMeta& trace_meta);
