@@ -18,12 +18,10 @@ BackendAccelerator::BackendAccelerator(sim::Simulator& sim, BackendConfig config
 
 sim::Task<void> BackendAccelerator::run(const trace::KernelRecord& kernel) {
   const KernelAccelResult plan = accelerate_kernel(kernel, config_);
-  if (!plan.fits_spm) throw std::runtime_error(plan.message);
   co_await run(plan);
 }
 
 sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::string label) {
-  if (!plan.fits_spm) throw std::runtime_error(plan.message);
   const sim::Time start = sim_->now();
   // A kernel issued between clock edges starts on the next one.
   if (clock_.next_edge(start) != start) co_await sim_->cycles(clock_, 0);
@@ -37,7 +35,8 @@ sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::stri
       timeline_->span(
           unit_tracks_[static_cast<std::size_t>(t.unit)],
           fmt::format("{} {} {}x{}x{}", label, trace::to_string(t.op.op), t.op.m, t.op.n, t.op.k),
-          begin, sim_->now(), {{"cycles", t.cycles}, {"spm_bytes", t.spm_bytes}});
+          begin, sim_->now(),
+          {{"cycles", t.cycles}, {"spm_bytes", t.spm_bytes}, {"spill_bytes", t.spill.bytes()}});
     }
   }
   kernels_.add();

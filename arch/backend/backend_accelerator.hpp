@@ -10,9 +10,10 @@
 //   BackendAccelerator accel(sim, config);
 //   auto frame = [&]() -> sim::Process { co_await accel.run(kernel); };
 //
-// A kernel whose operands do not fit the scratchpad cannot run: run() throws std::runtime_error
-// with accelerate_kernel()'s message; a system model should check accelerate_kernel().fits_spm
-// before offloading (the scheduler then keeps the kernel on the host).
+// A kernel whose operands do not fit the scratchpad (accelerate_kernel().fits_spm false) runs its
+// ops out of core: the units take the same cycles, and its spill traffic (plan.spill, DRAM bytes)
+// is the caller's to move: the system DES puts it on the link before and after the units
+// (docs/MODEL.md, "SPM spills").
 #include <array>
 #include <memory>
 #include <string>
@@ -33,10 +34,10 @@ class BackendAccelerator {
   BackendAccelerator& operator=(const BackendAccelerator&) = delete;
 
   /// Runs `kernel` (which must stay alive until the returned task completes, as it does in
-  /// `co_await accel.run(kernel)`). Throws std::runtime_error when it does not fit the SPM.
+  /// `co_await accel.run(kernel)`). A kernel that spills runs its ops alone (see above).
   sim::Task<void> run(const trace::KernelRecord& kernel);
   /// Runs a kernel already replayed by accelerate_kernel() on this accelerator's config (which
-  /// must fit the SPM and outlive the task). `label` names its spans (e.g. "f12 projection").
+  /// must outlive the task). `label` names its spans (e.g. "f12 projection").
   sim::Task<void> run(const KernelAccelResult& plan, std::string label = {});
 
   /// Registers <prefix>.<unit>.busy (time-weighted 0/1: its mean is the unit's utilization) for

@@ -19,7 +19,9 @@ nlohmann::json KernelAccelResult::to_json() const {
                     {"unit", to_string(t.unit)},
                     {"start_cycle", t.start_cycle},
                     {"cycles", t.cycles},
-                    {"spm_bytes", t.spm_bytes}});
+                    {"spm_bytes", t.spm_bytes},
+                    {"spill_read_bytes", t.spill.read_bytes},
+                    {"spill_write_bytes", t.spill.write_bytes}});
   }
   return {{"kernel", kernel},
           {"derived_ops", derived_ops},
@@ -30,6 +32,9 @@ nlohmann::json KernelAccelResult::to_json() const {
           {"spm_bytes_capacity", spm_bytes_capacity},
           {"fits_spm", fits_spm},
           {"message", message},
+          {"spilled_ops", spilled_ops},
+          {"spill_read_bytes", spill.read_bytes},
+          {"spill_write_bytes", spill.write_bytes},
           {"spm", spm.to_json()},
           {"ops", list}};
 }
@@ -42,8 +47,18 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
   r.spm_bytes_capacity = config.spm_bytes;
   std::size_t largest = 0;
   for (const trace::OpRecord& op : kernel_ops(kernel, config)) {
-    OpTiming t{op, unit_of(op.op), r.cycles, op_cycles(op, config), op_spm_bytes(op, config)};
+    OpTiming t{op,
+               unit_of(op.op),
+               r.cycles,
+               op_cycles(op, config),
+               op_spm_bytes(op, config),
+               op_spill_traffic(op, config)};
     r.cycles += t.cycles;  // each op waits for the previous one
+    if (t.spill.bytes() > 0) {
+      ++r.spilled_ops;
+      r.spill.read_bytes += t.spill.read_bytes;
+      r.spill.write_bytes += t.spill.write_bytes;
+    }
     r.unit_busy_cycles[static_cast<std::size_t>(t.unit)] += t.cycles;
     if (t.spm_bytes > r.spm_bytes_needed) {
       r.spm_bytes_needed = t.spm_bytes;
@@ -66,18 +81,25 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
     const trace::OpRecord& op = r.ops[largest].op;
     r.message = fmt::format(
         "kernel '{}': its {} op ({}x{}x{}) needs {} B of backend SPM, capacity {} B "
-        "(backend.spm_bytes)",
+        "(backend.spm_bytes): {} op(s) spill, {} B read from and {} B written to DRAM",
         kernel.kernel, trace::to_string(op.op), op.m, op.n, op.k, r.spm_bytes_needed,
-        config.spm_bytes);
+        config.spm_bytes, r.spilled_ops, r.spill.read_bytes, r.spill.write_bytes);
   }
   return r;
+}
+
+double spill_seconds(const KernelAccelResult& plan, const LinkSpec& link) {
+  if (plan.spill.bytes() == 0) return 0.0;
+  return sim::to_seconds(transfer_time(link, plan.spill.read_bytes) +
+                         transfer_time(link, plan.spill.write_bytes));
 }
 
 double estimate_offload_seconds(const trace::KernelRecord& kernel, const BackendConfig& config,
                                 const LinkSpec& link, const FrameTransferConfig& transfers) {
   const sim::Time transfer =
       kernel_transfer_time(link, kernel_transfer(kernel, transfers, config.matrix_format()));
-  return kernel_seconds(kernel, config) + sim::to_seconds(transfer);
+  const KernelAccelResult plan = accelerate_kernel(kernel, config);
+  return plan.seconds + sim::to_seconds(transfer) + spill_seconds(plan, link);
 }
 
 }  // namespace edx::arch

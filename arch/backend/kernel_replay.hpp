@@ -2,8 +2,11 @@
 // One accelerable backend kernel replayed on the backend accelerator, analytically (no DES): its
 // ops (kernel_ops(): recorded, or derived from the kernel's sizes) run on their units in trace
 // order, each after the previous one (each consumes the previous one's result), so the kernel
-// takes Σ op_cycles on an idle accelerator. The scratchpad must hold the operands of the running
-// op (Sec. VI-A); the kernel needs the largest of those, which is checked against spm_bytes.
+// takes Σ op_cycles on an idle accelerator. The scratchpad holds the operands of the running op
+// (Sec. VI-A); the kernel needs the largest of those, which is checked against spm_bytes. An op
+// whose operands do not fit runs out of core: tiled at the SPM's capacity, its operands and
+// result stream from and to DRAM (op_spill_traffic), which the system model puts on the link
+// (spill_seconds), serialized with the kernel's compute (docs/MODEL.md, "SPM spills").
 #include <array>
 #include <cstdint>
 #include <nlohmann/json.hpp>
@@ -26,6 +29,7 @@ struct OpTiming {
   std::int64_t start_cycle = 0;  ///< from the kernel's start
   std::int64_t cycles = 0;       ///< op_cycles()
   std::int64_t spm_bytes = 0;    ///< op_spm_bytes()
+  SpillTraffic spill;            ///< op_spill_traffic(): zero when it fits the SPM
 };
 
 struct KernelAccelResult {
@@ -37,8 +41,10 @@ struct KernelAccelResult {
   std::array<std::int64_t, kBackendUnitCount> unit_busy_cycles{};
   std::int64_t spm_bytes_needed = 0;    ///< max over ops of op_spm_bytes()
   std::int64_t spm_bytes_capacity = 0;  ///< config.spm_bytes
-  bool fits_spm = true;                 ///< needed <= capacity
-  std::string message;                  ///< why it does not fit ("" when it fits)
+  bool fits_spm = true;                 ///< needed <= capacity (else it spills)
+  std::string message;                  ///< why it spills ("" when it fits)
+  int spilled_ops = 0;                  ///< ops run out of core
+  SpillTraffic spill;                   ///< Σ op_spill_traffic over its ops (DRAM bytes)
   /// The SPM sized for this kernel's largest op (one region), mapped to BRAM.
   ScratchpadSizing spm;
   std::vector<OpTiming> ops;
@@ -50,13 +56,21 @@ struct KernelAccelResult {
 };
 
 /// Replays `kernel` (validated config; kernel_ops() throws for a kernel without ops it cannot
-/// derive). A kernel that does not fit is returned with fits_spm = false and a message naming
-/// the kernel, its op, the bytes needed and the capacity.
+/// derive). A kernel that does not fit is returned with fits_spm = false, its spill traffic, and
+/// a message naming the kernel, its largest op, the bytes needed, the capacity and the spill.
 KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel, const BackendConfig& config);
+
+/// Time of a replayed kernel's spill traffic on an idle link (the accelerator's only configured
+/// path to DRAM: Edx-Drone's AXI4 reads the PS DDR; Edx-Car's PCIe reaches host memory):
+/// transfer_time(spill.read_bytes) + transfer_time(spill.write_bytes), serialized with the
+/// kernel's compute (the conservative reading: no tile prefetch overlaps the units). Seconds;
+/// 0 when the kernel fits.
+double spill_seconds(const KernelAccelResult& plan, const LinkSpec& link);
 
 /// What the offload scheduler (Sec. VI-B) estimates for one kernel: the accelerator time from
 /// the units' latency profiles (kernel_seconds) plus its inputs and results on an idle link
-/// (kernel_transfer_time of kernel_transfer(), arch/link). Seconds.
+/// (kernel_transfer_time of kernel_transfer(), arch/link), plus spill_seconds when its operands
+/// exceed the SPM. Seconds.
 double estimate_offload_seconds(const trace::KernelRecord& kernel, const BackendConfig& config,
                                 const LinkSpec& link, const FrameTransferConfig& transfers);
 

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace edx::arch {
@@ -189,6 +190,93 @@ std::int64_t op_spm_bytes(const OpRecord& op, const BackendConfig& config) {
       break;
   }
   return scalars * config.scalar_bytes;
+}
+
+OperandScalars op_operand_scalars(const OpRecord& op, const BackendConfig& config) {
+  check_dimensions(op);
+  const std::int64_t m = op.m, n = op.n, k = op.k;
+  const auto sym = [&](std::int64_t s) { return symmetric_scalars(s, config); };
+  switch (op.op) {
+    case Op::Gemm: {
+      std::int64_t a = m * k, b = k * n, c = m * n;
+      if (has(op, flags::kSymmetric)) {
+        if (m == n) {
+          c = sym(m);
+        } else if (m == k) {
+          a = sym(m);
+        } else if (k == n) {
+          b = sym(k);
+        }
+      }
+      return {a + b, c};
+    }
+    case Op::Syrk:
+      return {m * k, sym(m)};
+    case Op::Potrf:
+    case Op::Ldlt:
+      return {sym(m), sym(m)};
+    case Op::Trsm:
+    case Op::Trsv: {
+      const std::int64_t rhs = m * (op.op == Op::Trsv ? 1 : n);
+      return {sym(m) + rhs, rhs};
+    }
+    case Op::Transpose:
+      return {m * n, m * n};
+    case Op::Inverse:
+      if (uses_structured_inverse(op, config)) {
+        const std::int64_t d = m - kPoseBlock;
+        return {d + d * kPoseBlock + sym(kPoseBlock), sym(m)};
+      }
+      if (has(op, flags::kSymmetric)) return {sym(m), sym(m)};
+      return {m * m, m * m};
+  }
+  return {};
+}
+
+std::int64_t op_macs(const OpRecord& op, const BackendConfig& config) {
+  check_dimensions(op);
+  const std::int64_t m = op.m, n = op.n, k = op.k;
+  switch (op.op) {
+    case Op::Gemm:
+      if (config.symmetric_optimization && symmetric_gemm_result(op)) {
+        return k * symmetric_scalars(m, config);
+      }
+      return m * n * k;
+    case Op::Syrk:
+      return k * symmetric_scalars(m, config);
+    case Op::Potrf:
+    case Op::Ldlt:
+      return factorization_macs(m);
+    case Op::Trsm:
+    case Op::Trsv:
+      return (op.op == Op::Trsv ? 1 : n) * m * (m + 1) / 2;
+    case Op::Transpose:
+      return 0;
+    case Op::Inverse:
+      if (m == 0) return 0;
+      if (uses_structured_inverse(op, config)) {
+        const std::int64_t d = m - kPoseBlock;
+        return 78 * d + kPoseBlock * symmetric_scalars(d, config);
+      }
+      return m * m * m;
+  }
+  return 0;
+}
+
+std::int64_t spill_tile(const BackendConfig& config) {
+  const std::int64_t scalars = config.spm_bytes / config.scalar_bytes;
+  // ⌊√(M/3)⌋ in integers: the largest t with 3t² <= M.
+  auto t = static_cast<std::int64_t>(std::sqrt(static_cast<double>(scalars) / 3.0));
+  while (t > 0 && 3 * t * t > scalars) --t;
+  while (3 * (t + 1) * (t + 1) <= scalars) ++t;
+  return std::max<std::int64_t>(1, t);
+}
+
+SpillTraffic op_spill_traffic(const OpRecord& op, const BackendConfig& config) {
+  if (op_spm_bytes(op, config) <= config.spm_bytes) return {};
+  const OperandScalars io = op_operand_scalars(op, config);
+  const std::int64_t rereads = ceil_div(2 * op_macs(op, config), spill_tile(config));
+  return {std::max(io.in, rereads) * config.scalar_bytes, io.out * config.scalar_bytes};
 }
 
 std::vector<OpRecord> kernel_ops(const trace::KernelRecord& kernel, const BackendConfig& config) {

@@ -115,6 +115,43 @@ std::int64_t op_cycles(const trace::OpRecord& op, const BackendConfig& config);
 ///            2 sym(m) when kSymmetric
 std::int64_t op_spm_bytes(const trace::OpRecord& op, const BackendConfig& config);
 
+/// Scalars an op reads (its operands) and writes (its result) at least once, stored as
+/// op_spm_bytes stores them (sym(n) for a symmetric matrix with the optimization):
+///   gemm  in mk + kn, out mn          syrk  in mk, out sym(m)
+///   potrf, ldlt  in sym(m), out sym(m)       trsm, trsv  in sym(m) + m·rhs, out m·rhs
+///   transpose  in mn, out mn
+///   inverse  structured: in d + 6d + sym(6), out sym(m); general: in m^2, out m^2 (sym(m) each
+///            when kSymmetric)
+struct OperandScalars {
+  std::int64_t in = 0, out = 0;
+};
+OperandScalars op_operand_scalars(const trace::OpRecord& op, const BackendConfig& config);
+
+/// Multiply-adds W of one op, the work a tiled out-of-core algorithm re-reads operands for:
+///   gemm mnk (k sym(m) for a symmetric result with the optimization)   syrk k sym(m)
+///   potrf, ldlt factorization_macs(m)     trsm, trsv rhs m(m+1)/2      transpose 0
+///   inverse: general m^3, structured 78d + 6 sym(d) (its products, structured_inverse_cycles)
+std::int64_t op_macs(const trace::OpRecord& op, const BackendConfig& config);
+
+/// SPM tile side of an op that spills: t = max(1, ⌊√(M / 3)⌋), M = spm_bytes / s the SPM's
+/// capacity in scalars: three t x t tiles (two operand tiles and the resident accumulator) fill
+/// it (the tiled matrix multiply; Lam, Rothberg and Wolf, ASPLOS 1991).
+std::int64_t spill_tile(const BackendConfig& config);
+
+/// DRAM traffic of one op run out of core (docs/MODEL.md, "SPM spills"); zero when the op fits
+/// the SPM (op_spm_bytes <= spm_bytes). Tiled at t = spill_tile(): each t x t x t block of its W
+/// multiply-adds reads two t x t operand tiles while the accumulator tile stays in the SPM, so
+/// the op reads 2W / t scalars (every operand at least once) and writes its result once:
+///   read  = s · max(in, ⌈2W / t⌉),   write = s · out
+/// (for a gemm with t dividing m and n this is the blocked algorithm's exact count
+/// mk⌈n/t⌉ + kn⌈m/t⌉ = 2mnk/t; Hong and Kung, STOC 1981, bound any schedule's traffic below
+/// by Ω(W / √M), so this is within a constant of optimal). Not calibrated.
+struct SpillTraffic {
+  std::int64_t read_bytes = 0, write_bytes = 0;
+  std::int64_t bytes() const { return read_bytes + write_bytes; }
+};
+SpillTraffic op_spill_traffic(const trace::OpRecord& op, const BackendConfig& config);
+
 /// The ops an accelerable kernel runs: its recorded ops, or, when the trace recorded none, the
 /// ops its descriptor derives from its sizes (arch/kernels: AccelerableKernel::derive_ops).
 /// Throws std::runtime_error for a kernel without ops that has no descriptor.

@@ -65,6 +65,11 @@ struct PowerConfig {
   double bram_pj_per_byte = 1.25;   ///< 8 KB SRAM, 10 pJ per 64-bit access (Horowitz 2014)
   double dram_pj_per_byte = 160.0;  ///< 20 pJ/bit (Horowitz 2014: 1.3-2.6 nJ per 64 bits)
   double link_pj_per_byte = 80.0;   ///< assumed 10 pJ/bit for PCIe 3.0 SerDes + controller
+  /// Idle-but-clocked power of an FPGA unit (frontend task unit, backend matrix unit) as a
+  /// fraction of its mean power while busy (docs/MODEL.md, "Energy per resource"). Assumed 0:
+  /// fpga_static_w covers the device's leakage, and no source in the repo sizes a unit's clock
+  /// power; not calibrated.
+  double fpga_idle_fraction = 0.0;
   // Calibration hooks against Edx-Car's 1.9 J -> 0.5 J per frame (not calibrated: 1).
   double host_power_scale = 1.0;
   double fpga_dynamic_scale = 1.0;

@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 namespace edx::arch::cost {
 namespace {
@@ -11,6 +13,15 @@ constexpr double kPico = 1e-12;
 
 void require(bool ok, const char* field, const char* expected) {
   if (!ok) throw std::runtime_error(fmt::format("activity.{}: expected {}", field, expected));
+}
+
+/// compute_j, memory_j and link_j of `a` (frame_energy's work-proportional terms).
+void dynamic_parts(const FrameActivity& a, const PowerConfig& p, FrameEnergy& e) {
+  const double op_pj = a.int8_ops * p.int8_op_pj + a.fixed_macs * p.fixed_mac_pj +
+                       a.single_macs * p.single_mac_pj + a.double_macs * p.double_mac_pj;
+  e.compute_j = p.fpga_dynamic_scale * p.fpga_energy_factor * op_pj * kPico;
+  e.memory_j = (a.bram_bytes * p.bram_pj_per_byte + a.dram_bytes * p.dram_pj_per_byte) * kPico;
+  e.link_j = a.link_bytes * p.link_pj_per_byte * kPico;
 }
 
 }  // namespace
@@ -47,13 +58,36 @@ FrameEnergy frame_energy(const FrameActivity& a, const PowerConfig& p) {
   e.fpga_static_j = a.fpga_present ? p.fpga_static_w * a.frame_s : 0.0;
   e.host_j = p.host_power_scale *
              (p.host_active_w * a.host_busy_s + p.host_idle_w * (a.frame_s - a.host_busy_s));
-  const double op_pj = a.int8_ops * p.int8_op_pj + a.fixed_macs * p.fixed_mac_pj +
-                       a.single_macs * p.single_mac_pj + a.double_macs * p.double_mac_pj;
-  e.compute_j = p.fpga_dynamic_scale * p.fpga_energy_factor * op_pj * kPico;
-  e.memory_j = (a.bram_bytes * p.bram_pj_per_byte + a.dram_bytes * p.dram_pj_per_byte) * kPico;
-  e.link_j = a.link_bytes * p.link_pj_per_byte * kPico;
+  dynamic_parts(a, p, e);
   e.total_j = e.fpga_static_j + e.host_j + e.compute_j + e.memory_j + e.link_j;
   return e;
+}
+
+double dynamic_energy_j(const FrameActivity& a, const PowerConfig& p) {
+  FrameEnergy e;
+  dynamic_parts(a, p, e);
+  return e.compute_j + e.memory_j + e.link_j;
+}
+
+nlohmann::json ResourceEnergy::to_json() const {
+  return {{"busy_s", busy_s},
+          {"idle_s", idle_s},
+          {"active_w", active_w},
+          {"idle_w", idle_w},
+          {"energy_j", energy_j}};
+}
+
+ResourceEnergy unit_energy(std::string name, double busy_s, double span_s, double dynamic_j,
+                           const PowerConfig& power) {
+  ResourceEnergy r;
+  r.name = std::move(name);
+  r.busy_s = std::max(0.0, busy_s);
+  r.idle_s = std::max(0.0, span_s - r.busy_s);
+  r.active_w = r.busy_s > 0 ? dynamic_j / r.busy_s : 0.0;
+  r.idle_w = power.fpga_idle_fraction * r.active_w;
+  // A unit with work but no recorded busy time (a run that does not track it) keeps its work.
+  r.energy_j = r.busy_s > 0 ? r.busy_s * r.active_w + r.idle_s * r.idle_w : dynamic_j;
+  return r;
 }
 
 std::vector<PaperComparison> compare_energy_to_edx_car(double baseline_j, double accelerated_j) {

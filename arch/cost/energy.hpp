@@ -10,6 +10,7 @@
 // f_fpga = fpga_energy_factor; energies in pJ). The paper's Edx-Car figures (1.9 J -> 0.5 J per
 // frame, −73.7 %, Sec. VII-C) are exposed for comparison; nothing is calibrated yet.
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "arch/cost/cost_config.hpp"
@@ -44,6 +45,26 @@ struct FrameEnergy {
 };
 
 FrameEnergy frame_energy(const FrameActivity& activity, const PowerConfig& power);
+
+/// The work-proportional part of frame_energy (compute + memory + link), J: what a unit's ops
+/// and bytes cost, without static or host power. `activity` need not have a frame time.
+double dynamic_energy_j(const FrameActivity& activity, const PowerConfig& power);
+
+/// One resource's energy over a run (docs/MODEL.md, "Energy per resource"):
+///   E = busy_s · active_w + idle_s · idle_w
+struct ResourceEnergy {
+  std::string name;  ///< as SystemRun's resources: "frontend.FD", "backend.multiply", ...
+  double busy_s = 0, idle_s = 0;
+  double active_w = 0, idle_w = 0;
+  double energy_j = 0;
+  nlohmann::json to_json() const;
+};
+
+/// An FPGA unit that spent `dynamic_j` on its work in `busy_s` of a run `span_s` long (capacity
+/// 1): active_w = dynamic_j / busy_s (0 when never busy), idle_w = fpga_idle_fraction · active_w,
+/// idle_s = span_s − busy_s, so E = dynamic_j · (1 + f_idle · idle_s / busy_s).
+ResourceEnergy unit_energy(std::string name, double busy_s, double span_s, double dynamic_j,
+                           const PowerConfig& power);
 
 /// Edx-Car's energy per frame (Sec. VII-C): baseline 1.9 J, accelerated 0.5 J (−73.7 %).
 struct EdxCarEnergy {

@@ -14,7 +14,8 @@
 //   throughput(run_id, variant, fps_without_pipelining, fps_with_pipelining)
 //   energy(run_id, variant, mode, mean_j, sd_j, p99_j, max_j)
 //   offload(run_id, frame_id, kernel_seq, kernel, size, host_ms, accel_ms, compute_ms,
-//           transfer_ms, fits_spm, training, offloaded)     accel_ms NULL: does not fit the SPM
+//           transfer_ms, fits_spm, training, offloaded)     fits_spm 0: it spills (accel_ms
+//           includes its DRAM traffic; NULL in databases written before 2026-11-26)
 //   schedule(run_id, kernel, invocations, offloaded, host_only_s, always_s, policy_s, oracle_s,
 //            r_squared_train, r_squared_eval, gap_to_oracle)
 //   resources(run_id, entry, grp, kind, lut, ff, dsp, bram, ns_lut, ns_ff, ns_dsp, ns_bram)

@@ -245,15 +245,25 @@ class SystemSimulation {
     }
   }
 
-  /// Transfer 2, the kernel on the units, transfer 3.
+  /// Transfer 2, the spill reads, the kernel on the units, the spill writes, transfer 3 (spill
+  /// traffic serialized with the units: the conservative reading, docs/MODEL.md "SPM spills").
   sim::Task<void> offload(const OffloadWork& o) {
     if (contention_) {
       co_await link_->transfer(o.input_bytes, Direction::HostToFpga, label(o, " in"));
+      if (o.spill_read_bytes > 0) {
+        co_await link_->transfer(o.spill_read_bytes, Direction::HostToFpga, label(o, " spill in"));
+      }
       co_await backend_->run(*o.plan, label(o, ""));
+      if (o.spill_write_bytes > 0) {
+        co_await link_->transfer(o.spill_write_bytes, Direction::FpgaToHost,
+                                 label(o, " spill out"));
+      }
       co_await link_->transfer(o.output_bytes, Direction::FpgaToHost, label(o, " out"));
     } else {
       co_await sim_.delay(transfer_time(link_spec_, o.input_bytes));
+      co_await sim_.delay(transfer_time(link_spec_, o.spill_read_bytes));
       co_await sim_.delay(sim::seconds(o.plan->seconds));
+      co_await sim_.delay(transfer_time(link_spec_, o.spill_write_bytes));
       co_await sim_.delay(transfer_time(link_spec_, o.output_bytes));
     }
   }

@@ -4,10 +4,11 @@
 // thread on the CPU baseline) turns them into results that cross the link (transfer 1) into a
 // bounded queue, and the backend thread on a host core takes them in order and runs the frame's
 // backend: its host work on a core, each offloaded kernel as transfer 2 (operands, host -> FPGA),
-// the kernel's ops on the backend units, transfer 3 (results, FPGA -> host), the thread blocked
-// meanwhile. Everything that is shared is a sim::Resource and contends: the frontend units, the
-// frame buffers, each link direction's DMA slots and wire (transfer 1 of the next frame against
-// this frame's kernel transfers), the backend units, the host cores.
+// its spill reads when its operands exceed the SPM, the kernel's ops on the backend units, its
+// spill writes, transfer 3 (results, FPGA -> host), the thread blocked meanwhile. Everything that
+// is shared is a sim::Resource and contends: the frontend units, the frame buffers, each link
+// direction's DMA slots and wire (transfer 1 of the next frame against this frame's kernel
+// transfers), the backend units, the host cores.
 //
 //   camera ──► camera queue (queue_depth, drop) ──► frontend ──► link ──► results queue
 //      (results_queue_depth, back-pressure: a full queue holds the frontend's frame buffer)
@@ -37,10 +38,13 @@ namespace edx::arch {
 
 /// One offloaded kernel invocation as the DES runs it.
 struct OffloadWork {
-  const KernelAccelResult* plan = nullptr;  ///< its ops on the backend units (fits the SPM)
+  const KernelAccelResult* plan = nullptr;  ///< its ops on the backend units
   std::int64_t input_bytes = 0;             ///< transfer 2
   std::int64_t output_bytes = 0;            ///< transfer 3
   std::string label;                        ///< "f<frame> <kernel>"
+  /// Out of core (docs/MODEL.md, "SPM spills"): DRAM bytes its ops read before the units run
+  /// and write after them, on the link (the accelerator's path to DRAM); 0 when it fits.
+  std::int64_t spill_read_bytes = 0, spill_write_bytes = 0;
 };
 
 /// One step of a frame's backend thread: host work, or an offloaded kernel.

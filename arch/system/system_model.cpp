@@ -16,8 +16,6 @@
 namespace edx::arch {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 /// JSON has no infinity: a kernel that cannot be offloaded has no accelerator time (null).
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
 
@@ -74,10 +72,16 @@ void set_energy(FrameResult& f, const cost::PowerConfig& power) {
   f.energy = cost::frame_energy(f.activity, power);
 }
 
-/// The streamed run's summary; energy per processed frame: the frames' mean activity over the
-/// run's mean period (makespan / frames) with the host cores' mean busy time a frame.
+/// The streamed run's summary. Energy (docs/MODEL.md, "Energy per resource"): over the run's
+/// span T (makespan), each FPGA unit E = busy·P_active + idle·P_idle with P_active its processed
+/// frames' work energy over its busy time and P_idle = fpga_idle_fraction · P_active; each link
+/// direction its bytes' energy (idle power 0); the host package
+/// s_host·(P_active·min(B, T) + P_idle·(T − min(B, T))), B the cores' busy time (the package
+/// draws host_active_w at most); the device static P_static·T; DRAM its bytes' energy.
+/// energy_j = Σ / processed frames.
 StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResult>& frames,
-                               double sensor_fps, const cost::PowerConfig& power) {
+                               double sensor_fps, const Platform& platform) {
+  const cost::PowerConfig& power = platform.power;
   StreamSummary s;
   s.sensor_fps = sensor_fps;
   s.frames = run.frames.size();
@@ -85,32 +89,73 @@ StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResu
   s.fps = run.fps;
   s.resources = run.resources;
   std::vector<double> latency;
-  cost::FrameActivity mean;
-  mean.fpga_present = frames.empty() || frames.front().activity.fpga_present;
+  std::array<double, kEnergyParts> part_j{};
   for (std::size_t f = 0; f < run.frames.size(); ++f) {
     const SystemFrameTiming& t = run.frames[f];
     if (t.dropped) continue;
     latency.push_back(sim::to_ms(t.end - t.arrival));
-    const cost::FrameActivity& a = frames[f].activity;
-    mean.int8_ops += a.int8_ops;
-    mean.fixed_macs += a.fixed_macs;
-    mean.single_macs += a.single_macs;
-    mean.double_macs += a.double_macs;
-    mean.bram_bytes += a.bram_bytes;
-    mean.dram_bytes += a.dram_bytes;
-    mean.link_bytes += a.link_bytes;
+    for (std::size_t p = 0; p < kEnergyParts; ++p) part_j[p] += frames[f].part_j[p];
   }
   s.latency_ms = Distribution::of(latency);
-  const double n = static_cast<double>(latency.size());
-  if (n > 0) {
-    for (double* v : {&mean.int8_ops, &mean.fixed_macs, &mean.single_macs, &mean.double_macs,
-                      &mean.bram_bytes, &mean.dram_bytes, &mean.link_bytes}) {
-      *v /= n;
+  if (latency.empty()) return s;
+  const double span = std::max(1e-3 * run.makespan_ms, 1e-12);
+  const auto busy_s = [&](const std::string& name) {
+    for (const ResourceUse& u : run.resources) {
+      if (u.name == name) return u.busy * u.max * span;
     }
-    mean.frame_s = std::max(1e-3 * run.makespan_ms / n, 1e-12);
-    mean.host_busy_s = std::min(1e-3 * run.host_busy_ms / n, mean.frame_s);
-    s.energy_j = cost::frame_energy(mean, power).total_j;
+    return 0.0;  // not tracked (contention off): the unit keeps its work energy
+  };
+  std::vector<cost::ResourceEnergy>& out = s.energy_by_resource;
+  const bool fpga = !frames.empty() && frames.front().activity.fpga_present;
+  if (fpga) {
+    cost::ResourceEnergy st;
+    st.name = "fpga.static";
+    st.idle_s = span;
+    st.active_w = st.idle_w = power.fpga_static_w;
+    st.energy_j = power.fpga_static_w * span;
+    out.push_back(st);
+    for (trace::Task task : {trace::Task::FD, trace::Task::IF, trace::Task::FC, trace::Task::MO,
+                             trace::Task::DR, trace::Task::DC, trace::Task::LSS}) {
+      const std::string name = std::string("frontend.") + trace::to_string(task);
+      out.push_back(cost::unit_energy(
+          name, busy_s(name), span, part_j[kFrontendPart + static_cast<std::size_t>(task)], power));
+    }
+    for (BackendUnit u : kBackendUnits) {
+      const std::string name = std::string("backend.") + to_string(u);
+      out.push_back(cost::unit_energy(name, busy_s(name), span,
+                                      part_j[kBackendPart + static_cast<std::size_t>(u)], power));
+    }
+    const auto link = [&](const std::string& name, double j) {
+      cost::ResourceEnergy e;
+      e.name = name;
+      e.busy_s = busy_s(name);
+      e.idle_s = std::max(0.0, span - e.busy_s);
+      e.active_w = e.busy_s > 0 ? j / e.busy_s : 0.0;
+      e.energy_j = j;
+      out.push_back(e);
+    };
+    if (platform.link.link.full_duplex) {
+      link("link.host_to_fpga", part_j[kLinkToFpgaPart]);
+      link("link.fpga_to_host", part_j[kLinkToHostPart]);
+    } else {
+      link("link.wire", part_j[kLinkToFpgaPart] + part_j[kLinkToHostPart]);
+    }
+    cost::ResourceEnergy dram;
+    dram.name = "dram";
+    dram.energy_j = part_j[kDramPart];
+    out.push_back(dram);
   }
+  cost::ResourceEnergy host;
+  host.name = "host.cores";
+  host.busy_s = std::min(1e-3 * run.host_busy_ms, span);
+  host.idle_s = span - host.busy_s;
+  host.active_w = power.host_power_scale * power.host_active_w;
+  host.idle_w = power.host_power_scale * power.host_idle_w;
+  host.energy_j = host.busy_s * host.active_w + host.idle_s * host.idle_w;
+  out.push_back(host);
+  double total = 0;
+  for (const cost::ResourceEnergy& e : out) total += e.energy_j;
+  s.energy_j = total / static_cast<double>(latency.size());
   return s;
 }
 
@@ -144,7 +189,8 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
         if (off) {
           w.offloads.push_back({&accel[next], transfers[next].input_bytes,
                                 transfers[next].output_bytes,
-                                fmt::format("f{} {}", w.frame_id, d.kernel)});
+                                fmt::format("f{} {}", w.frame_id, d.kernel),
+                                accel[next].spill.read_bytes, accel[next].spill.write_bytes});
         }
         ++next;
       }
@@ -174,7 +220,7 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
     }
     const SystemRun streamed =
         run(accelerated, false, accelerated ? timeline_options : SystemTimelineOptions{});
-    v->stream = summarize_stream(streamed, v->frames, platform.system.sensor_fps, platform.power);
+    v->stream = summarize_stream(streamed, v->frames, platform.system.sensor_fps, platform);
   }
   if (options.timeline) {
     r.timeline_json = timeline.to_json().dump();
@@ -199,12 +245,15 @@ SystemModelKind parse_system_model(const std::string& text) {
 nlohmann::json StreamSummary::to_json() const {
   nlohmann::json use = nlohmann::json::object();
   for (const ResourceUse& r : resources) use[r.name] = {{"busy", r.busy}, {"max", r.max}};
+  nlohmann::json energy = nlohmann::json::object();
+  for (const cost::ResourceEnergy& e : energy_by_resource) energy[e.name] = e.to_json();
   return {{"sensor_fps", sensor_fps},
           {"frames", frames},
           {"dropped", dropped},
           {"fps", fps},
           {"latency_ms", latency_ms.to_json()},
           {"energy_j", energy_j},
+          {"energy_by_resource", energy},
           {"utilization", use}};
 }
 
@@ -222,6 +271,7 @@ nlohmann::json KernelDecision::to_json() const {
           {"kernel", kernel},         {"size", size},
           {"host_ms", host_ms},       {"accel_ms", finite_or_null(accel_ms)},
           {"compute_ms", compute_ms}, {"transfer_ms", transfer_ms},
+          {"spill_ms", spill_ms},     {"spill_bytes", spill_bytes},
           {"fits_spm", fits_spm},     {"training", training},
           {"offloaded", offloaded}};
 }
@@ -270,45 +320,60 @@ nlohmann::json SystemResult::to_json() const {
     j["always_s"] = finite_or_null(s.always_s);
     sched.push_back(j);
   }
-  std::size_t offloaded = 0, accelerable = 0;
+  std::size_t offloaded = 0, accelerable = 0, spilling = 0, spilled = 0;
+  std::int64_t spilled_bytes = 0;
   for (const KernelDecision& d : decisions) {
     ++accelerable;
     if (d.offloaded) ++offloaded;
+    if (!d.fits_spm) ++spilling;
+    if (!d.fits_spm && d.offloaded) {
+      ++spilled;
+      spilled_bytes += d.spill_bytes;
+    }
   }
   nlohmann::json table3 = nlohmann::json::array();
   for (const cost::PaperComparison& c : cost::compare_to_table_iii(resources)) {
     table3.push_back(c.to_json());
   }
-  return {
-      {"platform", platform},
-      {"model", to_string(model)},
-      {"config_hash", config_hash},
-      {"trace_hash", trace_hash},
-      {"trace", trace_path},
-      {"frames", baseline.frames.size()},
-      {"policy", to_string(config.scheduler.policy)},
-      {"baseline", baseline.to_json()},
-      {"accelerated", accelerated.to_json()},
-      {"comparison", comparison()},
-      {"offload",
-       {{"accelerable_invocations", accelerable}, {"offloaded", offloaded}, {"kernels", sched}}},
-      {"resources",
-       {{"device", resources.device.name},
-        {"total", resources.total.shared.to_json()},
-        {"ns_total", resources.total.ns.to_json()},
-        {"utilization", resources.utilization.to_json()},
-        {"bram_mib", resources.bram_mib},
-        {"ns_bram_mib", resources.ns_bram_mib},
-        {"frontend_share", resources.frontend_share.to_json()},
-        {"fits", resources.fits},
-        {"edx_car_table_iii", table3}}}};
+  return {{"platform", platform},
+          {"model", to_string(model)},
+          {"config_hash", config_hash},
+          {"trace_hash", trace_hash},
+          {"trace", trace_path},
+          {"frames", baseline.frames.size()},
+          {"policy", to_string(config.scheduler.policy)},
+          {"baseline", baseline.to_json()},
+          {"accelerated", accelerated.to_json()},
+          {"comparison", comparison()},
+          {"offload",
+           {{"accelerable_invocations", accelerable},
+            {"offloaded", offloaded},
+            // SPM spills (docs/MODEL.md): invocations whose operands exceed backend.spm_bytes,
+            // those of them offloaded (run out of core), and the DRAM bytes those moved.
+            {"exceeding_spm", spilling},
+            {"spilled_offloaded", spilled},
+            {"spilled_bytes", spilled_bytes},
+            {"kernels", sched}}},
+          {"resources",
+           {{"device", resources.device.name},
+            {"total", resources.total.shared.to_json()},
+            {"ns_total", resources.total.ns.to_json()},
+            {"utilization", resources.utilization.to_json()},
+            {"bram_mib", resources.bram_mib},
+            {"ns_bram_mib", resources.ns_bram_mib},
+            {"frontend_share", resources.frontend_share.to_json()},
+            {"fits", resources.fits},
+            {"edx_car_table_iii", table3}}}};
 }
 
 cost::FrameActivity frontend_activity(const trace::FrameTrace& frame, const FrontendConfig& fe,
-                                      const cost::CostConfig& cost) {
-  cost::FrameActivity a;
-  double macs = 0;
+                                      const cost::CostConfig& cost,
+                                      std::array<cost::FrameActivity, 7>* per_task) {
+  std::array<cost::FrameActivity, 7> tasks{};
+  std::array<double, 7> task_macs{};
   for (const trace::TaskRecord& t : frame.tasks) {
+    cost::FrameActivity& a = tasks[static_cast<std::size_t>(t.task)];
+    double& macs = task_macs[static_cast<std::size_t>(t.task)];
     const double px = double(t.pixels);
     switch (t.task) {
       case trace::Task::FD:
@@ -355,11 +420,20 @@ cost::FrameActivity frontend_activity(const trace::FrameTrace& frame, const Fron
       }
     }
   }
-  if (cost.frontend_arith() == cost::Arithmetic::kSingle) {
-    a.single_macs += macs;
-  } else {
-    a.fixed_macs += macs;
+  cost::FrameActivity a;
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    cost::FrameActivity& t = tasks[i];
+    if (cost.frontend_arith() == cost::Arithmetic::kSingle) {
+      t.single_macs += task_macs[i];
+    } else {
+      t.fixed_macs += task_macs[i];
+    }
+    a.int8_ops += t.int8_ops;
+    a.fixed_macs += t.fixed_macs;
+    a.single_macs += t.single_macs;
+    a.bram_bytes += t.bram_bytes;
   }
+  if (per_task != nullptr) *per_task = tasks;
   return a;
 }
 
@@ -436,13 +510,16 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       d.compute_ms = 1e3 * a.seconds;
       d.transfer_ms = 1e3 * link_s;
       d.fits_spm = a.fits_spm;
-      d.accel_ms = a.fits_spm ? d.compute_ms + d.transfer_ms : kInf;
+      d.spill_ms = 1e3 * spill_seconds(a, platform.link);
+      d.spill_bytes = a.spill.bytes();
+      d.accel_ms = d.compute_ms + d.transfer_ms + d.spill_ms;
       KernelInvocation inv;
       inv.frame_index = f;
       inv.kernel = kernel.kernel;
       inv.size = d.size;
       inv.host_s = 1e-3 * d.host_ms;
-      // The scheduler's estimate is the same analytical profile + idle-link time.
+      // The scheduler's estimate is the same analytical profile + idle-link time (spills
+      // included: a kernel whose spill costs more than the host saves stays there).
       inv.accel_s = inv.accel_estimate_s = 1e-3 * d.accel_ms;
       invocations.push_back(inv);
       r.decisions.push_back(d);
@@ -454,7 +531,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   r.schedule = evaluate_schedule(scheduler, invocations);  // trains the models
   for (std::size_t i = 0; i < invocations.size(); ++i) {
     r.decisions[i].training = scheduler.in_training(invocations[i]);
-    r.decisions[i].offloaded = r.decisions[i].fits_spm && scheduler.offload(invocations[i]);
+    r.decisions[i].offloaded = scheduler.offload(invocations[i]);
   }
 
   // Per frame, both variants.
@@ -480,10 +557,17 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
 
     FrameResult acc = base;
     acc.frontend_ms = r.frontend.frame_accel_ms[f];
-    acc.activity = frontend_activity(frame, platform.frontend, platform.cost);
+    std::array<cost::FrameActivity, 7> task_activity;
+    acc.activity = frontend_activity(frame, platform.frontend, platform.cost, &task_activity);
     acc.activity.fpga_present = true;
     acc.activity.dram_bytes = double(extra_dram);
     acc.activity.link_bytes = double(r.frontend.frame_results_bytes[f]);
+    // The same work by resource (docs/MODEL.md, "Energy per resource").
+    for (std::size_t t = 0; t < task_activity.size(); ++t) {
+      acc.part_j[kFrontendPart + t] = cost::dynamic_energy_j(task_activity[t], platform.power);
+    }
+    std::array<cost::FrameActivity, kBackendUnitCount> unit_activity{};
+    double to_fpga_bytes = 0, to_host_bytes = acc.activity.link_bytes;
     double backend_ms = base.backend_ms, host_ms = base.backend_ms;
     for (; next < r.decisions.size() && r.decisions[next].frame_id == frame.frame.frame_id;
          ++next) {
@@ -493,12 +577,29 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       backend_ms += d.accel_ms - d.host_ms;
       host_ms -= d.host_ms;
       for (BackendUnit u : kBackendUnits) {
-        acc.activity.double_macs +=
+        const double macs =
             double(accel[next].busy_cycles(u)) * backend_unit(u).mac_lanes(platform.backend);
+        acc.activity.double_macs += macs;
+        unit_activity[static_cast<std::size_t>(u)].double_macs += macs;
       }
-      for (const OpTiming& op : accel[next].ops) acc.activity.bram_bytes += double(op.spm_bytes);
+      for (const OpTiming& op : accel[next].ops) {
+        acc.activity.bram_bytes += double(op.spm_bytes);
+        unit_activity[static_cast<std::size_t>(op.unit)].bram_bytes += double(op.spm_bytes);
+      }
       acc.activity.link_bytes += double(transfers[next].input_bytes + transfers[next].output_bytes);
+      // Spill traffic: DRAM bytes carried by the link (kernel_replay.hpp: spill_seconds).
+      acc.activity.dram_bytes += double(d.spill_bytes);
+      acc.activity.link_bytes += double(d.spill_bytes);
+      to_fpga_bytes += double(transfers[next].input_bytes + accel[next].spill.read_bytes);
+      to_host_bytes += double(transfers[next].output_bytes + accel[next].spill.write_bytes);
     }
+    for (std::size_t u = 0; u < kBackendUnitCount; ++u) {
+      acc.part_j[kBackendPart + u] = cost::dynamic_energy_j(unit_activity[u], platform.power);
+    }
+    const auto bytes_j = [&](double bytes, double pj) { return 1e-12 * bytes * pj; };
+    acc.part_j[kLinkToFpgaPart] = bytes_j(to_fpga_bytes, platform.power.link_pj_per_byte);
+    acc.part_j[kLinkToHostPart] = bytes_j(to_host_bytes, platform.power.link_pj_per_byte);
+    acc.part_j[kDramPart] = bytes_j(acc.activity.dram_bytes, platform.power.dram_pj_per_byte);
     acc.backend_ms = std::max(0.0, backend_ms);
     acc.e2e_ms = acc.frontend_ms + acc.backend_ms;
     acc.host_busy_ms = std::clamp(host_ms, 0.0, acc.e2e_ms);
@@ -554,6 +655,15 @@ std::string format_system_result(const SystemResult& r) {
         }
       }
       text += fmt::format("{:<12} busy{}\n", v->variant, busy);
+      // Energy a processed frame by resource group (docs/MODEL.md, "Energy per resource").
+      std::map<std::string, double> groups;
+      for (const cost::ResourceEnergy& e : st.energy_by_resource) {
+        groups[e.name.substr(0, e.name.find('.'))] += e.energy_j;
+      }
+      std::string energy;
+      const double n = static_cast<double>(st.frames - st.dropped);
+      for (const auto& [group, j] : groups) energy += fmt::format(" {} {:.4f}", group, j / n);
+      if (n > 0) text += fmt::format("{:<12} J a frame by resource:{}\n", v->variant, energy);
     }
   }
   const nlohmann::json cmp = r.comparison();
@@ -562,6 +672,23 @@ std::string format_system_result(const SystemResult& r) {
         "speedup    {:<6} e2e {:.2f}x, backend {:.2f}x, e2e SD {:+.1f}%, energy {:+.1f}%\n", mode,
         c["e2e_speedup"].get<double>(), c["backend_speedup"].get<double>(),
         -100 * c["e2e_sd_reduction"].get<double>(), -100 * c["energy_reduction"].get<double>());
+  }
+  std::size_t exceeding = 0, spilled = 0;
+  std::int64_t spilled_bytes = 0;
+  for (const KernelDecision& d : r.decisions) {
+    if (d.fits_spm) continue;
+    ++exceeding;
+    if (d.offloaded) {
+      ++spilled;
+      spilled_bytes += d.spill_bytes;
+    }
+  }
+  if (exceeding > 0) {
+    text += fmt::format(
+        "spills     {} of {} accelerable invocations exceed the {} B SPM; {} offloaded out of "
+        "core, {:.2f} MiB of DRAM traffic\n",
+        exceeding, r.decisions.size(), r.config.backend.spm_bytes, spilled,
+        static_cast<double>(spilled_bytes) / (1024.0 * 1024.0));
   }
   for (const KernelScheduleSummary& s : r.schedule) {
     const std::string model =

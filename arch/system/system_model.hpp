@@ -17,14 +17,15 @@
 //   be_cpu(f) = s_b · backend_host_ns(f)
 //   be_acc(f) = be_cpu(f) − Σ_{k∈O_f} s_b · host_ns(k) + Σ_{k∈O_f} (t_accel(k) + t_link(k))
 // t_accel: Σ op cycles of the kernel on the backend units / clock (accelerate_kernel);
-// t_link: its inputs and results over an idle link (kernel_transfer_time). A kernel whose
-// operands do not fit the backend SPM is never offloaded. Throughput (frames back to back):
-// without FE/BE pipelining N / Σ_f e2e(f); with it, the backend of frame f starts when its
-// frontend results are in and the backend of f−1 is done:
+// t_link: its inputs and results over an idle link (kernel_transfer_time), plus, for a kernel
+// whose operands exceed the backend SPM, its spill traffic (kernel_replay.hpp: spill_seconds).
+// Throughput (frames back to back): without FE/BE pipelining N / Σ_f e2e(f); with it, the backend
+// of frame f starts when its frontend results are in and the backend of f−1 is done:
 //   b_start(f) = max(fe_end(f), b_end(f−1)),  b_end(f) = b_start(f) + be(f),
 //   FPS = (N − 1) / (b_end(N−1) − b_end(0))
 // fe_end: accelerated, the frontend DES run with the platform's FE/SM pipelining, frames back
 // to back; CPU, Σ_{g≤f} fe_cpu(g) (one frontend thread, a backend thread beside it).
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -48,16 +49,26 @@ struct KernelDecision {
   std::int64_t frame_id = 0;
   int kernel_seq = 0;  ///< position among the frame's kernels
   std::string kernel;
-  double size = 0;         ///< the kernel's m (the scheduler's feature)
-  double host_ms = 0;      ///< on the target CPU
-  double accel_ms = 0;     ///< units + transfers (infinite when it does not fit the SPM)
-  double compute_ms = 0;   ///< units only
-  double transfer_ms = 0;  ///< inputs + results on an idle link
-  bool fits_spm = true;
-  bool training = false;  ///< profiled on the host to fit the models
+  double size = 0;               ///< the kernel's m (the scheduler's feature)
+  double host_ms = 0;            ///< on the target CPU
+  double accel_ms = 0;           ///< units + transfers + spill traffic
+  double compute_ms = 0;         ///< units only
+  double transfer_ms = 0;        ///< inputs + results on an idle link
+  double spill_ms = 0;           ///< spill traffic on an idle link (0 when it fits the SPM)
+  std::int64_t spill_bytes = 0;  ///< DRAM bytes read and written out of core
+  bool fits_spm = true;          ///< false: its operands exceed the SPM and it spills
+  bool training = false;         ///< profiled on the host to fit the models
   bool offloaded = false;
   nlohmann::json to_json() const;
 };
+
+/// Where an accelerated frame's work-proportional energy (compute + memory + link) goes, by
+/// resource (docs/MODEL.md, "Energy per resource"): the seven frontend task units (trace::Task
+/// order), the five backend units (BackendUnit order), each link direction, DRAM.
+inline constexpr std::size_t kFrontendPart = 0, kBackendPart = 7,
+                             kLinkToFpgaPart = kBackendPart + kBackendUnitCount,
+                             kLinkToHostPart = kLinkToFpgaPart + 1, kDramPart = kLinkToHostPart + 1,
+                             kEnergyParts = kDramPart + 1;
 
 /// One frame of one variant.
 struct FrameResult {
@@ -68,6 +79,8 @@ struct FrameResult {
   int offloaded = 0;        ///< kernels offloaded
   cost::FrameActivity activity;
   cost::FrameEnergy energy;
+  /// activity's dynamic energy (J) split by resource, kEnergyParts entries (accelerated only).
+  std::array<double, kEnergyParts> part_j{};
 };
 
 /// Which model computes latency and throughput.
@@ -91,8 +104,11 @@ struct StreamSummary {
   std::size_t frames = 0, dropped = 0;
   double fps = 0;
   Distribution latency_ms;  ///< arrival to backend end, queueing included (processed frames)
-  double energy_j = 0;      ///< per processed frame, from the run's busy times (docs/MODEL.md)
+  double energy_j = 0;      ///< per processed frame: Σ energy_by_resource / processed frames
   std::vector<ResourceUse> resources;
+  /// Every resource's busy/idle energy over the run (docs/MODEL.md, "Energy per resource"),
+  /// plus "fpga.static" (device static power over the run) and "dram" (bytes x energy).
+  std::vector<cost::ResourceEnergy> energy_by_resource;
   nlohmann::json to_json() const;
 };
 
@@ -138,9 +154,11 @@ struct SystemResult {
 std::string fnv1a_hex(const std::string& text);
 
 /// The frontend's work of one frame as the energy model counts it (docs/MODEL.md, "Energy"):
-/// pixel operations, MACs of IF and LSS, on-chip memory bytes.
+/// pixel operations, MACs of IF and LSS, on-chip memory bytes. `per_task` (optional): the same
+/// split by task unit, in trace::Task order (their sum is the result).
 cost::FrameActivity frontend_activity(const trace::FrameTrace& frame, const FrontendConfig& fe,
-                                      const cost::CostConfig& cost);
+                                      const cost::CostConfig& cost,
+                                      std::array<cost::FrameActivity, 7>* per_task = nullptr);
 
 /// The trace's key in results: FNV-1a of its frame count and meta table (SystemResult::trace_hash).
 std::string trace_hash(std::size_t frames, const trace::TraceMeta& trace_meta);

@@ -142,6 +142,59 @@ TEST(BackendKernelReplay, SpmOverflowIsFlaggedWithKernelBytesAndCapacity) {
   EXPECT_FALSE(full.fits_spm);
 }
 
+TEST(BackendKernelReplay, SpillingOpsStreamTheirTilesFromDram) {
+  // SPM 1000 B = 125 doubles: tile t = ⌊√(125/3)⌋ = 6 (3·36 = 108 <= 125 < 3·49).
+  BackendConfig c = small_config();
+  c.spm_bytes = 1000;
+  EXPECT_EQ(spill_tile(c), 6);
+  // A 12x12x12 gemm needs 3·144 doubles (3456 B): W = 1728 MACs, 2W/t = 576 doubles read (A and
+  // B each read ⌈12/6⌉ = 2 times: the blocked count), the 144 results written once.
+  const OpRecord gemm{Op::Gemm, 12, 12, 12, 0, 0};
+  EXPECT_EQ(op_spill_traffic(gemm, c).read_bytes, 576 * 8);
+  EXPECT_EQ(op_spill_traffic(gemm, c).write_bytes, 144 * 8);
+  // A transpose of 10x8 (1280 B) does no MACs: each operand read once, each result written once.
+  EXPECT_EQ(op_spill_traffic(OpRecord{Op::Transpose, 10, 8, 0, 0, 0}, c).read_bytes, 80 * 8);
+  EXPECT_EQ(op_spill_traffic(OpRecord{Op::Transpose, 10, 8, 0, 0, 0}, c).write_bytes, 80 * 8);
+  // What fits does not spill.
+  EXPECT_EQ(op_spill_traffic(OpRecord{Op::Potrf, 10, 10, 0, 0, 0}, c).bytes(), 0);
+
+  // kalman_gain(10, 8) on it, by hand (in, out, W, ⌈2W/6⌉ in doubles):
+  //   P Hᵀ 8x10x8 (1568 B): in sym(8) + 80 = 116, out 80, W 640, 214 -> read 214
+  //   S 10x10x8 symmetric (1720 B): in 160, out 55, W 8·55 = 440, 147 -> read 160
+  //   potrf 10 (440 B) fits
+  //   trsm 10x8 twice (1080 B): in 55 + 80 = 135, out 80, W 8·55 = 440, 147 -> read 147
+  //   transpose 10x8 (1280 B): in 80, out 80, W 0 -> read 80
+  const KernelAccelResult r = accelerate_kernel(kalman_gain(10, 8), c);
+  EXPECT_FALSE(r.fits_spm);
+  EXPECT_EQ(r.spilled_ops, 5);
+  EXPECT_EQ(r.spill.read_bytes, (214 + 160 + 147 + 147 + 80) * 8);
+  EXPECT_EQ(r.spill.write_bytes, (80 + 55 + 80 + 80 + 80) * 8);
+  EXPECT_EQ(r.ops[2].spill.bytes(), 0);
+  // The units take the same cycles in or out of core.
+  EXPECT_EQ(r.cycles, accelerate_kernel(kalman_gain(10, 8), small_config()).cycles);
+  EXPECT_NE(r.message.find("5 op(s) spill, 5984 B read from and 3000 B written to DRAM"),
+            std::string::npos)
+      << r.message;
+}
+
+TEST(BackendKernelReplay, SpillTimeIsTheTrafficOnTheLink) {
+  // The 12x12x12 gemm above: 4608 B read, 1152 B written, each a transfer on an idle PCIe link
+  // (setup 1 µs + bytes / 7.9 GB/s + latency 0.5 µs: its 8 request slots never limit).
+  BackendConfig c = small_config();
+  c.spm_bytes = 1000;
+  const KernelAccelResult r =
+      accelerate_kernel(testing::kernel_of("gemm", {OpRecord{Op::Gemm, 12, 12, 12, 0, 0}}), c);
+  const LinkSpec link = LinkSpec::pcie3_x8();
+  const double expected_ns = (1000 + 4608 / 7.9 + 500) + (1000 + 1152 / 7.9 + 500);
+  EXPECT_NEAR(spill_seconds(r, link), expected_ns * 1e-9, 2e-12);
+  c.spm_bytes = 3456;  // exactly fits: no spill
+  EXPECT_EQ(
+      spill_seconds(
+          accelerate_kernel(testing::kernel_of("gemm", {OpRecord{Op::Gemm, 12, 12, 12, 0, 0}}), c),
+          link),
+      0.0);
+}
+
 TEST(BackendKernelReplay, OffloadEstimateAddsTheTransfers) {
   const BackendConfig c = small_config();
   const trace::KernelRecord k = kalman_gain(10, 8);
@@ -152,6 +205,13 @@ TEST(BackendKernelReplay, OffloadEstimateAddsTheTransfers) {
   EXPECT_GT(transfer_s, 0.0);
   EXPECT_DOUBLE_EQ(estimate_offload_seconds(k, c, link, transfers),
                    kernel_seconds(k, c) + transfer_s);
+  // A kernel that spills: its spill traffic too (the scheduler sees the spill's cost).
+  BackendConfig small_spm = c;
+  small_spm.spm_bytes = 1000;
+  const double spill_s = spill_seconds(accelerate_kernel(k, small_spm), link);
+  EXPECT_GT(spill_s, 0.0);
+  EXPECT_DOUBLE_EQ(estimate_offload_seconds(k, small_spm, link, transfers),
+                   kernel_seconds(k, small_spm) + transfer_s + spill_s);
 }
 
 }  // namespace

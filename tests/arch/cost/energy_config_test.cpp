@@ -113,6 +113,29 @@ TEST(CostYaml, ErrorsNameFileLineAndKey) {
                "car.yaml:3: power.host_idle_w: expected a power in [0, host_active_w] W");
   expect_error("s:\n  fpga_energy_factor: [1]\n", true,
                "car.yaml:2: power.fpga_energy_factor: expected a number > 0, got 'a list'");
+  expect_error("s:\n  fpga_idle_fraction: 1.5\n", true,
+               "car.yaml:2: power.fpga_idle_fraction: expected a number in [0, 1], got '1.5'");
+}
+
+TEST(ResourceEnergy, BusyAndIdleTimesTimesTheirPowers) {
+  PowerConfig p;
+  p.fpga_idle_fraction = 0.25;
+  // 2 mJ of work in 4 ms of a 10 ms run: 0.5 W busy, 0.125 W idle for 6 ms.
+  const ResourceEnergy e = unit_energy("backend.multiply", 0.004, 0.010, 0.002, p);
+  EXPECT_EQ(e.name, "backend.multiply");
+  EXPECT_DOUBLE_EQ(e.active_w, 0.5);
+  EXPECT_DOUBLE_EQ(e.idle_w, 0.125);
+  EXPECT_DOUBLE_EQ(e.idle_s, 0.006);
+  EXPECT_NEAR(e.energy_j, 0.002 + 0.125 * 0.006, 1e-15);
+  // Default (no idle power): the work energy alone.
+  EXPECT_NEAR(unit_energy("u", 0.004, 0.010, 0.002, PowerConfig{}).energy_j, 0.002, 1e-15);
+  // Never busy: no power either way.
+  EXPECT_EQ(unit_energy("u", 0.0, 0.010, 0.0, p).energy_j, 0.0);
+  // dynamic_energy_j is frame_energy's work part: 1000 double MACs x 18.4 pJ x 10 + 8 BRAM bytes.
+  FrameActivity a;
+  a.double_macs = 1000;
+  a.bram_bytes = 8;
+  EXPECT_NEAR(dynamic_energy_j(a, PowerConfig{}), 1e-12 * (184000 + 10), 1e-18);
 }
 
 TEST(PowerYaml, ReadsFieldsAndPrintsThem) {
