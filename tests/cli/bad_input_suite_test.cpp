@@ -294,6 +294,24 @@ std::vector<BadInputCase> cases() {
        },
        "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
        "edx: error: {dir}/s.yaml:4: backend.gemm_blok: unknown key"},
+      {"c7_bad_workload_value_is_blamed_on_the_spec_before_any_trace",
+       [](const fs::path& d) {
+         write(d, "s.yaml",
+               "base: {car}\nworkload: {mix: paper, frames: 16}\nparameters:\n"
+               "  workload.features: {values: [200, 0]}\nobjectives: [{minimize: dsp}]\n");
+       },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
+       "edx: error: {dir}/s.yaml: parameters.workload.features = 0: features: expected an "
+       "integer from 1 to 100000, got \"0\""},
+      {"c7_workload_sweep_takes_no_trace",
+       [](const fs::path& d) {
+         write(d, "s.yaml",
+               "base: {car}\nworkload: {speed: 3}\nparameters:\n"
+               "  backend.gemm_block: {values: [2]}\nobjectives: [{minimize: dsp}]\n");
+       },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db' --trace '{golden}'", 1,
+       "edx: error: {dir}/s.yaml: --trace: this sweep traces its workload points (workload:), it "
+       "takes no trace"},
       {"c7_tilde_is_described_as_nothing",
        [](const fs::path& d) { write(d, "p.yaml", "name: p\nbackend:\n  gemm_block: ~\n"); },
        "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}'", 1,
