@@ -35,6 +35,7 @@ struct TraceArguments {
   std::string mix;
   std::string data;
   std::uint64_t seed = 1;
+  int map_frames = 0;  ///< 0: the mix's default
 };
 
 /// `--mix NAME`: the mixed sequence through the mode switch.
@@ -42,8 +43,9 @@ void run_mix(const TraceArguments& args) {
   const cv::Size size =
       datasets::parse_resolution(args.resolution.empty() ? "640x480" : args.resolution);
   modes::MixRunOptions options;
-  options.plan = modes::make_mix(args.mix, args.frames > 0 ? static_cast<int>(args.frames) : 400,
-                                 {size.width, size.height}, args.seed);
+  options.plan = modes::make_mix(
+      args.mix, args.frames > 0 ? static_cast<int>(args.frames) : 400, {size.width, size.height},
+      args.seed, args.map_frames > 0 ? std::optional<int>(args.map_frames) : std::nullopt);
   options.data_dir = args.data.empty() ? std::filesystem::path(args.out + ".data")
                                        : std::filesystem::path(args.data);
   options.out = args.out;
@@ -158,13 +160,19 @@ void add_trace_command(CLI::App& app) {
              "--mix", args->mix,
              "Run a mixed sequence of synthetic scenarios instead of --dataset, the mode "
              "switch choosing the backend per frame (paper: 50% outdoor, 25% indoor without "
-             "a map, 25% indoor with a map; docs/MODES.md)")
+             "a map, 25% indoor with a map; or one scenario: outdoor, indoor_unknown, "
+             "indoor_known; docs/MODES.md)")
           ->check(CLI::IsMember(modes::mix_names()));
   cmd->add_option("--data", args->data,
                   "With --mix: folder of the generated worlds, saved maps and vocabulary, reused "
                   "across runs (default: OUT.data)");
   cmd->add_option("--seed", args->seed, "With --mix: seed of the synthetic worlds")
       ->capture_default_str();
+  CLI::Option* map_frames_opt =
+      cmd->add_option("--map-frames", args->map_frames,
+                      "With --mix paper or indoor_known: frames of the mapping run, the size of "
+                      "the map later frames register in (default: a quarter, or half, of --frames)")
+          ->check(CLI::Range(2, 1000000));
   cmd->add_flag("--force", args->force, "Overwrite an existing output file");
   cmd->add_flag("--json", args->json, "Print the summary as JSON (only JSON on stdout)");
   // Either a dataset (with its format) or a mix, which generates its data and lets the mode
@@ -173,6 +181,7 @@ void add_trace_command(CLI::App& app) {
   format_opt->needs(dataset_opt);
   mix_opt->excludes(dataset_opt, format_opt, kitti_opt, scenario_opt, backend_opt, save_map_opt,
                     map_opt);
+  map_frames_opt->needs(mix_opt);
   cmd->callback([args, dataset_opt, mix_opt] {
     if (dataset_opt->count() == 0 && mix_opt->count() == 0) {
       throw CLI::RequiredError("--dataset or --mix");

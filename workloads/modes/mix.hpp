@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -43,13 +44,18 @@ struct MixPlan {
   std::string to_string() const;
 };
 
-/// Names accepted by make_mix ("paper").
+/// Names accepted by make_mix: "paper" (above), and one scenario each: "outdoor" (the street
+/// run alone: VIO with GPS), "indoor_unknown" (a warehouse without a map: SLAM),
+/// "indoor_known" (half mapping the warehouse with SLAM, half registering in its map).
 std::vector<std::string> mix_names();
 
-/// The named mix with `frames` frames in all (>= 8) at `resolution`; throws std::runtime_error
-/// for an unknown name or too few frames.
+/// The named mix with `frames` frames (>= 8) at `resolution`. `map_frames` sets the length of
+/// the mapping run of the mixes that have one ("paper": default frames/4, the mix then has
+/// frames - frames/4 + map_frames frames; "indoor_known": default frames/2): the size of the
+/// map later frames register in. Throws std::runtime_error for an unknown name, too few frames
+/// or a map_frames the mix cannot take.
 MixPlan make_mix(std::string_view name, int frames, synthetic::Resolution resolution,
-                 std::uint64_t seed);
+                 std::uint64_t seed, std::optional<int> map_frames = std::nullopt);
 
 /// Where a segment's data lives once generated: `dir/<scenario>-<W>x<H>-f<frames>-s<seed>`, then
 /// mav0 or <run>/mav0.

@@ -73,7 +73,8 @@ nlohmann::json SweepWorkload::to_json() const {
           {"features", features},
           {"seed", seed},
           {"msckf_window", msckf_window},
-          {"slam_window", slam_window}};
+          {"slam_window", slam_window},
+          {"map_frames", map_frames ? nlohmann::json(*map_frames) : nlohmann::json(nullptr)}};
 }
 
 SweepWorkload SweepWorkload::from_json(const nlohmann::json& parameters) {
@@ -106,10 +107,16 @@ SweepWorkload SweepWorkload::from_json(const nlohmann::json& parameters) {
       w.msckf_window = static_cast<int>(integer(value, key, 2, 1000));
     } else if (key == "slam_window") {
       w.slam_window = static_cast<int>(integer(value, key, 2, 1000));
+    } else if (key == "map_frames") {
+      if (value.is_null() || value == "~" || value == "default") {
+        w.map_frames.reset();
+      } else {
+        w.map_frames = static_cast<int>(integer(value, key, 2, 1000000));
+      }
     } else {
       throw std::runtime_error(fmt::format(
           "{}: unknown workload parameter (expected one of: mix, frames, resolution, features, "
-          "seed, msckf_window, slam_window)",
+          "seed, msckf_window, slam_window, map_frames)",
           key));
     }
   }
@@ -119,7 +126,8 @@ SweepWorkload SweepWorkload::from_json(const nlohmann::json& parameters) {
 void trace_sweep_workload(const SweepWorkload& workload, const std::filesystem::path& out,
                           const std::filesystem::path& data_dir) {
   MixRunOptions options;
-  options.plan = make_mix(workload.mix, workload.frames, workload.resolution, workload.seed);
+  options.plan = make_mix(workload.mix, workload.frames, workload.resolution, workload.seed,
+                          workload.map_frames);
   options.data_dir = data_dir;
   options.out = out;
   options.overwrite = true;

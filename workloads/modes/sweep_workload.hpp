@@ -4,16 +4,19 @@
 // traces each distinct workload point once (content-addressed by to_json() and the source
 // revision) and simulates its platform points on that trace.
 //
-//   mix: paper          the mixed sequence (mix.hpp)
+//   mix: paper          the mixed sequence (mix.hpp): paper, outdoor, indoor_unknown, indoor_known
 //   frames: 400         frames of the whole mix (>= 8)
 //   resolution: 640x480 the rendered resolution, WxH
 //   features: 1000      keypoint budget per image (FrontendOptions::features_per_image)
 //   seed: 1             seed of the synthetic worlds
 //   msckf_window: 30    VIO clones (VioOptions::max_clones)
 //   slam_window: 10     SLAM keyframes (SlamOptions::window_size)
+//   map_frames: ~       frames of the mix's mapping run: the size of the map registration uses
+//                       (default: the mix's own, a quarter of the paper mix)
 #include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "workloads/datasets/synthetic/rig.hpp"
@@ -28,6 +31,7 @@ struct SweepWorkload {
   std::uint64_t seed = 1;
   int msckf_window = 30;
   int slam_window = 10;
+  std::optional<int> map_frames;  ///< the mix's default when empty
 
   /// Every parameter, typed (numbers as numbers, resolution as "WxH"): the content of the
   /// workload's hash.

@@ -78,6 +78,8 @@ TEST(SweepWorkload, TextAndNumbersResolveToOneTypedForm) {
           {{"features", 500}, {"resolution", "1280x720"}, {"frames", "40"}, {"msckf_window", "15"}})
           .to_json());
   EXPECT_EQ(SweepWorkload::from_json(nlohmann::json::object()).to_json()["mix"], "paper");
+  EXPECT_TRUE(SweepWorkload::from_json(nlohmann::json::object()).to_json()["map_frames"].is_null());
+  EXPECT_EQ(SweepWorkload::from_json({{"map_frames", "150"}}).map_frames, 150);
 }
 
 TEST(SweepWorkload, BadValuesNameTheParameter) {
@@ -94,9 +96,50 @@ TEST(SweepWorkload, BadValuesNameTheParameter) {
   EXPECT_EQ(error({{"frames", "12.5"}}),
             "frames: expected an integer from 8 to 1000000, got \"12.5\"");
   EXPECT_EQ(error({{"slam_window", 1}}), "slam_window: expected an integer from 2 to 1000, got 1");
-  EXPECT_EQ(error({{"mix", "city"}}), "mix: unknown mix 'city' (expected one of: paper)");
+  EXPECT_EQ(error({{"mix", "city"}}),
+            "mix: unknown mix 'city' (expected one of: paper, outdoor, indoor_unknown, "
+            "indoor_known)");
+  EXPECT_EQ(error({{"map_frames", 1}}), "map_frames: expected an integer from 2 to 1000000, got 1");
   EXPECT_EQ(error({{"resolution", "wide"}}).rfind("resolution: ", 0), 0u);
   EXPECT_EQ(error({{"speed", 3}}).rfind("speed: unknown workload parameter", 0), 0u);
+}
+
+}  // namespace
+}  // namespace edx::modes
+
+namespace edx::modes {
+namespace {
+
+TEST(MixPlan, ScenarioMixesAndTheMapSize) {
+  const MixPlan outdoor = make_mix("outdoor", 100, {640, 480}, 1);
+  ASSERT_EQ(outdoor.segments.size(), 1u);
+  EXPECT_EQ(outdoor.segments[0].scenario, trace::Scenario::OutdoorUnknown);
+  EXPECT_EQ(outdoor.total_frames(), 100);
+  const MixPlan unknown = make_mix("indoor_unknown", 100, {640, 480}, 1);
+  ASSERT_EQ(unknown.segments.size(), 1u);
+  EXPECT_EQ(unknown.segments[0].world_scenario, synthetic::Scenario::kIndoorUnknown);
+  const MixPlan known = make_mix("indoor_known", 101, {640, 480}, 1);
+  ASSERT_EQ(known.segments.size(), 2u);
+  EXPECT_EQ(known.segments[0].frames, 50);  // mapping
+  EXPECT_EQ(known.segments[1].frames, 51);  // registering in the map
+  EXPECT_EQ(known.segments[0].world, known.segments[1].world);
+  // The paper mix with a longer mapping run: the map grows, the other segments stay.
+  const MixPlan paper = make_mix("paper", 400, {640, 480}, 1);
+  const MixPlan big_map = make_mix("paper", 400, {640, 480}, 1, 300);
+  EXPECT_EQ(big_map.segments[0].frames, paper.segments[0].frames);
+  EXPECT_EQ(big_map.segments[1].frames, 300);
+  EXPECT_EQ(big_map.segments[2].frames, paper.segments[2].frames);
+  EXPECT_EQ(big_map.total_frames(), 600);
+  // Both runs of the warehouse live in one world folder, named for both lengths.
+  const std::filesystem::path dir = "/data";
+  EXPECT_EQ(segment_mav0(big_map, big_map.segments[1], dir).parent_path().parent_path(),
+            segment_mav0(big_map, big_map.segments[2], dir).parent_path().parent_path());
+  EXPECT_EQ(segment_mav0(big_map, big_map.segments[1], dir).parent_path().parent_path().filename(),
+            "indoor_known-640x480-f100-m300-s1");
+  EXPECT_EQ(segment_mav0(paper, paper.segments[1], dir).parent_path().parent_path().filename(),
+            "indoor_known-640x480-f100-s1");
+  EXPECT_THROW(make_mix("outdoor", 100, {640, 480}, 1, 50), std::runtime_error);
+  EXPECT_THROW(make_mix("paper", 100, {640, 480}, 1, 1), std::runtime_error);
 }
 
 }  // namespace
