@@ -145,51 +145,12 @@ std::int64_t op_cycles(const OpRecord& op, const BackendConfig& config) {
 }
 
 std::int64_t op_spm_bytes(const OpRecord& op, const BackendConfig& config) {
-  check_dimensions(op);
-  const std::int64_t m = op.m, n = op.n, k = op.k;
-  const auto sym = [&](std::int64_t s) { return symmetric_scalars(s, config); };
-  std::int64_t scalars = 0;
-  switch (op.op) {
-    case Op::Gemm: {
-      std::int64_t a = m * k, b = k * n, c = m * n;
-      if (has(op, flags::kSymmetric)) {
-        if (m == n) {
-          c = sym(m);
-        } else if (m == k) {
-          a = sym(m);
-        } else if (k == n) {
-          b = sym(k);
-        }
-      }
-      scalars = a + b + c;
-      break;
-    }
-    case Op::Syrk:
-      scalars = m * k + sym(m);
-      break;
-    case Op::Potrf:
-    case Op::Ldlt:
-      scalars = sym(m);
-      break;
-    case Op::Trsm:
-    case Op::Trsv:
-      scalars = sym(m) + m * (op.op == Op::Trsv ? 1 : n);
-      break;
-    case Op::Transpose:
-      scalars = 2 * m * n;
-      break;
-    case Op::Inverse:
-      if (uses_structured_inverse(op, config)) {
-        const std::int64_t d = m - kPoseBlock;
-        scalars = d + d * kPoseBlock + sym(kPoseBlock) + sym(m);
-      } else if (has(op, flags::kSymmetric)) {
-        scalars = 2 * sym(m);
-      } else {
-        scalars = 2 * m * m;
-      }
-      break;
-  }
-  return scalars * config.scalar_bytes;
+  const OperandScalars operands = op_operand_scalars(op, config);
+  // Factorizations overwrite their matrix and triangular solves their right-hand side: an
+  // in-place op holds its inputs only; the others hold inputs and result.
+  const bool in_place =
+      op.op == Op::Potrf || op.op == Op::Ldlt || op.op == Op::Trsm || op.op == Op::Trsv;
+  return (in_place ? operands.in : operands.in + operands.out) * config.scalar_bytes;
 }
 
 OperandScalars op_operand_scalars(const OpRecord& op, const BackendConfig& config) {

@@ -122,29 +122,42 @@ std::string SweepContext::execute_trace(std::size_t w, const std::filesystem::pa
   }
 }
 
-std::shared_ptr<const LoadedTrace> SweepContext::trace_of(std::size_t w) {
-  std::promise<std::shared_ptr<const LoadedTrace>> mine;
-  std::shared_future<std::shared_ptr<const LoadedTrace>> future;
+namespace {
+
+/// The value of `key` in `cache`, made by `make` once: the first caller makes it while later
+/// callers of the same key wait for it (`mutex` guards the map only, not the making).
+template <typename Key, typename Value, typename Make>
+Value made_once(std::mutex& mutex, std::map<Key, std::shared_future<Value>>& cache, const Key& key,
+                const Make& make) {
+  std::promise<Value> mine;
+  std::shared_future<Value> future;
   bool owner = false;
   {
-    std::lock_guard<std::mutex> lock(mutex_);
-    auto it = traces_.find(w);
-    if (it == traces_.end()) {
-      it = traces_.emplace(w, mine.get_future().share()).first;
+    std::lock_guard<std::mutex> lock(mutex);
+    auto it = cache.find(key);
+    if (it == cache.end()) {
+      it = cache.emplace(key, mine.get_future().share()).first;
       owner = true;
     }
     future = it->second;
   }
   if (owner) {
     try {
-      const Workload& workload = workloads.at(w);
-      mine.set_value(
-          std::make_shared<const LoadedTrace>(load_trace(workload.trace, workload.trace.string())));
+      mine.set_value(make());
     } catch (...) {
       mine.set_exception(std::current_exception());
     }
   }
   return future.get();
+}
+
+}  // namespace
+
+std::shared_ptr<const LoadedTrace> SweepContext::trace_of(std::size_t w) {
+  return made_once(mutex_, traces_, w, [&] {
+    const Workload& workload = workloads.at(w);
+    return std::make_shared<const LoadedTrace>(load_trace(workload.trace, workload.trace.string()));
+  });
 }
 
 void SweepContext::set_trace(std::size_t w, std::shared_ptr<const LoadedTrace> trace) {
@@ -158,27 +171,10 @@ SystemResult SweepContext::execute_simulate(const Platform& platform, std::size_
   const std::shared_ptr<const LoadedTrace> trace = trace_of(w);
   // Frontend studies are shared between points with the same frontend_study_key (computed once
   // per process, by the first worker asking).
-  const std::string key = frontend_study_key(platform) + "\ntrace=" + trace->hash;
-  std::shared_future<FrontendStudy> study;
-  std::promise<FrontendStudy> mine;
-  bool owner = false;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    auto it = studies_.find(key);
-    if (it == studies_.end()) {
-      it = studies_.emplace(key, mine.get_future().share()).first;
-      owner = true;
-    }
-    study = it->second;
-  }
-  if (owner) {
-    try {
-      mine.set_value(study_frontend(platform, trace->frames, trace->meta, trace->name));
-    } catch (...) {
-      mine.set_exception(std::current_exception());
-    }
-  }
-  return simulate_system(platform, trace->frames, trace->meta, trace->name, study.get());
+  FrontendStudy study =
+      made_once(mutex_, studies_, frontend_study_key(platform) + "\ntrace=" + trace->hash,
+                [&] { return study_frontend(platform, trace->frames, trace->meta, trace->name); });
+  return simulate_system(platform, trace->frames, trace->meta, trace->name, std::move(study));
 }
 
 SweepTaskResult SweepContext::execute_local(const SweepTask& task) {
