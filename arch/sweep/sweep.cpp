@@ -334,6 +334,14 @@ SweepSpec SweepSpec::parse(const std::string& text, const std::string& where,
     s.parameters.push_back(std::move(p));
   }
   s.workload_parameters = s.parameters.size();
+  double workload_points = 1;
+  for (const SweepParameter& p : s.parameters) workload_points *= double(p.values.size());
+  if (workload_points > kMaxWorkloadPoints) {
+    fail(where, params, "parameters",
+         fmt::format("the workload.* parameters make {:.4g} workload points (at most 10^4: each "
+                     "is a trace of the real pipeline)",
+                     workload_points));
+  }
   for (SweepParameter& p : platform_parameters) s.parameters.push_back(std::move(p));
 
   if (const YAML::Node sampling = root["sampling"]) {

@@ -99,6 +99,8 @@ struct SweepPoint {
 
 /// Most design points a sweep may have (grid size, or random samples, or search evaluations).
 inline constexpr double kMaxSweepPoints = 1e6;
+/// Most workload points (traces) a sweep may have.
+inline constexpr double kMaxWorkloadPoints = 1e4;
 /// Largest grid a search (or random sampling) may index: 2^53, every index exact as a double.
 inline constexpr double kMaxSearchGrid = 9007199254740992.0;
 

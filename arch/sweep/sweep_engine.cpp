@@ -25,15 +25,11 @@ std::filesystem::path default_trace_store(const std::filesystem::path& db) {
 }
 
 namespace sweep_engine {
-namespace {
-
 std::string this_host() {
   char name[256] = {};
   if (::gethostname(name, sizeof name - 1) != 0) return "unknown";
   return name;
 }
-
-}  // namespace
 
 LoadedTrace load_trace(const std::filesystem::path& path, const std::string& name) {
   const trace::TraceReader reader(path);

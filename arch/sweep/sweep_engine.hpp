@@ -34,6 +34,9 @@ struct LoadedTrace {
   std::string hash;  ///< trace_hash(frames, meta): the runs' trace_hash
 };
 
+/// This machine's host name ("unknown" when it has none): lock rows, who traced what.
+std::string this_host();
+
 /// Reads a trace file (`name` is what runs record).
 LoadedTrace load_trace(const std::filesystem::path& path, const std::string& name);
 

@@ -206,12 +206,6 @@ class MpiExecutor : public sweep_engine::SweepExecutor {
   bool finished_ = false;
 };
 
-std::string this_host() {
-  char name[256] = {};
-  if (::gethostname(name, sizeof name - 1) != 0) return "unknown";
-  return name;
-}
-
 }  // namespace
 
 MpiSession::MpiSession() {
@@ -253,7 +247,7 @@ void serve_sweep(const SweepSpec& spec, const SweepOptions& options) {
                              {"kind", task.at("kind")},
                              {"workload", w},
                              {"point", task.at("point")},
-                             {"host", this_host()}};
+                             {"host", sweep_engine::this_host()}};
     const std::filesystem::path temporary = sweep_engine::temporary_trace_path(
         context.store.empty() ? std::filesystem::temp_directory_path() / "edx-sweep"
                               : context.store,

@@ -7,21 +7,16 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <deque>
 #include <fstream>
-#include <future>
 #include <iterator>
 #include <limits>
 #include <map>
 #include <memory>
-#include <mutex>
-#include <optional>
 #include <set>
 #include <stdexcept>
-#include <thread>
 #include <utility>
 
 #include "arch/results/results_db.hpp"
@@ -35,12 +30,6 @@
 
 namespace edx::arch {
 namespace {
-
-std::string host_name() {
-  char name[256] = {};
-  if (::gethostname(name, sizeof name - 1) != 0) return "unknown";
-  return name;
-}
 
 /// Whether process `pid` of this host is running: it exists (kill(pid, 0)) and is not a zombie
 /// (a killed process whose parent has not reaped it, as under an init that never reaps, e.g. in
@@ -58,7 +47,7 @@ bool process_running(pid_t pid) {
 /// lock left by a process of this host that is gone (killed) is taken over.
 void take_sweep_lock(SQLite::Database& db, const std::string& db_name,
                      const std::string& sweep_id) {
-  const std::string host = host_name();
+  const std::string host = sweep_engine::this_host();
   SQLite::Statement q(db, "SELECT pid, host, started FROM sweep_locks WHERE sweep_id = ?");
   q.bind(1, sweep_id);
   if (q.executeStep()) {
@@ -646,42 +635,71 @@ std::size_t export_csv_from(const std::filesystem::path& db_path, const std::str
     if (!db.tableExists("sweep_points")) {
       throw std::runtime_error(fmt::format("{}: no sweeps in this database", db_path.string()));
     }
-    SQLite::Statement q(
-        db,
-        "SELECT point, run_id, parameters_json, metrics_json, feasible, pareto FROM "
-        "sweep_points WHERE sweep_id = ? ORDER BY point");
+    // workload and error: results schema 3 (a version-2 database has neither).
+    std::set<std::string> columns;
+    SQLite::Statement info(db, "PRAGMA table_info(sweep_points)");
+    while (info.executeStep()) columns.insert(info.getColumn(1).getString());
+    const bool v3 = columns.contains("workload") && columns.contains("error");
+    SQLite::Statement q(db, fmt::format("SELECT point, run_id, parameters_json, metrics_json, "
+                                        "feasible, pareto{} FROM sweep_points WHERE sweep_id = ? "
+                                        "ORDER BY point",
+                                        v3 ? ", workload, error" : ""));
     q.bind(1, sweep);
-    std::vector<std::string> params, metrics;
-    std::vector<std::string> lines;
+    struct Row {
+      std::int64_t point;
+      std::string run_id, workload, error;
+      nlohmann::json parameters, metrics;
+      int feasible, pareto;
+    };
+    std::vector<Row> points;
+    std::vector<std::string> params, metrics;  // the union over the points, in first-seen order
+    const auto add_keys = [](std::vector<std::string>& keys, const nlohmann::json& j) {
+      for (const auto& [k, v] : j.items()) {
+        if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+      }
+    };
+    bool traced = false;  // a workload sweep: its points' workload and error are columns too
     while (q.executeStep()) {
-      const nlohmann::json p = nlohmann::json::parse(q.getColumn(2).getString());
-      const nlohmann::json m = nlohmann::json::parse(q.getColumn(3).getString());
-      if (rows == 0) {
-        for (const auto& [k, v] : p.items()) params.push_back(k);
-        for (const auto& [k, v] : m.items()) metrics.push_back(k);
-      }
-      std::string line =
-          fmt::format("{},{}", q.getColumn(0).getInt64(), q.getColumn(1).getString());
-      for (const std::string& k : params)
-        fmt::format_to(std::back_inserter(line), ",{}", csv_field(p.value(k, std::string())));
-      for (const std::string& k : metrics) {
-        fmt::format_to(std::back_inserter(line), ",{}",
-                       m.contains(k) ? fmt::format("{}", m[k].get<double>()) : std::string());
-      }
-      line += fmt::format(",{},{}", q.getColumn(4).getInt(), q.getColumn(5).getInt());
-      lines.push_back(line);
-      ++rows;
+      Row r{q.getColumn(0).getInt64(),
+            q.getColumn(1).getString(),
+            v3 ? q.getColumn(6).getString() : std::string(),
+            v3 && !q.getColumn(7).isNull() ? q.getColumn(7).getString() : std::string(),
+            nlohmann::json::parse(q.getColumn(2).getString()),
+            nlohmann::json::parse(q.getColumn(3).getString()),
+            q.getColumn(4).getInt(),
+            q.getColumn(5).getInt()};
+      add_keys(params, r.parameters);
+      add_keys(metrics, r.metrics);
+      traced = traced || !r.workload.empty();
+      points.push_back(std::move(r));
     }
-    if (rows == 0) {
+    if (points.empty()) {
       throw std::runtime_error(fmt::format("{}: no sweep named '{}'", db_path.string(), sweep));
     }
-    std::string header = "point,run_id";
+    csv = "point,run_id";
     for (const std::string& k : params)
-      fmt::format_to(std::back_inserter(header), ",{}", csv_field(k));
+      fmt::format_to(std::back_inserter(csv), ",{}", csv_field(k));
     for (const std::string& k : metrics)
-      fmt::format_to(std::back_inserter(header), ",{}", csv_field(k));
-    csv = header + ",feasible,pareto\n";
-    for (const std::string& l : lines) fmt::format_to(std::back_inserter(csv), "{}\n", l);
+      fmt::format_to(std::back_inserter(csv), ",{}", csv_field(k));
+    csv += traced ? ",feasible,pareto,workload,error\n" : ",feasible,pareto\n";
+    for (const Row& r : points) {
+      fmt::format_to(std::back_inserter(csv), "{},{}", r.point, r.run_id);
+      for (const std::string& k : params) {
+        fmt::format_to(std::back_inserter(csv), ",{}",
+                       csv_field(r.parameters.value(k, std::string())));
+      }
+      for (const std::string& k : metrics) {
+        fmt::format_to(
+            std::back_inserter(csv), ",{}",
+            r.metrics.contains(k) ? fmt::format("{}", r.metrics[k].get<double>()) : std::string());
+      }
+      fmt::format_to(std::back_inserter(csv), ",{},{}", r.feasible, r.pareto);
+      if (traced) {
+        fmt::format_to(std::back_inserter(csv), ",{},{}", r.workload, csv_field(r.error));
+      }
+      csv += "\n";
+    }
+    rows = points.size();
   } else {
     std::set<std::string> tables;
     SQLite::Statement t(db, "SELECT name FROM sqlite_master WHERE type = 'table' ORDER BY name");

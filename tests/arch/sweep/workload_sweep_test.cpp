@@ -119,6 +119,12 @@ TEST_F(WorkloadSweep, WorkloadParametersComeFirstAndNeedTheSection) {
                     "sampling: {nsga2: {generations: 1, population: 8}}\n"
                     "objectives: [{minimize: dsp}]\n"),
               HasSubstr("sampling.nsga2: a search varies platform parameters only"));
+  EXPECT_EQ(error("base: base.yaml\nworkload: {}\nparameters:\n"
+                  "  workload.seed: {range: {from: 1, to: 200, step: 1}}\n"
+                  "  workload.features: {range: {from: 1, to: 100, step: 1}}\n"
+                  "sampling: {random: {samples: 3}}\nobjectives: [{minimize: dsp}]\n"),
+            "w.yaml:4: parameters: the workload.* parameters make 2e+04 workload points (at most "
+            "10^4: each is a trace of the real pipeline)");
 }
 
 TEST_F(WorkloadSweep, EachWorkloadPointIsTracedOnceIntoTheStoreAndReused) {
@@ -185,6 +191,19 @@ TEST_F(WorkloadSweep, AFailedWorkloadPointIsRecordedAndTheSweepGoesOn) {
             "features 13 cannot be traced");
   EXPECT_FALSE(std::filesystem::exists(dir.path() / "r.traces" /
                                        (workload_hash({{"features", 13}}, "v1") + ".db")));
+  // The export names each point's workload point and error.
+  EXPECT_EQ(export_csv(dir.path() / "r.db", "", "w", dir.path() / "p.csv"), 4u);
+  std::ifstream csv(dir.path() / "p.csv");
+  std::string header, first, failed;
+  std::getline(csv, header);
+  std::getline(csv, first);
+  std::getline(csv, failed);
+  std::getline(csv, failed);
+  EXPECT_EQ(header,
+            "point,run_id,backend.gemm_block,workload.features,e2e_latency_mean,feasible,pareto,"
+            "workload,error");
+  EXPECT_THAT(failed, ::testing::EndsWith(",0,0," + out.points[2].workload +
+                                          ",features 13 cannot be traced"));
 }
 
 TEST_F(WorkloadSweep, BadWorkloadValuesFailBeforeAnyWork) {
