@@ -273,6 +273,62 @@ TEST(Report, WritesIndexAndPlots) {
   }
 }
 
+TEST(Report, AWorkloadSweepGetsItsFrameRateAndEnergyPerWorkloadPoint) {
+  TempDir dir;
+  const std::filesystem::path db = dir.path() / "r.db";
+  const arch::SystemResult run = hand_made();
+  arch::write_results(db, run);
+  {
+    // Two points of a workload sweep: one simulated on its trace, one whose trace failed.
+    SQLite::Database d(db.string(), SQLite::OPEN_READWRITE);
+    d.exec(std::string(results::kSweepTablesSql));
+    d.exec(
+        "INSERT INTO sweeps VALUES ('study', 'study.yaml', 'car.yaml', 'study.traces', 2, "
+        "'{\"objectives\": [{\"maximize\": \"fps\"}], \"workload\": {\"mix\": \"paper\"}}')");
+    SQLite::Statement put(d,
+                          "INSERT INTO sweep_points (sweep_id, point, run_id, parameters_json, "
+                          "metrics_json, feasible, pareto, workload, error) VALUES ('study', ?, ?, "
+                          "?, ?, ?, ?, ?, ?)");
+    put.bind(1, 0);
+    put.bind(2, arch::run_id_of(run.config_hash, run.trace_hash));
+    put.bind(3, R"({"workload.features": "500"})");
+    put.bind(4, R"({"fps": 20.0})");
+    put.bind(5, 1);
+    put.bind(6, 1);
+    put.bind(7, "aaaa");
+    put.bind(8);
+    put.exec();
+    put.reset();
+    put.bind(1, 1);
+    put.bind(2, "");
+    put.bind(3, R"({"workload.features": "0"})");
+    put.bind(4, "{}");
+    put.bind(5, 0);
+    put.bind(6, 0);
+    put.bind(7, "bbbb");
+    put.bind(8, "features 0 cannot be traced");
+    put.exec();
+  }
+  const ResultsData data = read_results(db);
+  ASSERT_EQ(data.sweeps.size(), 1u);
+  EXPECT_TRUE(data.sweeps[0].traces_workload);
+  EXPECT_EQ(data.sweeps[0].points[1].error, "features 0 cannot be traced");
+  EXPECT_EQ(data.sweeps[0].points[0].workload, "aaaa");
+  ReportOptions options;
+  options.out_dir = dir.path() / "report";
+  write_report(data, options);
+  const std::string html = edx::testing::read_file(dir.path() / "report" / "index.html");
+  EXPECT_NE(html.find("Per workload point"), std::string::npos);
+  EXPECT_NE(html.find("failed: features 0 cannot be traced"), std::string::npos);
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot not installed: plots not checked";
+  const std::string svg = edx::testing::read_file(dir.path() / "report" / "sweep1_workloads.svg");
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(html.find("src=\"sweep1_workloads.svg\""), std::string::npos);
+  // One bar group: the traced point, labelled by its workload value.
+  EXPECT_NE(svg.find("features=500"), std::string::npos);
+  EXPECT_EQ(svg.find("features=0"), std::string::npos);
+}
+
 TEST(Report, StoredTimelineIsWrittenBesideTheReportAndLinked) {
   TempDir dir;
   arch::SystemResult run = hand_made();
