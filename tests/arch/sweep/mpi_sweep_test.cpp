@@ -97,11 +97,13 @@ TEST_F(MpiSweep, AKilledRankLosesAndDuplicatesNothing) {
                                        "backend.clock_mhz: {values: [100, 150, 200, 250]}");
   const std::string db = (dir.path() / "k.db").string();
   const std::string sweep = fmt::format("{} {} sweep {} --db {}", mpirun(2), kEdx, s.string(), db);
-  // Start the job, wait for the first workload's trace, SIGKILL the last rank.
+  // Start the job, wait for the first workload's trace, SIGKILL the last rank (the newest child
+  // of mpirun, found in /proc: no procps needed).
   const auto r = edx::testing::run_command(fmt::format(
       "{} & job=$!; for i in $(seq 1 1200); do n=$(sqlite3 {} 'SELECT COUNT(*) FROM "
       "sweep_workloads' 2>/dev/null || echo 0); [ \"${{n:-0}}\" -ge 1 ] && break; sleep 0.05; "
-      "done; kill -9 $(pgrep -P $job | tail -1); wait $job; echo \"exit $?\"",
+      "done; for s in /proc/[0-9]*/stat; do set -- $(cat $s 2>/dev/null); [ \"$4\" = $job ] && "
+      "echo $1; done | sort -n | tail -1 | xargs kill -9; wait $job; echo \"exit $?\"",
       sweep, db));
   EXPECT_THAT(r.out, ::testing::Not(::testing::HasSubstr("exit 0"))) << r.err;
   const int before = std::stoi(rows(db, "SELECT COUNT(*) FROM sweep_points"));
