@@ -1,7 +1,9 @@
 #pragma once
-// Design-space sweeps (`edx sweep`, docs/SWEEPS.md): a YAML spec names a base platform, a trace,
-// parameters (dotted platform keys with their values), a sampling, objectives and constraints.
-// Every design point is the base platform with one value per parameter; points run in parallel
+// Design-space sweeps (`edx sweep`, docs/SWEEPS.md): a YAML spec names a base platform, a trace
+// (or a workload to trace, workload.hpp), parameters (dotted platform keys, and workload.* keys,
+// with their values), a sampling, objectives and constraints. Every design point is the base
+// platform with one value per parameter; points run in parallel (threads, or MPI ranks:
+// distributed.hpp)
 // through the whole-system model (simulate_system), each stored in the results database as it
 // finishes (one transaction per point, WAL), keyed by its run id (config hash + trace hash), so
 // a killed sweep resumes where it stopped. The Pareto front of the objectives over the points

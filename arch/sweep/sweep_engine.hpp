@@ -94,7 +94,7 @@ class SweepContext {
   /// the result's error).
   SweepTaskResult execute_local(const SweepTask& task);
 
-  /// The trace of workload `w`, loaded once (thread safe); `load` reads it when first asked.
+  /// The trace of workload `w`, read from its file by the first worker asking (thread safe).
   std::shared_ptr<const LoadedTrace> trace_of(std::size_t w);
   /// Installs a trace loaded elsewhere (frames in memory, or bytes received over MPI).
   void set_trace(std::size_t w, std::shared_ptr<const LoadedTrace> trace);

@@ -1,5 +1,7 @@
-// Running a sweep: a thread pool over the design points, one results-database transaction per
-// finished point, resume by run id, the Pareto front; CSV export.
+// Running a sweep: the master that owns the results database (one transaction per finished
+// point, resume by run id, the sweep lock), orders the work (workload traces first, then the
+// design points whose trace is ready) for its executor's workers (sweep_engine.hpp: threads, or
+// MPI ranks), and stores the Pareto front; CSV export.
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
