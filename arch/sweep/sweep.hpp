@@ -3,10 +3,9 @@
 // (or a workload to trace, workload.hpp), parameters (dotted platform keys, and workload.* keys,
 // with their values), a sampling, objectives and constraints. Every design point is the base
 // platform with one value per parameter; points run in parallel (threads, or MPI ranks:
-// distributed.hpp)
-// through the whole-system model (simulate_system), each stored in the results database as it
-// finishes (one transaction per point, WAL), keyed by its run id (config hash + trace hash), so
-// a killed sweep resumes where it stopped. The Pareto front of the objectives over the points
+// distributed.hpp) through the whole-system model (simulate_system), each stored in the results
+// database as it finishes (one transaction per point, WAL), keyed by its run id (config hash +
+// trace hash), so a killed sweep resumes where it stopped. The Pareto front of the objectives over the points
 // that meet the constraints is printed and stored.
 //
 //   name: gemm_block                        # default: the spec's file stem
