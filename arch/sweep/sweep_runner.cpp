@@ -177,6 +177,12 @@ SweepOutcome run_sweep_impl(const SweepSpec& spec, const SweepOptions& options,
   // Everything that can be checked is checked before the results database is touched.
   if (options.db.empty()) throw std::runtime_error("sweep: expected a results database path");
   SweepContext context(spec, options);  // resolves the workload points (their errors first)
+  if (spec.traces_workload() && std::filesystem::exists(context.store) &&
+      !std::filesystem::is_directory(context.store)) {
+    throw std::runtime_error(
+        fmt::format("{}: trace store: exists and is not a folder (give --trace-store a folder)",
+                    context.store.string()));
+  }
   const SweepPoints& points = context.points;
   if (given) {
     map_host(Platform::parse(context.base).host, given->meta, given->name);  // its host speed

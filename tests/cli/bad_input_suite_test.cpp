@@ -312,6 +312,16 @@ std::vector<BadInputCase> cases() {
        "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db' --trace '{golden}'", 1,
        "edx: error: {dir}/s.yaml: --trace: this sweep traces its workload points (workload:), it "
        "takes no trace"},
+      {"c7_trace_store_that_is_a_file",
+       [](const fs::path& d) {
+         write(d, "store", "not a folder\n");
+         write(d, "s.yaml",
+               "base: {car}\nworkload: {mix: paper, frames: 16}\nparameters:\n"
+               "  workload.features: {values: [200]}\nobjectives: [{minimize: dsp}]\n");
+       },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db' --trace-store '{dir}/store'", 1,
+       "edx: error: {dir}/store: trace store: exists and is not a folder (give --trace-store a "
+       "folder)"},
       {"c7_tilde_is_described_as_nothing",
        [](const fs::path& d) { write(d, "p.yaml", "name: p\nbackend:\n  gemm_block: ~\n"); },
        "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}'", 1,
