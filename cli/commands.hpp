@@ -27,6 +27,7 @@ void add_report_command(CLI::App& app);
 void check_common_options(CLI::App& app);
 /// `edx host-speed`: the machine-speed reference suite's times on this machine.
 void add_host_speed_command(CLI::App& app);
+void add_host_costs_command(CLI::App& app);
 /// `edx config`: the reference of every platform key, or a platform file resolved.
 void add_config_command(CLI::App& app);
 /// `edx check`: a run against the paper's Edx-Car figures (reports/paper_targets.yaml).

@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
   edx::cli::add_check_command(app);
   edx::cli::add_config_command(app);
   edx::cli::add_host_speed_command(app);
+  edx::cli::add_host_costs_command(app);
   edx::cli::check_common_options(app);
 
   try {

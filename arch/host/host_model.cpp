@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "arch/common/yaml_fields.hpp"
+#include "arch/host/host_costs.hpp"
 
 namespace edx::arch {
 namespace {
@@ -36,6 +37,16 @@ std::vector<double> local_speeds(const std::vector<std::int64_t>& positions,
 
 }  // namespace
 
+const char* to_string(HostTimeSource times) {
+  return times == HostTimeSource::kModeled ? "modeled" : "measured";
+}
+
+HostTimeSource parse_host_times(const std::string& text) {
+  if (text == "modeled") return HostTimeSource::kModeled;
+  if (text == "measured") return HostTimeSource::kMeasured;
+  throw std::invalid_argument("expected modeled or measured, got '" + text + "'");
+}
+
 const FieldList<HostConfig>& HostConfig::fields() {
   using C = HostConfig;
   static const FieldList<C> list = {
@@ -51,6 +62,13 @@ const FieldList<HostConfig>& HostConfig::fields() {
       field("backend_suite_ms", &C::backend_suite_ms, "ms",
             "the reference suite's backend part on this host, CPU time", Bounds::at_least(0)),
       field("backend_provenance", &C::backend_provenance, "", "where backend_suite_ms comes from"),
+      enum_field(
+          "times", &C::times, {"modeled", "measured"},
+          [](HostTimeSource t) { return std::string(to_string(t)); },
+          [](const std::string& text) { return parse_host_times(text); },
+          "host times from the op-count model of the trace's work (modeled: the same on any "
+          "tracing machine) or the trace's measured CPU times (measured); either is mapped by "
+          "the suite times"),
       field("cores", &C::cores, "", "cores the DES gives the host's threads", Bounds::at_least(1)),
   };
   return list;
@@ -120,6 +138,75 @@ HostMapping map_host(const HostConfig& host, const trace::TraceMeta& trace_meta,
                                  m.backend_.overall, host.backend_suite_ms, traced.backend_ms,
                                  host.suite, local, host.backend_provenance);
   return m;
+}
+
+nlohmann::json PlatformHostTimes::to_json() const {
+  nlohmann::json j = mapping.to_json();
+  j["times"] = to_string(source);
+  return j;
+}
+
+PlatformHostTimes PlatformHostTimes::of(const HostConfig& host,
+                                        const std::vector<trace::FrameTrace>& frames,
+                                        const trace::TraceMeta& trace_meta,
+                                        const std::string& trace_name) {
+  PlatformHostTimes t;
+  const bool modeled = host.times == HostTimeSource::kModeled && !host.identity();
+  t.source = modeled ? HostTimeSource::kModeled : HostTimeSource::kMeasured;
+  const HostCostModel* costs = nullptr;
+  if (modeled) {
+    costs = &HostCostModel::bundled();
+    if (costs->suite != host.suite) {
+      throw std::runtime_error(fmt::format(
+          "host '{}' states suite v{} times, but the bundled host cost table is for suite v{} "
+          "(re-fit it: edx host-costs fit)",
+          host.name, host.suite, costs->suite));
+    }
+    // t = S_platform x sum_j c_j x_j: the factors are the suite times themselves (ms per
+    // suite-ms), applied to ns per suite-ms.
+    t.mapping.frontend_.overall = host.frontend_suite_ms;
+    t.mapping.backend_.overall = host.backend_suite_ms;
+    const std::string basis =
+        "x{:.5g} ms on the suite v{} over the op-count host model of the trace's work "
+        "(configs/host/host_costs.yaml: {}) ({})";
+    t.mapping.frontend_basis_ = fmt::format(fmt::runtime(basis), host.frontend_suite_ms,
+                                            host.suite, costs->provenance, host.provenance);
+    t.mapping.backend_basis_ = fmt::format(fmt::runtime(basis), host.backend_suite_ms,
+                                           host.suite, costs->provenance,
+                                           host.backend_provenance);
+  } else {
+    t.mapping = map_host(host, trace_meta, trace_name);
+  }
+  for (const trace::FrameTrace& frame : frames) {
+    const std::int64_t id = frame.frame.frame_id;
+    const double fe = t.mapping.frontend_scale(id) * 1e-6;  // ns -> ms
+    const double be = t.mapping.backend_scale(id) * 1e-6;
+    std::vector<double> kernels;
+    if (modeled) {
+      const std::string where = fmt::format("{}: frame {}", trace_name, id);
+      double frontend = 0, backend = 0;  // ns per suite-ms
+      if (!frame.tasks.empty()) frontend = costs->predict(frontend_rest_of(frame), where);
+      const double pixels = image_pixels(frame);
+      for (const trace::TaskRecord& task : frame.tasks) {
+        frontend += costs->predict(work_of(task, pixels), where);
+      }
+      if (ran_backend(frame)) backend = costs->predict(backend_rest_of(frame), where);
+      for (const trace::KernelRecord& kernel : frame.kernels) {
+        kernels.push_back(costs->predict(work_of(kernel), where) * be);
+        backend += kernels.back() / be;
+      }
+      t.frontend_ms.push_back(frontend * fe);
+      t.backend_ms.push_back(backend * be);
+    } else {
+      for (const trace::KernelRecord& kernel : frame.kernels) {
+        kernels.push_back(static_cast<double>(kernel.host_ns) * be);
+      }
+      t.frontend_ms.push_back(static_cast<double>(frame.frame.frontend_host_ns) * fe);
+      t.backend_ms.push_back(static_cast<double>(frame.frame.backend_host_ns) * be);
+    }
+    t.kernel_ms.push_back(std::move(kernels));
+  }
+  return t;
 }
 
 }  // namespace edx::arch

@@ -31,6 +31,17 @@ namespace edx::arch {
 /// Samples of the tracing machine's speed a frame is mapped by (the nearest ones).
 inline constexpr std::size_t kLocalSamples = 9;
 
+/// Where a platform's host times come from (docs/MODEL.md, "Host CPU").
+enum class HostTimeSource {
+  /// The op-count model (host_costs.hpp): each row's work × the bundled costs × the suite time.
+  kModeled,
+  /// The trace's measured CPU times × the suite-time ratio (this host over the tracing one).
+  kMeasured,
+};
+const char* to_string(HostTimeSource times);
+/// Throws std::invalid_argument on anything but "modeled" or "measured".
+HostTimeSource parse_host_times(const std::string& text);
+
 struct HostConfig {
   std::string name = "trace host";
   /// Reference-suite version the times below are for (trace::kHostSpeedSuite when written).
@@ -43,6 +54,9 @@ struct HostConfig {
   /// The suite's backend part on this host, CPU ms.
   double backend_suite_ms = 0;
   std::string backend_provenance = "identity: the trace host is the target";
+  /// Modeled (default) or measured host times; a host without suite times replays the
+  /// trace's measured times as they are (the trace host is the target).
+  HostTimeSource times = HostTimeSource::kModeled;
   /// Cores the whole-system DES gives the host's threads (the baseline's frontend thread and
   /// the backend thread); 2, the fewest that run both side by side, unless the platform says.
   int cores = 2;
@@ -74,6 +88,7 @@ class HostMapping {
 
  private:
   friend HostMapping map_host(const HostConfig&, const trace::TraceMeta&, const std::string&);
+  friend struct PlatformHostTimes;
   /// One part's factors: at the overall median, and per frame id (empty: the overall one).
   struct Part {
     double overall = 1.0;
@@ -90,5 +105,25 @@ class HostMapping {
 /// suite versions differ.
 HostMapping map_host(const HostConfig& host, const trace::TraceMeta& trace_meta,
                      const std::string& trace_name);
+
+/// A trace's host times on a platform's host (ms), the one place arch reads host time from:
+///   modeled (host.times, the default): t = S_platform × Σ_j c_j x_j(row) (host_costs.hpp), a
+///     frame's frontend the sum over its tasks plus the frontend rest, its backend the sum over
+///     its kernels plus its mode's backend rest;
+///   measured: t = t_trace × S_platform / S_trace(f) (map_host);
+///   a host without suite times: the trace's times as they are.
+struct PlatformHostTimes {
+  std::vector<double> frontend_ms;               ///< per frame, the whole frontend
+  std::vector<double> backend_ms;                ///< per frame, kernels and the rest
+  std::vector<std::vector<double>> kernel_ms;    ///< per frame, per kernel row
+  HostMapping mapping;                           ///< the factors and their basis
+  HostTimeSource source = HostTimeSource::kMeasured;
+  nlohmann::json to_json() const;
+
+  /// Throws std::runtime_error naming `trace_name` (map_host's errors; a row the cost table has
+  /// no costs for; a cost table of another suite version than the host's).
+  static PlatformHostTimes of(const HostConfig& host, const std::vector<trace::FrameTrace>& frames,
+                              const trace::TraceMeta& trace_meta, const std::string& trace_name);
+};
 
 }  // namespace edx::arch

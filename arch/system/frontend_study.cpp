@@ -48,7 +48,7 @@ nlohmann::json FrontendStudy::to_json() const {
   for (const auto& [unit, u] : utilization) util[unit] = u;
   return {{"platform", platform},
           {"host", host.to_json()},
-          {"host_mapping", host_mapping.to_json()},
+          {"host_mapping", host_times.to_json()},
           {"frames", frames},
           {"resolution", fmt::format("{}x{}", width, height)},
           {"cpu_ms", cpu_ms.to_json()},
@@ -88,16 +88,12 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   FrontendStudy study;
   study.platform = platform.name;
   study.host = platform.host;
-  study.host_mapping = map_host(platform.host, trace_meta, trace_name);
+  study.host_times = PlatformHostTimes::of(platform.host, frames, trace_meta, trace_name);
   study.frames = frames.size();
   std::tie(study.width, study.height) = parse_wxh(resolution->second, trace_name);
   const std::int64_t level0 = static_cast<std::int64_t>(study.width) * study.height;
 
-  std::vector<double> cpu;
-  for (const trace::FrameTrace& f : frames) {
-    cpu.push_back(static_cast<double>(f.frame.frontend_host_ns) * 1e-6 *
-                  study.host_mapping.frontend_scale(f.frame.frame_id));
-  }
+  const std::vector<double>& cpu = study.host_times.frontend_ms;
   FrontendConfig sequential = platform.frontend;
   sequential.pipeline_fe_sm = false;
   sequential.frame_interval_ms = 0;
@@ -157,8 +153,8 @@ std::string format_frontend_study(const FrontendStudy& s) {
   row("  SM (MO..DR)", s.sm_ms);
   row("  TM (DC..LSS)", s.tm_ms);
   text += fmt::format("speedup    {:.2f}x\n", s.speedup);
-  text += fmt::format("CPU        {}: trace host time {}\n", s.host.name,
-                      s.host_mapping.frontend_basis());
+  text += fmt::format("CPU        {}: {} host time {}\n", s.host.name,
+                      to_string(s.host_times.source), s.host_times.mapping.frontend_basis());
   text += fmt::format(
       "throughput CPU {:.1f} FPS; accelerator {:.1f} FPS without FE/SM pipelining, "
       "{:.1f} FPS with it\n",

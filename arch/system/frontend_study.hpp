@@ -27,10 +27,10 @@ struct Distribution {
 struct FrontendStudy {
   std::string platform;
   HostConfig host;           ///< the CPU baseline's host
-  HostMapping host_mapping;  ///< its factor on this trace's frontend host times
+  PlatformHostTimes host_times;  ///< this trace's host times on that host (frontend and backend)
   std::size_t frames = 0;
   int width = 0, height = 0;
-  Distribution cpu_ms;    ///< frontend host time x host_mapping.frontend_scale(frame)
+  Distribution cpu_ms;    ///< the frontend's host time per frame (host_times.frontend_ms)
   Distribution accel_ms;  ///< accelerator latency, frames one at a time (no FE/SM pipelining)
   Distribution fe_ms, sm_ms, tm_ms;
   double speedup = 0;                                          ///< cpu_ms.mean / accel_ms.mean

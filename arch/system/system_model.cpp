@@ -166,7 +166,7 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
                            SystemResult& r, const std::vector<KernelAccelResult>& accel,
                            const std::vector<KernelTransfer>& transfers,
                            const SystemSimOptions& options) {
-  const HostMapping& host = r.frontend.host_mapping;
+  const PlatformHostTimes& host = r.frontend.host_times;
   const std::int64_t level0 = static_cast<std::int64_t>(r.frontend.width) * r.frontend.height;
   std::vector<SystemFrameWork> work(frames.size());
   std::size_t next = 0;  // index into decisions
@@ -177,11 +177,9 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
     w.frontend_host_ms = r.baseline.frames[f].frontend_ms;
     w.backend_host_ms = r.baseline.frames[f].backend_ms;
     w.frontend = prepare_frontend_frame(frame, level0, platform.frontend, platform.transfers);
-    const double scale = host.backend_scale(frame.frame.frame_id);
-    std::vector<double> kernel_ms;
+    const std::vector<double>& kernel_ms = host.kernel_ms[f];
     std::vector<bool> offloaded;
     for (const trace::KernelRecord& kernel : frame.kernels) {
-      kernel_ms.push_back(1e-6 * double(kernel.host_ns) * scale);
       bool off = false;
       if (kernel.accelerable) {
         const KernelDecision& d = r.decisions[next];
@@ -488,7 +486,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
 
   // Every accelerable kernel: host time, accelerator time (units + link), SPM check.
   // The study's mapping: frontend_study_key includes the host, so it is this platform's.
-  const HostMapping& host = r.frontend.host_mapping;
+  const PlatformHostTimes& host = r.frontend.host_times;
   std::vector<KernelInvocation> invocations;
   std::vector<KernelAccelResult> accel;
   std::vector<KernelTransfer> transfers;
@@ -506,7 +504,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       d.kernel_seq = static_cast<int>(k);
       d.kernel = kernel.kernel;
       d.size = double(kernel.m);
-      d.host_ms = 1e-6 * double(kernel.host_ns) * host.backend_scale(frame.frame.frame_id);
+      d.host_ms = host.kernel_ms[f][k];
       d.compute_ms = 1e3 * a.seconds;
       d.transfer_ms = 1e3 * link_s;
       d.fits_spm = a.fits_spm;
@@ -547,8 +545,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     base.frame_id = frame.frame.frame_id;
     base.mode = trace::to_string(frame.frame.mode);
     base.frontend_ms = r.frontend.frame_cpu_ms[f];
-    base.backend_ms =
-        1e-6 * double(frame.frame.backend_host_ns) * host.backend_scale(frame.frame.frame_id);
+    base.backend_ms = host.backend_ms[f];
     base.e2e_ms = base.frontend_ms + base.backend_ms;
     base.host_busy_ms = base.e2e_ms;
     base.activity.fpga_present = false;

@@ -1,7 +1,8 @@
 #pragma once
 // The whole-system model of `edx simulate` (paper Sec. VII-C..E; docs/MODEL.md, "System"): per
-// frame, the frontend (CPU: the trace's host time scaled; accelerated: the frontend accelerator),
-// the backend (CPU: the trace's backend host time scaled; accelerated: the same with every kernel
+// frame, the frontend (CPU: its host time on the platform's host, PlatformHostTimes: modeled
+// from the trace's work or measured and scaled; accelerated: the frontend accelerator), the
+// backend (CPU: its host time likewise; accelerated: the same with every kernel
 // the scheduler offloads replaced by its transfers and its ops on the backend units), latency,
 // throughput with and without FE/BE pipelining, energy per frame, and the FPGA resources of the
 // platform. Two variants of one platform: "baseline" (CPU only: no FPGA, every kernel on the
@@ -12,10 +13,10 @@
 // (system_des.hpp): latency and FPS without pipelining from its isolated run (one frame in the
 // system at a time), FPS with pipelining, latency with queueing, drops and utilization from its
 // streamed run. Model "analytical" (cross-check; what the DES gives with `system.contention:
-// false`), with s_b = s_b(f) the host mapping's backend factor around frame f and O_f the
-// offloaded kernels:
-//   be_cpu(f) = s_b · backend_host_ns(f)
-//   be_acc(f) = be_cpu(f) − Σ_{k∈O_f} s_b · host_ns(k) + Σ_{k∈O_f} (t_accel(k) + t_link(k))
+// false`), with t_host the platform host times (PlatformHostTimes) and O_f the offloaded
+// kernels:
+//   be_cpu(f) = t_host,backend(f)
+//   be_acc(f) = be_cpu(f) − Σ_{k∈O_f} t_host(k) + Σ_{k∈O_f} (t_accel(k) + t_link(k))
 // t_accel: Σ op cycles of the kernel on the backend units / clock (accelerate_kernel);
 // t_link: its inputs and results over an idle link (kernel_transfer_time), plus, for a kernel
 // whose operands exceed the backend SPM, its spill traffic (kernel_replay.hpp: spill_seconds).

@@ -26,7 +26,7 @@ using trace::BackendMode;
 Platform test_platform(const std::string& policy) {
   return Platform::parse(
       "name: test\n"
-      "host: {frontend_suite_ms: 10.0, backend_suite_ms: 8.0}\n"
+      "host: {times: measured, frontend_suite_ms: 10.0, backend_suite_ms: 8.0}\n"
       "backend: {clock_mhz: 100, gemm_block: 2, spm_bytes: 67108864}\n"
       "link:\n  bandwidth_gb_per_s: 1.0\n  latency_ns: 100\n"
       "  dma: {setup_ns: 100, chunk_bytes: 4194304, max_outstanding: 1}\n"
