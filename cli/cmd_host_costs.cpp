@@ -53,14 +53,15 @@ void fit(const HostCostsArguments& args) {
                            revision == t.meta.end() ? "?" : revision->second,
                            cpu == t.meta.end() ? "?" : cpu->second);
   }
-  const std::string provenance =
-      args.provenance.empty() ? "fitted by edx host-costs fit on " + sources
-                              : args.provenance + "; fitted on " + sources;
+  const std::string provenance = args.provenance.empty()
+                                     ? "fitted by edx host-costs fit on " + sources
+                                     : args.provenance + "; fitted on " + sources;
   const arch::HostCostModel model = arch::fit_host_costs(inputs, provenance);
   common::write_file_atomically(
       args.out,
       "# The op-count host model's costs (docs/MODEL.md, \"Host CPU\"): ns per unit of work on a\n"
-      "# host whose reference-suite part takes 1 ms. Written by edx host-costs fit; do not edit.\n" +
+      "# host whose reference-suite part takes 1 ms. Written by edx host-costs fit; do not "
+      "edit.\n" +
           model.to_yaml());
   fmt::print("host costs  {} (suite v{}, {} kinds)\n", args.out, model.suite,
              model.frontend.size() + model.backend.size());
@@ -73,8 +74,8 @@ void fit(const HostCostsArguments& args) {
 }
 
 void check(const HostCostsArguments& args) {
-  const arch::HostCostModel model = args.costs.empty() ? arch::HostCostModel::bundled()
-                                                       : arch::HostCostModel::load(args.costs);
+  const arch::HostCostModel model =
+      args.costs.empty() ? arch::HostCostModel::bundled() : arch::HostCostModel::load(args.costs);
   nlohmann::json out = nlohmann::json::array();
   for (const LoadedTrace& t : load(args.traces)) {
     out.push_back({{"trace", t.name},
@@ -105,8 +106,8 @@ void add_host_costs_command(CLI::App& app) {
       "The op-count host model's cost table: fit it on traces, or check a trace against it "
       "(docs/MODEL.md, Host CPU)");
   cmd->require_subcommand(1);
-  CLI::App* fit_cmd = cmd->add_subcommand(
-      "fit", "Fit the costs on traces' measured CPU times and write the table");
+  CLI::App* fit_cmd =
+      cmd->add_subcommand("fit", "Fit the costs on traces' measured CPU times and write the table");
   fit_cmd->add_option("--trace", args->traces, "Trace(s) to fit on (edx trace, schema 3)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -114,8 +115,8 @@ void add_host_costs_command(CLI::App& app) {
   fit_cmd->add_option("--provenance", args->provenance,
                       "What the traces are (machine, load, date), kept in the table");
   fit_cmd->callback([args] { fit(*args); });
-  CLI::App* check_cmd = cmd->add_subcommand(
-      "check", "Per kind, a trace's measured against modeled host time and R²");
+  CLI::App* check_cmd =
+      cmd->add_subcommand("check", "Per kind, a trace's measured against modeled host time and R²");
   check_cmd->add_option("--trace", args->traces, "Trace(s) to check")
       ->required()
       ->check(CLI::ExistingFile);

@@ -31,13 +31,19 @@ double d(std::int64_t v) { return static_cast<double>(v); }
 double op_flops(const OpRecord& op) {
   const double m = d(op.m), n = d(op.n), k = d(op.k);
   switch (op.op) {
-    case Op::Gemm: return 2 * m * n * k;
-    case Op::Syrk: return m * m * k;
+    case Op::Gemm:
+      return 2 * m * n * k;
+    case Op::Syrk:
+      return m * m * k;
     case Op::Potrf:
-    case Op::Ldlt: return m * m * m / 3;
-    case Op::Trsm: return m * m * n;
-    case Op::Trsv: return m * m;
-    case Op::Transpose: return 0;
+    case Op::Ldlt:
+      return m * m * m / 3;
+    case Op::Trsm:
+      return m * m * n;
+    case Op::Trsv:
+      return m * m;
+    case Op::Transpose:
+      return 0;
     case Op::Inverse:
       return (op.flags & trace::op_flags::kSymmetric) ? m * m * m : 2 * m * m * m;
   }
@@ -48,14 +54,20 @@ double op_flops(const OpRecord& op) {
 double op_elements(const OpRecord& op) {
   const double m = d(op.m), n = d(op.n), k = d(op.k);
   switch (op.op) {
-    case Op::Gemm: return m * k + k * n + m * n;
-    case Op::Syrk: return m * k + m * m;
+    case Op::Gemm:
+      return m * k + k * n + m * n;
+    case Op::Syrk:
+      return m * k + m * m;
     case Op::Potrf:
     case Op::Ldlt:
-    case Op::Inverse: return 2 * m * m;
-    case Op::Trsm: return m * m + 2 * m * n;
-    case Op::Trsv: return m * m + 2 * m;
-    case Op::Transpose: return 2 * m * n;
+    case Op::Inverse:
+      return 2 * m * m;
+    case Op::Trsm:
+      return m * m + 2 * m * n;
+    case Op::Trsv:
+      return m * m + 2 * m;
+    case Op::Transpose:
+      return 2 * m * n;
   }
   return 0;
 }
@@ -77,12 +89,14 @@ double detail_count(const nlohmann::json& detail, const char* key) {
 
 // Kernel regressors: a call, and the sizes its algorithm's cost grows with (docs/TRACE.md for
 // m, n, k per kernel; docs/MODEL.md "Host CPU: modeled times" for the table).
-#define EDX_K(name, expr) \
-  KernelFeature { name, [](const KernelRecord& r, const nlohmann::json& j) -> double { \
-    [[maybe_unused]] const double m = d(r.m), n = d(r.n), k = d(r.k);                   \
-    (void)j;                                                                           \
-    return (expr);                                                                     \
-  } }
+#define EDX_K(name, expr)                                                \
+  KernelFeature {                                                        \
+    name, [](const KernelRecord& r, const nlohmann::json& j) -> double { \
+      [[maybe_unused]] const double m = d(r.m), n = d(r.n), k = d(r.k);  \
+      (void)j;                                                           \
+      return (expr);                                                     \
+    }                                                                    \
+  }
 
 const KernelFeature kCall = EDX_K("call", 1.0);
 
@@ -152,10 +166,12 @@ const std::vector<KernelFeature>& kernel_features(const std::string& kernel) {
   return it == table.end() ? generic_kernel() : it->second;
 }
 
-#define EDX_T(name, expr)                                                        \
-  TaskFeature {                                                                  \
-    name, []([[maybe_unused]] const TaskRecord& t,                               \
-             [[maybe_unused]] double image_pixels) -> double { return (expr); } \
+#define EDX_T(name, expr)                                                                          \
+  TaskFeature {                                                                                    \
+    name,                                                                                          \
+        []([[maybe_unused]] const TaskRecord& t, [[maybe_unused]] double image_pixels) -> double { \
+          return (expr);                                                                           \
+        }                                                                                          \
   }
 
 /// LK point solves summed over pyramid levels (each sets up its window's gradient matrix).
@@ -181,8 +197,7 @@ const std::vector<TaskFeature>& task_features(trace::Task task) {
       // 1280x720 than at 640x480).
       {Task::DR,
        {call,
-        EDX_T("sad_pixels",
-              d(t.windows) * d(t.window_size) * d(t.window_size) * d(t.search_range)),
+        EDX_T("sad_pixels", d(t.windows) * d(t.window_size) * d(t.window_size) * d(t.search_range)),
         EDX_T("image_pixels", image_pixels)}},
       {Task::DC, {call, EDX_T("pixels", d(t.pixels)), EDX_T("points", d(t.points))}},
       {Task::LSS,
@@ -311,7 +326,9 @@ std::vector<std::string> feature_names(CostPart part, const std::string& kind) {
       for (const KernelFeature& f : kernel_features(kind)) names.push_back(f.name);
       break;
     case CostPart::kFrontendRest:
-    case CostPart::kBackendRest: names = kRestFeatures; break;
+    case CostPart::kBackendRest:
+      names = kRestFeatures;
+      break;
   }
   return names;
 }
@@ -336,9 +353,8 @@ WorkRow work_of(const TaskRecord& task, double image_pixels) {
 WorkRow work_of(const KernelRecord& kernel) {
   const nlohmann::json detail = nlohmann::json::parse(kernel.detail_json, nullptr, false);
   if (detail.is_discarded() || !detail.is_object()) {
-    throw std::runtime_error(
-        fmt::format("kernel '{}': detail is not a JSON object: {}", kernel.kernel,
-                    kernel.detail_json));
+    throw std::runtime_error(fmt::format("kernel '{}': detail is not a JSON object: {}",
+                                         kernel.kernel, kernel.detail_json));
   }
   WorkRow row{CostPart::kBackendKernel, kernel.kernel, {}};
   for (const KernelFeature& f : kernel_features(kernel.kernel)) {
@@ -405,8 +421,7 @@ HostCostModel HostCostModel::from_yaml(const YAML::Node& root, const std::string
   HostCostModel model;
   YamlFields top(root, where, "host_costs");
   const auto fail = [&](const YAML::Node& node, const std::string& key, const std::string& what) {
-    throw std::runtime_error(
-        fmt::format("{}:{}: {}: {}", where, node.Mark().line + 1, key, what));
+    throw std::runtime_error(fmt::format("{}:{}: {}: {}", where, node.Mark().line + 1, key, what));
   };
   const YAML::Node suite = top.take("suite");
   try {
@@ -474,9 +489,8 @@ HostCostModel HostCostModel::load(const std::string& path) {
 const HostCostModel& HostCostModel::bundled() {
   static std::once_flag once;
   static HostCostModel model;
-  std::call_once(once, [] {
-    model = load(common::find_resource("configs/host/host_costs.yaml").string());
-  });
+  std::call_once(
+      once, [] { model = load(common::find_resource("configs/host/host_costs.yaml").string()); });
   return model;
 }
 
@@ -493,8 +507,8 @@ HostCostModel fit_host_costs(const std::vector<CostFitInput>& traces,
   for (const CostFitInput& input : traces) {
     const int suite = trace::host_speed_of(*input.meta, input.name).suite;
     if (model.suite != 0 && suite != model.suite) {
-      throw std::runtime_error(fmt::format("{}: suite v{}, the other traces' v{}", input.name,
-                                           suite, model.suite));
+      throw std::runtime_error(
+          fmt::format("{}: suite v{}, the other traces' v{}", input.name, suite, model.suite));
     }
     model.suite = suite;
     for (MeasuredRow& r : measured_rows(input)) {

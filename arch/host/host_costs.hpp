@@ -28,9 +28,9 @@ namespace edx::arch {
 struct RowCost {
   std::vector<std::string> features;
   std::vector<double> costs;
-  std::size_t samples = 0;     ///< rows fitted
-  double r2 = 0;               ///< on the fitted rows
-  double measured_share = 0;   ///< the kind's share of its part's fitted time
+  std::size_t samples = 0;    ///< rows fitted
+  double r2 = 0;              ///< on the fitted rows
+  double measured_share = 0;  ///< the kind's share of its part's fitted time
   /// Σ_j c_j x_j.
   double predict(const std::vector<double>& x) const;
 };
@@ -60,8 +60,8 @@ WorkRow backend_rest_of(const trace::FrameTrace& frame);
 
 /// The fitted costs of every kind (configs/host/host_costs.yaml).
 struct HostCostModel {
-  int suite = 0;           ///< reference-suite version the costs are relative to
-  std::string provenance;  ///< traces, revision, date, machine of the fit
+  int suite = 0;                            ///< reference-suite version the costs are relative to
+  std::string provenance;                   ///< traces, revision, date, machine of the fit
   std::map<std::string, RowCost> frontend;  ///< tasks and "frontend_rest"
   std::map<std::string, RowCost> backend;   ///< kernels and "backend_rest:<mode>"
 

@@ -149,17 +149,16 @@ nlohmann::json PlatformHostTimes::to_json() const {
 PlatformHostTimes PlatformHostTimes::of(const HostConfig& host,
                                         const std::vector<trace::FrameTrace>& frames,
                                         const trace::TraceMeta& trace_meta,
-                                        const std::string& trace_name) {
+                                        const std::string& trace_name, const HostCostModel* costs) {
   PlatformHostTimes t;
   const bool modeled = host.times == HostTimeSource::kModeled && !host.identity();
   t.source = modeled ? HostTimeSource::kModeled : HostTimeSource::kMeasured;
-  const HostCostModel* costs = nullptr;
   if (modeled) {
-    costs = &HostCostModel::bundled();
+    if (costs == nullptr) costs = &HostCostModel::bundled();
     if (costs->suite != host.suite) {
       throw std::runtime_error(fmt::format(
-          "host '{}' states suite v{} times, but the bundled host cost table is for suite v{} "
-          "(re-fit it: edx host-costs fit)",
+          "host '{}' states suite v{} times, but the host cost table is for suite v{} (re-fit "
+          "it: edx host-costs fit)",
           host.name, host.suite, costs->suite));
     }
     // t = S_platform x sum_j c_j x_j: the factors are the suite times themselves (ms per
@@ -169,11 +168,10 @@ PlatformHostTimes PlatformHostTimes::of(const HostConfig& host,
     const std::string basis =
         "x{:.5g} ms on the suite v{} over the op-count host model of the trace's work "
         "(configs/host/host_costs.yaml: {}) ({})";
-    t.mapping.frontend_basis_ = fmt::format(fmt::runtime(basis), host.frontend_suite_ms,
-                                            host.suite, costs->provenance, host.provenance);
-    t.mapping.backend_basis_ = fmt::format(fmt::runtime(basis), host.backend_suite_ms,
-                                           host.suite, costs->provenance,
-                                           host.backend_provenance);
+    t.mapping.frontend_basis_ = fmt::format(fmt::runtime(basis), host.frontend_suite_ms, host.suite,
+                                            costs->provenance, host.provenance);
+    t.mapping.backend_basis_ = fmt::format(fmt::runtime(basis), host.backend_suite_ms, host.suite,
+                                           costs->provenance, host.backend_provenance);
   } else {
     t.mapping = map_host(host, trace_meta, trace_name);
   }

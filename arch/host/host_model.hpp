@@ -106,6 +106,8 @@ class HostMapping {
 HostMapping map_host(const HostConfig& host, const trace::TraceMeta& trace_meta,
                      const std::string& trace_name);
 
+struct HostCostModel;
+
 /// A trace's host times on a platform's host (ms), the one place arch reads host time from:
 ///   modeled (host.times, the default): t = S_platform × Σ_j c_j x_j(row) (host_costs.hpp), a
 ///     frame's frontend the sum over its tasks plus the frontend rest, its backend the sum over
@@ -113,17 +115,19 @@ HostMapping map_host(const HostConfig& host, const trace::TraceMeta& trace_meta,
 ///   measured: t = t_trace × S_platform / S_trace(f) (map_host);
 ///   a host without suite times: the trace's times as they are.
 struct PlatformHostTimes {
-  std::vector<double> frontend_ms;               ///< per frame, the whole frontend
-  std::vector<double> backend_ms;                ///< per frame, kernels and the rest
-  std::vector<std::vector<double>> kernel_ms;    ///< per frame, per kernel row
-  HostMapping mapping;                           ///< the factors and their basis
+  std::vector<double> frontend_ms;             ///< per frame, the whole frontend
+  std::vector<double> backend_ms;              ///< per frame, kernels and the rest
+  std::vector<std::vector<double>> kernel_ms;  ///< per frame, per kernel row
+  HostMapping mapping;                         ///< the factors and their basis
   HostTimeSource source = HostTimeSource::kMeasured;
   nlohmann::json to_json() const;
 
-  /// Throws std::runtime_error naming `trace_name` (map_host's errors; a row the cost table has
-  /// no costs for; a cost table of another suite version than the host's).
+  /// `costs`: the cost table of modeled times (nullptr: the bundled one). Throws
+  /// std::runtime_error naming `trace_name` (map_host's errors; a row the cost table has no
+  /// costs for; a cost table of another suite version than the host's).
   static PlatformHostTimes of(const HostConfig& host, const std::vector<trace::FrameTrace>& frames,
-                              const trace::TraceMeta& trace_meta, const std::string& trace_name);
+                              const trace::TraceMeta& trace_meta, const std::string& trace_name,
+                              const HostCostModel* costs = nullptr);
 };
 
 }  // namespace edx::arch

@@ -26,7 +26,7 @@ struct Distribution {
 
 struct FrontendStudy {
   std::string platform;
-  HostConfig host;           ///< the CPU baseline's host
+  HostConfig host;               ///< the CPU baseline's host
   PlatformHostTimes host_times;  ///< this trace's host times on that host (frontend and backend)
   std::size_t frames = 0;
   int width = 0, height = 0;

@@ -322,6 +322,15 @@ std::vector<BadInputCase> cases() {
        "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db' --trace-store '{dir}/store'", 1,
        "edx: error: {dir}/store: trace store: exists and is not a folder (give --trace-store a "
        "folder)"},
+      {"c7_host_cost_table_of_other_features",
+       [](const fs::path& d) {
+         write(d, "costs.yaml",
+               "suite: 1\nfrontend:\n  IF: {features: [call, area], costs: [1, 2], samples: 3, "
+               "r2: 1, share: 1}\nbackend: {}\n");
+       },
+       "'{edx}' host-costs check --trace '{golden}' --costs '{dir}/costs.yaml'", 1,
+       "edx: error: {dir}/costs.yaml:3: frontend.IF: features [call, area], but this edx models "
+       "[call, pixels] (re-fit: edx host-costs fit)"},
       {"c7_tilde_is_described_as_nothing",
        [](const fs::path& d) { write(d, "p.yaml", "name: p\nbackend:\n  gemm_block: ~\n"); },
        "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}'", 1,

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -99,6 +100,36 @@ TEST(Golden, SimulateAndCheckOfBothPlatformsMatchTheReferenceOutputs) {
                                  << shown;
     }
   }
+}
+
+TEST(HostCostsCommand, FitsATableOnTheReferenceTraceAndChecksTheTraceAgainstIt) {
+  const fs::path golden = fs::path(EDX_SOURCE_DIR) / "tests" / "data" / "golden";
+  const TempDir dir;
+  const fs::path table = dir.path() / "costs.yaml";
+  const CommandResult fit = run_command(
+      fmt::format("'{}' host-costs fit --trace '{}' --out '{}' --provenance test",
+                  built_binary("edx"), (golden / "golden_mix.db").string(), table.string()));
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  EXPECT_NE(fit.out.find("kalman_gain"), std::string::npos) << fit.out;
+  const CommandResult check = run_command(
+      fmt::format("'{}' host-costs check --trace '{}' --costs '{}' --json", built_binary("edx"),
+                  (golden / "golden_mix.db").string(), table.string()));
+  ASSERT_EQ(check.exit_code, 0) << check.err;
+  const json kinds = json::parse(check.out).at(0).at("kinds");
+  // Fitted on this very trace: per part, the modeled total is the measured one within the few
+  // per cent that dropping negative costs can move it.
+  const std::vector<std::string> frontend = {"FD", "IF", "FC",  "MO",
+                                             "DR", "DC", "LSS", "frontend_rest"};
+  double measured = 0, modeled = 0;
+  std::size_t seen = 0;
+  for (const json& k : kinds) {
+    if (std::find(frontend.begin(), frontend.end(), k.at("kind")) == frontend.end()) continue;
+    ++seen;
+    measured += k.at("measured_ns_per_suite_ms").get<double>();
+    modeled += k.at("modeled_ns_per_suite_ms").get<double>();
+  }
+  EXPECT_EQ(seen, frontend.size());
+  EXPECT_NEAR(modeled, measured, 0.05 * measured);
 }
 
 }  // namespace
