@@ -185,7 +185,10 @@ SweepOutcome run_sweep_impl(const SweepSpec& spec, const SweepOptions& options,
   }
   const SweepPoints& points = context.points;
   if (given) {
-    map_host(Platform::parse(context.base).host, given->meta, given->name);  // its host speed
+    // Its host times on the base platform, before any work: a measured host needs the trace's
+    // host speed, a modeled one costs for every row.
+    PlatformHostTimes::of(Platform::parse(context.base).host, given->frames, given->meta,
+                          given->name);
     context.workloads[0].trace = given->name;
     context.set_trace(0, given);
   }
