@@ -167,11 +167,13 @@ PlatformHostTimes PlatformHostTimes::of(const HostConfig& host,
     t.mapping.backend_.overall = host.backend_suite_ms;
     const std::string basis =
         "x{:.5g} ms on the suite v{} over the op-count host model of the trace's work "
-        "(configs/host/host_costs.yaml: {}) ({})";
+        "(configs/host/host_costs.yaml{}) ({})";
+    // The bundled table is named by its path; another one (a test's) also by its provenance.
+    const std::string table = costs == &HostCostModel::bundled() ? "" : ": " + costs->provenance;
     t.mapping.frontend_basis_ = fmt::format(fmt::runtime(basis), host.frontend_suite_ms, host.suite,
-                                            costs->provenance, host.provenance);
+                                            table, host.provenance);
     t.mapping.backend_basis_ = fmt::format(fmt::runtime(basis), host.backend_suite_ms, host.suite,
-                                           costs->provenance, host.backend_provenance);
+                                           table, host.backend_provenance);
   } else {
     t.mapping = map_host(host, trace_meta, trace_name);
   }
