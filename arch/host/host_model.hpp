@@ -1,20 +1,25 @@
 #pragma once
-// The host CPU of a platform (DESIGN.md, "Host CPU"; docs/MODEL.md, "Host CPU"): it replays the
-// trace's measured host times, mapped from the machine that traced them to the platform's host
-// through the two machines' speeds on the same reference suite (trace/host_speed.hpp):
+// The host CPU of a platform (DESIGN.md, "Host CPU"; docs/MODEL.md, "Host CPU"): the host time
+// of every frontend task and backend kernel on the platform's CPU (PlatformHostTimes), from one
+// of two sources (`host.times`):
 //
-//   t_platform(f) = t_trace(f) x S_platform / S_trace(f)
+//   modeled (the default):  t(row) = S_platform x sum_j c_j x_j(row)      (host_costs.hpp)
+//   measured:               t_platform(f) = t_trace(f) x S_platform / S_trace(f)
 //
-// with S the suite's frontend part for frontend work and the backend part for the backend (each
-// kernel and the backend's whole time of a frame). S_platform is declared in the config with its
-// provenance (measured on that CPU with `edx host-speed`, derived from a datasheet ratio, or
-// calibrated against a paper figure: then say so). S_trace(f) is measured while tracing (meta
-// host_speed): the median of the kLocalSamples samples taken nearest frame f, so that a tracing
-// machine whose speed drifts during the trace (another tenant, a frequency change) is measured
-// beside the frames it slowed; a trace without per-sample data uses its overall medians.
-// A platform that declares no suite times replays the trace's host times as they are.
+// Modeled times cost the work the trace records (x) by the bundled table (c), so the same work
+// gives the same times whatever machine traced it. Measured times map the trace's CPU times from
+// the machine that traced them through the two machines' speeds on the same reference suite
+// (trace/host_speed.hpp). S is the suite's frontend part for frontend work and the backend part
+// for the backend (each kernel and the backend's whole time of a frame). S_platform is declared
+// in the config with its provenance (measured on that CPU with `edx host-speed`, derived from a
+// datasheet ratio, or calibrated against a paper figure: then say so). S_trace(f) is measured
+// while tracing (meta host_speed): the median of the kLocalSamples samples taken nearest frame f,
+// so that a tracing machine whose speed drifts during the trace (another tenant, a frequency
+// change) is measured beside the frames it slowed; a trace without per-sample data uses its
+// overall medians. A platform that declares no suite times replays the trace's host times as
+// they are.
 //
-//   host: {name: ..., suite: 1, frontend_suite_ms: 172.1, provenance: "...",
+//   host: {name: ..., times: modeled, suite: 1, frontend_suite_ms: 172.1, provenance: "...",
 //          backend_suite_ms: 40.1, backend_provenance: "..."}
 #include <yaml-cpp/yaml.h>
 

@@ -6,12 +6,15 @@
 // through the same library calls, at 376x240. Asserts the ATE of the registered poses, the
 // fraction of frames registered, the trace's kernels and the one-line errors of bad --map and
 // --vocab arguments. The full-size figures of docs/REGISTRATION.md come from the DISABLED_ test.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include "tests/support/temp_dir.hpp"
@@ -61,12 +64,12 @@ std::vector<std::int64_t> projection_sizes(const fs::path& trace_file) {
 }
 
 Figures map_and_localize(const fs::path& dir, int frames, std::optional<synthetic::Resolution> res,
-                         int vocabulary_depth) {
+                         int vocabulary_depth, std::uint64_t seed = 1) {
   synthetic::GenerateOptions g;
   g.scenario = synthetic::Scenario::kIndoorKnown;
   g.frames = frames;
   g.resolution = res;
-  g.seed = 1;
+  g.seed = seed;
   g.out = dir / "data";
   synthetic::generate_dataset(g);
 
@@ -148,13 +151,21 @@ TEST(RegistrationEndToEnd, LocalizesTheLocRunInTheMapOfTheMapRun) {
   EXPECT_LT(*distinct.rbegin(), static_cast<std::int64_t>(f.map.map_landmarks));
 }
 
-// Full size, by hand (--gtest_also_run_disabled_tests): the figures of docs/REGISTRATION.md.
+// Full size, by hand (--gtest_also_run_disabled_tests): the figures of docs/REGISTRATION.md, on
+// the seeds of $EDX_REGISTRATION_SEEDS (default 1, the documented run; issue 16's check on seeds
+// nobody tuned on: EDX_REGISTRATION_SEEDS="11 12 13"). Every frame registers, ATE <= 0.15 m.
 TEST(RegistrationEndToEnd, DISABLED_FullSizeIndoorKnown) {
-  testing::TempDir dir;
-  const Figures f = map_and_localize(dir.path(), 200, std::nullopt, 5);
-  EXPECT_GE(f.registered_fraction, 0.9);
-  ASSERT_TRUE(f.loc.accuracy);
-  EXPECT_LE(f.loc.accuracy->ate_m.rmse, 0.15);
+  const char* env = std::getenv("EDX_REGISTRATION_SEEDS");
+  std::istringstream seeds(env ? env : "1");
+  for (std::uint64_t seed; seeds >> seed;) {
+    SCOPED_TRACE(fmt::format("seed {}", seed));
+    testing::TempDir dir;
+    std::printf("seed %llu: ", static_cast<unsigned long long>(seed));
+    const Figures f = map_and_localize(dir.path(), 200, std::nullopt, 5, seed);
+    EXPECT_EQ(f.loc.estimated_frames, f.loc.frames);
+    ASSERT_TRUE(f.loc.accuracy);
+    EXPECT_LE(f.loc.accuracy->ate_m.rmse, 0.15);
+  }
 }
 
 std::string error_of(const std::function<void()>& fn) {
