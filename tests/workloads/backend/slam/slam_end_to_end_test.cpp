@@ -8,8 +8,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <sstream>
 #include <string>
 
 #include "tests/support/temp_dir.hpp"
@@ -152,13 +154,13 @@ void print(const char* what, const RunFigures& f) {
   }
 }
 
-fs::path generate_indoor(const fs::path& dir, int frames,
-                         std::optional<synthetic::Resolution> res) {
+fs::path generate_indoor(const fs::path& dir, int frames, std::optional<synthetic::Resolution> res,
+                         std::uint64_t seed = 1) {
   synthetic::GenerateOptions options;
   options.scenario = synthetic::Scenario::kIndoorUnknown;
   options.frames = frames;
   options.resolution = res;
-  options.seed = 1;
+  options.seed = seed;
   options.out = dir / "indoor_unknown";
   synthetic::generate_dataset(options);
   return options.out;
@@ -301,12 +303,19 @@ TEST(SlamEndToEnd, SameInputGivesTheSameEstimate) {
   }
 }
 
+// Full size, by hand: 200 frames at the generator's default resolution on the seeds of
+// $EDX_SLAM_SEEDS (default 1; issue 16's check on seeds nobody tuned on: "11 12 13").
 TEST(SlamEndToEnd, DISABLED_SyntheticIndoorUnknownFullSize) {
-  const testing::TempDir dir;
-  const fs::path data = generate_indoor(dir.path(), 200, std::nullopt);
-  const RunFigures f = run(data, datasets::DatasetFormat::kEuroc, dir.path() / "trace.db");
-  print("synthetic indoor_unknown 200 frames native", f);
-  EXPECT_LT(f.ate_rmse_m, 0.19);
+  const char* env = std::getenv("EDX_SLAM_SEEDS");
+  std::istringstream seeds(env ? env : "1");
+  for (std::uint64_t seed; seeds >> seed;) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const testing::TempDir dir;
+    const fs::path data = generate_indoor(dir.path(), 200, std::nullopt, seed);
+    const RunFigures f = run(data, datasets::DatasetFormat::kEuroc, dir.path() / "trace.db");
+    print(("synthetic indoor_unknown 200 frames native, seed " + std::to_string(seed)).c_str(), f);
+    EXPECT_LT(f.ate_rmse_m, 0.19);
+  }
 }
 
 }  // namespace
