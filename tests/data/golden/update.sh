@@ -6,7 +6,7 @@
 #
 #   tests/data/golden/update.sh            # the four expected outputs from golden_mix.db
 #   tests/data/golden/update.sh --retrace  # also re-trace golden_mix.db (a workload change;
-#                                          # host times then come from this machine)
+#                                          # the figures follow its work, not this machine)
 #
 # golden_mix.db: `edx trace --mix paper --frames 240 --resolution 320x240` (seed 1): all three
 # modes and all three accelerable kernels (60 projections, 90 Kalman gains, 4 marginalizations),
