@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -35,6 +37,11 @@ TEST(Regression, QuadraticIsRecoveredExactlyAtLargeSizes) {
   // Two samples at x = 50, one on the model and one 1 above: SS_res = 1, SS_tot = 2 * (1/2)² =
   // 0.5, R² = 1 - 1 / 0.5 = -1.
   EXPECT_NEAR(r_squared(m, {50, 50}, {m.predict(50), m.predict(50) + 1}), -1.0, 1e-9);
+  // Times without variance up to rounding (modeled host times of one size): R² is undefined,
+  // 1 when the model hits them and 0 when it misses, not -1e28 from a variance of 1e-34.
+  const double t = m.predict(50);
+  EXPECT_EQ(r_squared(m, {50, 50, 50}, {t, std::nextafter(t, 1.0), t}), 1.0);
+  EXPECT_EQ(r_squared(m, {50, 50, 50}, {1.1 * t, std::nextafter(1.1 * t, 1.0), 1.1 * t}), 0.0);
 }
 
 TEST(Regression, TooFewOrBadSamplesAreErrors) {
