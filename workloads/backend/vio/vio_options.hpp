@@ -23,7 +23,7 @@ struct VioOptions {
   /// information of n (1 - rho) / (1 + rho) independent ones: the update uses the variance
   /// pixel_sigma^2 (1 + rho) / (1 - rho) (the variance of the mean of an AR(1) sequence).
   double track_error_correlation = 0.8;
-  double min_depth_m = 0.2;               ///< triangulated points nearer than this are rejected
+  double min_depth_m = 0.2;  ///< triangulated points nearer than this are rejected
   /// ... and farther than this (OpenVINS's max_dist, 60 m): at 0.11 m baseline a point at 60 m
   /// has 0.8 px disparity (fx 458), whose stereo depth is not determined (docs/VIO.md).
   double max_depth_m = 60.0;
