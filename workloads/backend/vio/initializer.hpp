@@ -5,7 +5,8 @@
 // -g in the body frame, so R_WI maps it onto +z (yaw set to 0), the gyro bias is the mean gyro
 // reading, v = 0.
 // Moving: rotations R_0k (I0 <- Ik) by integrating the gyro; camera positions of frames k
-// relative to frame 0 by PnP (RANSAC) of the points frame 0 triangulated by stereo; the
+// relative to frame 0 by chaining frame-to-frame PnP (RANSAC): frame k against the points frame
+// k-1 triangulated by stereo, T_CkC0 = T_CkCk-1 T_Ck-1C0; the
 // accelerometer preintegrated in I0, alpha_k = double integral of R_0(t) a(t), beta_k = its single
 // integral; then velocity v0 and gravity g0 in I0 from the linear least squares
 //   p_k = v0 t_k + g0 t_k^2 / 2 + alpha_k,

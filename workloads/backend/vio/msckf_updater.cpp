@@ -28,7 +28,8 @@ MsckfUpdater::MsckfUpdater(const VioOptions& options, double baseline_m, double 
     : options_(options),
       baseline_m_(baseline_m),
       focal_px_(focal_px),
-      sigma_(options.effective_pixel_sigma() / focal_px) {}
+      sigma_(options.effective_pixel_sigma() / focal_px),
+      gate_sigma_(options.pixel_sigma / focal_px) {}
 
 double MsckfUpdater::chi2_threshold(int dof) {
   if (static_cast<int>(chi2_table_.size()) <= dof) {
@@ -47,6 +48,7 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
   if (tracks.empty()) return report;
   const int n = state.dim();
   const double sigma2 = sigma_ * sigma_;
+  const double gate_sigma2 = gate_sigma_ * gate_sigma_;
 
   // Triangulation of every track from the clone cameras.
   std::vector<FeatureRows> features;
@@ -56,6 +58,7 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
     tri.baseline_m = baseline_m_;
     tri.min_depth_m = options_.min_depth_m;
     tri.max_depth_m = options_.max_depth_m;
+    tri.max_baseline_ratio = options_.max_depth_baseline_ratio;
     tri.max_rms = options_.max_triangulation_rms_px / focal_px_;
     tri.iterations = options_.triangulation_iterations;
     int observations = 0, iterations = 0;
@@ -165,8 +168,12 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
           Ps(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) =
               state.P(cols[a], cols[b]);
       }
+      // Gate at the white per-observation noise pixel_sigma, not at the update's inflated sigma:
+      // the slow drift the inflation stands for is mostly absorbed by the point and passes, while
+      // a track whose residual white pixel_sigma noise cannot explain (a sliding feature, a wrong
+      // stereo match) is an outlier. Gating at sigma_eff (3 px) let nearly all of them in.
       Eigen::MatrixXd S = Hs * Ps * Hs.transpose();
-      S.diagonal().array() += sigma2;
+      S.diagonal().array() += gate_sigma2;
       const double gamma = f.r.dot(S.ldlt().solve(f.r));
       if (gamma > chi2_threshold(static_cast<int>(f.r.size()))) continue;
       report.gamma_sum += gamma;

@@ -53,7 +53,8 @@ class MsckfUpdater {
   VioOptions options_;
   double baseline_m_;
   double focal_px_;
-  double sigma_;  ///< the update's measurement sigma (effective_pixel_sigma), normalized units
+  double sigma_;       ///< the update's measurement sigma (effective_pixel_sigma), normalized units
+  double gate_sigma_;  ///< the chi-square gate's white sigma (pixel_sigma), normalized units
   std::vector<double> chi2_table_;
 };
 

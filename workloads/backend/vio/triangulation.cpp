@@ -97,6 +97,23 @@ std::optional<TriangulationResult> triangulate(const std::vector<Observation>& o
     const double depth = (cameras[i].R_WC.transpose() * (p - cameras[i].p_WC)).z();
     if (depth < options.min_depth_m || depth > options.max_depth_m) return std::nullopt;
   }
+  if (options.max_baseline_ratio > 0) {
+    // Conditioning (OpenVINS FeatureInitializer): depth in the first view over the largest
+    // distance from its centre to a centre that saw the point; a far point seen over a short
+    // baseline has a depth the views do not determine (its linearization is not trustworthy).
+    const Eigen::Vector3d c0 = cameras.front().p_WC;
+    double baseline = 0;
+    for (std::size_t i = 0; i < observations.size(); ++i) {
+      baseline = std::max(baseline, (cameras[i].p_WC - c0).norm());
+      if (observations[i].stereo) {
+        const Eigen::Vector3d right =
+            cameras[i].p_WC + cameras[i].R_WC * Eigen::Vector3d(options.baseline_m, 0, 0);
+        baseline = std::max(baseline, (right - c0).norm());
+      }
+    }
+    const double depth = (cameras.front().R_WC.transpose() * (p - c0)).z();
+    if (!(baseline > 0) || depth > options.max_baseline_ratio * baseline) return std::nullopt;
+  }
   result.rms = std::sqrt(cost / std::max(rows, 1));
   if (result.rms > options.max_rms) return std::nullopt;
   result.p_W = p;

@@ -23,6 +23,10 @@ struct CameraPose {
 struct TriangulationOptions {
   double baseline_m = 0;
   double min_depth_m = 0.2, max_depth_m = 150.0;
+  /// Largest depth / baseline accepted (OpenVINS max_baseline): the depth in the first view over
+  /// the longest distance between the camera centres that saw the point (the clones' left
+  /// cameras and, for stereo observations, their right cameras). 0: no check.
+  double max_baseline_ratio = 0;
   double max_rms = 0;  ///< largest RMS residual (normalized units) accepted
   int iterations = 10;
 };
@@ -34,8 +38,8 @@ struct TriangulationResult {
 };
 
 /// Triangulates one track; cameras[i] is the pose of observations[i]. Returns nullopt when the
-/// geometry is degenerate, the point falls outside the depth range in any view, or the residual
-/// stays above max_rms.
+/// geometry is degenerate, the point falls outside the depth range in any view, is too far for
+/// the baseline that saw it (max_baseline_ratio), or the residual stays above max_rms.
 std::optional<TriangulationResult> triangulate(const std::vector<Observation>& observations,
                                                const std::vector<CameraPose>& cameras,
                                                const TriangulationOptions& options);

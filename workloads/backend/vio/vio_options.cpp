@@ -23,6 +23,7 @@ void VioOptions::validate() const {
   require(track_error_correlation >= 0 && track_error_correlation < 1, "track_error_correlation",
           "a value in [0, 1)");
   require(min_depth_m > 0 && max_depth_m > min_depth_m, "min_depth_m/max_depth_m", "0 < min < max");
+  require(max_depth_baseline_ratio >= 0, "max_depth_baseline_ratio", ">= 0 (0: no check)");
   require(max_triangulation_rms_px > 0, "max_triangulation_rms_px", "> 0");
   require(triangulation_iterations >= 1, "triangulation_iterations", ">= 1");
   require(chi2_confidence > 0 && chi2_confidence < 1, "chi2_confidence", "a value in (0, 1)");
@@ -63,6 +64,7 @@ nlohmann::json VioOptions::to_json() const {
           {"track_error_correlation", track_error_correlation},
           {"min_depth_m", min_depth_m},
           {"max_depth_m", max_depth_m},
+          {"max_depth_baseline_ratio", max_depth_baseline_ratio},
           {"max_triangulation_rms_px", max_triangulation_rms_px},
           {"triangulation_iterations", triangulation_iterations},
           {"chi2_confidence", chi2_confidence},

@@ -15,14 +15,21 @@ struct VioOptions {
   /// Tracks still alive are used once they reach this many observations (then restarted), so
   /// that long tracks (slow or far scenes) inform the filter before the window is full.
   int update_track_length = 10;
-  double pixel_sigma = 1.0;  ///< white measurement noise of a feature coordinate, px
+  /// White measurement noise of a feature coordinate, px; the chi-square gate uses it as is (a
+  /// track its residual does not fit is an outlier), the update inflates it (below).
+  double pixel_sigma = 1.0;
   /// Lag-1 correlation rho of a track's position errors from frame to frame. The frontend's
   /// tracks drift slowly (measured 0.5-0.8, docs/VIO.md), so n observations carry the
   /// information of n (1 - rho) / (1 + rho) independent ones: the update uses the variance
   /// pixel_sigma^2 (1 + rho) / (1 - rho) (the variance of the mean of an AR(1) sequence).
   double track_error_correlation = 0.8;
-  double min_depth_m = 0.2;               ///< triangulated points nearer than this are rejected
-  double max_depth_m = 150.0;             ///< ... and farther than this
+  double min_depth_m = 0.2;  ///< triangulated points nearer than this are rejected
+  /// ... and farther than this (OpenVINS's max_dist, 60 m): at 0.11 m baseline a point at 60 m
+  /// has 0.8 px disparity (fx 458), whose stereo depth is not determined (docs/VIO.md).
+  double max_depth_m = 60.0;
+  /// ... and those whose depth exceeds this many times the longest distance between the camera
+  /// centres that saw them (OpenVINS's max_baseline, 40); 0: no check.
+  double max_depth_baseline_ratio = 40.0;
   double max_triangulation_rms_px = 2.0;  ///< RMS reprojection error after Gauss-Newton
   int triangulation_iterations = 10;
   double chi2_confidence = 0.95;      ///< chi-square gate of each feature's residual

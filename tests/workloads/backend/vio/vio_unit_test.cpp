@@ -258,6 +258,33 @@ TEST(Triangulation, RecoversAKnownPointAndRejectsBadGeometry) {
   EXPECT_FALSE(triangulate(observations, cameras, options));
 }
 
+TEST(Triangulation, RejectsPointsFarForTheirBaseline) {
+  // Depth 6 m in the first view; the farthest centre that saw it is the last view's right camera,
+  // (0.9, 0.15, 0.3) + R_WC (0.11, 0, 0) at 1.061 m from the first: ratio 5.65.
+  const double b = 0.11;
+  const Eigen::Vector3d point(0.7, -0.4, 6.0);
+  std::vector<CameraPose> cameras;
+  std::vector<Observation> observations;
+  for (int i = 0; i < 4; ++i) {
+    cameras.push_back(camera_at({0.3 * i, 0.05 * i, 0.1 * i}, 0.03 * i));
+    observations.push_back(observe(cameras.back(), point, b, true));
+  }
+  TriangulationOptions options;
+  options.baseline_m = b;
+  options.max_rms = 1e-2;
+  options.max_baseline_ratio = 5.8;
+  EXPECT_TRUE(triangulate(observations, cameras, options));
+  options.max_baseline_ratio = 5.5;
+  EXPECT_FALSE(triangulate(observations, cameras, options));
+  // One stereo view alone: the baseline is the stereo baseline, 6 / 0.11 = 54.5.
+  const std::vector<Observation> one(observations.begin(), observations.begin() + 1);
+  const std::vector<CameraPose> one_camera(cameras.begin(), cameras.begin() + 1);
+  options.max_baseline_ratio = 55.0;
+  EXPECT_TRUE(triangulate(one, one_camera, options));
+  options.max_baseline_ratio = 54.0;
+  EXPECT_FALSE(triangulate(one, one_camera, options));
+}
+
 /// Exact measurements of `features` known points from `clone_count` true clones; the filter
 /// starts from perturbed clones with a covariance that covers the perturbation.
 struct PerturbedScene {
