@@ -100,9 +100,16 @@ double detail_count(const nlohmann::json& detail, const char* key) {
 
 const KernelFeature kCall = EDX_K("call", 1.0);
 
-double sum_flops(const KernelRecord& r) {
+/// Flops of a kernel's recorded ops: its inverses (the host's dense inverse or
+/// eigen-decomposition, slower per flop than products) and the rest.
+double inverse_flops(const KernelRecord& r) {
   double s = 0;
-  for (const OpRecord& op : r.ops) s += op_flops(op);
+  for (const OpRecord& op : r.ops) s += op.op == Op::Inverse ? op_flops(op) : 0.0;
+  return s;
+}
+double other_flops(const KernelRecord& r) {
+  double s = 0;
+  for (const OpRecord& op : r.ops) s += op.op == Op::Inverse ? 0.0 : op_flops(op);
   return s;
 }
 double sum_elements(const KernelRecord& r) {
@@ -116,9 +123,11 @@ const std::map<std::string, std::vector<KernelFeature>>& kernel_table() {
       // Accelerable kernels: their recorded matrix ops.
       {"projection", {kCall, EDX_K("map_points", m), EDX_K("visible", n)}},
       {"kalman_gain",
-       {kCall, EDX_K("op_flops", sum_flops(r)), EDX_K("op_elements", sum_elements(r))}},
+       {kCall, EDX_K("inverse_flops", inverse_flops(r)), EDX_K("other_flops", other_flops(r)),
+        EDX_K("op_elements", sum_elements(r))}},
       {"marginalization",
-       {kCall, EDX_K("op_flops", sum_flops(r)), EDX_K("op_elements", sum_elements(r))}},
+       {kCall, EDX_K("inverse_flops", inverse_flops(r)), EDX_K("other_flops", other_flops(r)),
+        EDX_K("op_elements", sum_elements(r))}},
       // VIO (docs/VIO.md): m, n, k as docs/TRACE.md lists them.
       {"initialization", {kCall, EDX_K("m", m)}},
       {"imu_propagation", {kCall, EDX_K("m", m), EDX_K("n2", n * n)}},
