@@ -143,7 +143,7 @@ const std::map<std::string, std::vector<KernelFeature>>& kernel_table() {
       {"tracking", {kCall, EDX_K("m", m)}},
       {"keyframe_selection", {kCall, EDX_K("m", m)}},
       {"preintegration", {kCall, EDX_K("m", m)}},
-      {"linearization", {kCall, EDX_K("m", m), EDX_K("n", n)}},
+      {"linearization", {kCall, EDX_K("m", m), EDX_K("n", n), EDX_K("n2", n * n)}},
       {"schur_complement", {kCall, EDX_K("m", m), EDX_K("mn", m * n), EDX_K("n2", n * n)}},
       {"solve", {kCall, EDX_K("m2", m * m), EDX_K("m3", m * m * m)}},
       {"lm_iteration", {kCall, EDX_K("m", m), EDX_K("mn", m * n), EDX_K("n3", n * n * n)}},
@@ -218,7 +218,19 @@ const std::vector<TaskFeature>& task_features(trace::Task task) {
 }
 #undef EDX_T
 
-const std::vector<std::string> kRestFeatures = {"frame"};
+// A frame's time outside its rows: a constant and, for the backend, a cost per feature the
+// frontend hands over (bookkeeping of tracks).
+const std::vector<std::string> kFrontendRestFeatures = {"frame"};
+const std::vector<std::string> kBackendRestFeatures = {"frame", "features"};
+
+/// Features the frontend hands to the backend: the left image's described keypoints (tracks
+/// and new ones).
+double frame_features(const trace::FrameTrace& frame) {
+  for (const TaskRecord& t : frame.tasks) {
+    if (t.task == trace::Task::FC && t.image == trace::Image::Left) return d(t.descriptors);
+  }
+  return 0;
+}
 
 std::string backend_rest_kind(trace::BackendMode mode) {
   return fmt::format("backend_rest:{}", trace::to_string(mode));
@@ -335,8 +347,10 @@ std::vector<std::string> feature_names(CostPart part, const std::string& kind) {
       for (const KernelFeature& f : kernel_features(kind)) names.push_back(f.name);
       break;
     case CostPart::kFrontendRest:
+      names = kFrontendRestFeatures;
+      break;
     case CostPart::kBackendRest:
-      names = kRestFeatures;
+      names = kBackendRestFeatures;
       break;
   }
   return names;
@@ -381,7 +395,8 @@ bool ran_backend(const trace::FrameTrace& frame) {
 }
 
 WorkRow backend_rest_of(const trace::FrameTrace& frame) {
-  return {CostPart::kBackendRest, backend_rest_kind(frame.frame.mode), {1.0}};
+  return {
+      CostPart::kBackendRest, backend_rest_kind(frame.frame.mode), {1.0, frame_features(frame)}};
 }
 
 double HostCostModel::predict(const WorkRow& row, const std::string& where) const {
