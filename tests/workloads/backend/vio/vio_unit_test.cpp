@@ -230,15 +230,22 @@ Observation observe(const CameraPose& c, const Eigen::Vector3d& p_W, double base
   return o;
 }
 
+/// Four views of `point` from cameras 0.3 m apart along x (and a little y, z, yaw), stereo in
+/// the even views, or in all of them.
+void four_views(const Eigen::Vector3d& point, double b, bool all_stereo,
+                std::vector<CameraPose>& cameras, std::vector<Observation>& observations) {
+  for (int i = 0; i < 4; ++i) {
+    cameras.push_back(camera_at({0.3 * i, 0.05 * i, 0.1 * i}, 0.03 * i));
+    observations.push_back(observe(cameras.back(), point, b, all_stereo || i % 2 == 0));
+  }
+}
+
 TEST(Triangulation, RecoversAKnownPointAndRejectsBadGeometry) {
   const double b = 0.11;
   const Eigen::Vector3d point(0.7, -0.4, 6.0);
   std::vector<CameraPose> cameras;
   std::vector<Observation> observations;
-  for (int i = 0; i < 4; ++i) {
-    cameras.push_back(camera_at({0.3 * i, 0.05 * i, 0.1 * i}, 0.03 * i));
-    observations.push_back(observe(cameras.back(), point, b, i % 2 == 0));
-  }
+  four_views(point, b, false, cameras, observations);
   // Start away from the truth: corrupt the stereo disparity of the first view (the initial guess).
   observations[0].right_x -= 0.002;
   TriangulationOptions options;
@@ -265,10 +272,7 @@ TEST(Triangulation, RejectsPointsFarForTheirBaseline) {
   const Eigen::Vector3d point(0.7, -0.4, 6.0);
   std::vector<CameraPose> cameras;
   std::vector<Observation> observations;
-  for (int i = 0; i < 4; ++i) {
-    cameras.push_back(camera_at({0.3 * i, 0.05 * i, 0.1 * i}, 0.03 * i));
-    observations.push_back(observe(cameras.back(), point, b, true));
-  }
+  four_views(point, b, true, cameras, observations);
   TriangulationOptions options;
   options.baseline_m = b;
   options.max_rms = 1e-2;
