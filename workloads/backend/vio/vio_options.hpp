@@ -40,7 +40,12 @@ struct VioOptions {
   /// false runs Eq. 1 on the stacked H, whose height then follows the number of features
   /// (hundreds to thousands of rows: not real-time on a CPU, docs/VIO.md "Kalman gain").
   bool measurement_compression = true;
-  bool estimate_extrinsics = true;  ///< camera-IMU extrinsics in the state
+  /// Refine the camera-IMU extrinsics online. Off by default: the datasets state calibrated
+  /// extrinsics (exact for the synthetic rigs, Kalibr's for EuRoC), and on a car's planar,
+  /// mostly one-axis motion the calibration is degenerate (Yang, Geneva & Huang, RA-L 2019:
+  /// the translation along the rotation axis is unobservable), so the filter lets the
+  /// extrinsics absorb the tracks' correlated errors for good (docs/VIO.md, issue 16).
+  bool estimate_extrinsics = false;
   double extrinsic_rotation_sigma_rad = 0.002;
   double extrinsic_translation_sigma_m = 0.002;
   // IMU.

@@ -1,5 +1,7 @@
 #include "vio_run.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Dense>
 #include <chrono>
 #include <cmath>
@@ -34,6 +36,59 @@ std::span<const datasets::GpsFix> gps_between(const std::vector<datasets::GpsFix
 
 double yaw_of(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
 
+using Observations = std::vector<std::pair<std::size_t, std::size_t>>;  // (frame, index)
+
+/// Least-squares point of a track's left observations at the ground-truth left-camera poses
+/// (linear triangulation, x P3 - P1 and y P3 - P2 rows, then Gauss-Newton on the pixels);
+/// nothing when it is degenerate or behind a camera.
+std::optional<Eigen::Vector3d> triangulate_at_truth(
+    const std::vector<frontend::FrontendFrame>& frames, const Observations& obs,
+    const std::vector<std::optional<Eigen::Isometry3d>>& T_world_left,
+    const datasets::CameraIntrinsics& K) {
+  Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
+  for (const auto& [i, j] : obs) {
+    const auto& f = frames[i].features[j];
+    const Eigen::Matrix<double, 3, 4> P = T_world_left[i]->inverse().matrix().topRows<3>();
+    const double x = (f.left.x - K.cx) / K.fx, y = (f.left.y - K.cy) / K.fy;
+    const Eigen::RowVector4d r1 = x * P.row(2) - P.row(0), r2 = y * P.row(2) - P.row(1);
+    A += r1.transpose() * r1 + r2.transpose() * r2;
+  }
+  const Eigen::Vector4d X = Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(A).eigenvectors().col(0);
+  if (obs.size() < 2 || std::abs(X(3)) <= 1e-12) return std::nullopt;
+  Eigen::Vector3d pw = X.head<3>() / X(3);
+  for (int it = 0; it < 10; ++it) {
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    for (const auto& [i, j] : obs) {
+      const auto& f = frames[i].features[j];
+      const Eigen::Vector3d pc = T_world_left[i]->inverse() * pw;
+      if (pc.z() < 0.1) return std::nullopt;
+      const Eigen::Vector2d r(f.left.x - (K.fx * pc.x() / pc.z() + K.cx),
+                              f.left.y - (K.fy * pc.y() / pc.z() + K.cy));
+      Eigen::Matrix<double, 2, 3> J;
+      J << K.fx / pc.z(), 0, -K.fx * pc.x() / (pc.z() * pc.z()), 0, K.fy / pc.z(),
+          -K.fy * pc.y() / (pc.z() * pc.z());
+      J = (J * T_world_left[i]->linear().transpose()).eval();
+      H += J.transpose() * J;
+      b += J.transpose() * r;
+    }
+    pw += H.ldlt().solve(b);
+  }
+  for (const auto& [i, j] : obs)
+    if ((T_world_left[i]->inverse() * pw).z() < 0.1) return std::nullopt;
+  return pw;
+}
+
+/// Tracks by id, with their observations at frames whose ground truth is known.
+std::map<int, Observations> tracks_of(const std::vector<frontend::FrontendFrame>& frames,
+                                      const std::vector<std::optional<Eigen::Isometry3d>>& T) {
+  std::map<int, Observations> tracks;
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    for (std::size_t j = 0; j < frames[i].features.size(); ++j)
+      if (T[i]) tracks[frames[i].features[j].id].push_back({i, j});
+  return tracks;
+}
+
 /// Diagnostic ($EDX_VIO_IDEAL_FEATURES=sigma_px): every track of the frontend is replaced by the
 /// exact projections of one static point (its least-squares triangulation from the left
 /// observations at the ground-truth poses) plus white N(0, sigma^2) pixel noise, left and right.
@@ -41,54 +96,17 @@ double yaw_of(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
 void idealize_tracks(std::vector<frontend::FrontendFrame>& frames,
                      const std::vector<std::optional<Eigen::Isometry3d>>& T_world_left,
                      const datasets::CameraIntrinsics& K, double baseline_m, double sigma_px) {
-  std::map<int, std::vector<std::pair<std::size_t, std::size_t>>> tracks;  // id -> (frame, index)
-  for (std::size_t i = 0; i < frames.size(); ++i)
-    for (std::size_t j = 0; j < frames[i].features.size(); ++j)
-      if (T_world_left[i]) tracks[frames[i].features[j].id].push_back({i, j});
   std::mt19937_64 rng(7);
   std::normal_distribution<double> noise(0.0, sigma_px);
-  for (auto& [id, obs] : tracks) {
-    // Linear triangulation (x P3 - P1, y P3 - P2 rows), then Gauss-Newton on the pixels.
-    Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
-    for (const auto& [i, j] : obs) {
-      const auto& f = frames[i].features[j];
-      const Eigen::Matrix<double, 3, 4> P = T_world_left[i]->inverse().matrix().topRows<3>();
-      const double x = (f.left.x - K.cx) / K.fx, y = (f.left.y - K.cy) / K.fy;
-      const Eigen::RowVector4d r1 = x * P.row(2) - P.row(0), r2 = y * P.row(2) - P.row(1);
-      A += r1.transpose() * r1 + r2.transpose() * r2;
-    }
-    const Eigen::Vector4d X =
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(A).eigenvectors().col(0);
-    Eigen::Vector3d pw = X.head<3>() / X(3);
-    bool ok = obs.size() >= 2 && std::abs(X(3)) > 1e-12;
-    for (int it = 0; ok && it < 10; ++it) {
-      Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d b = Eigen::Vector3d::Zero();
-      for (const auto& [i, j] : obs) {
-        const auto& f = frames[i].features[j];
-        const Eigen::Vector3d pc = T_world_left[i]->inverse() * pw;
-        if (pc.z() < 0.1) {
-          ok = false;
-          break;
-        }
-        const Eigen::Vector2d r(f.left.x - (K.fx * pc.x() / pc.z() + K.cx),
-                                f.left.y - (K.fy * pc.y() / pc.z() + K.cy));
-        Eigen::Matrix<double, 2, 3> J;
-        J << K.fx / pc.z(), 0, -K.fx * pc.x() / (pc.z() * pc.z()), 0, K.fy / pc.z(),
-            -K.fy * pc.y() / (pc.z() * pc.z());
-        J = (J * T_world_left[i]->linear().transpose()).eval();
-        H += J.transpose() * J;
-        b += J.transpose() * r;
-      }
-      if (ok) pw += H.ldlt().solve(b);
-    }
+  for (const auto& [id, obs] : tracks_of(frames, T_world_left)) {
+    const std::optional<Eigen::Vector3d> pw = triangulate_at_truth(frames, obs, T_world_left, K);
     for (const auto& [i, j] : obs) {
       auto& f = frames[i].features[j];
-      const Eigen::Vector3d pc = T_world_left[i]->inverse() * pw;
-      if (!ok || pc.z() < 0.1) {
+      if (!pw) {
         f.id = -1;  // removed below
         continue;
       }
+      const Eigen::Vector3d pc = T_world_left[i]->inverse() * *pw;
       f.left = {static_cast<float>(K.fx * pc.x() / pc.z() + K.cx + noise(rng)),
                 static_cast<float>(K.fy * pc.y() / pc.z() + K.cy + noise(rng))};
       if (f.stereo) {
@@ -102,6 +120,60 @@ void idealize_tracks(std::vector<frontend::FrontendFrame>& frames,
   }
   for (auto& frame : frames)
     std::erase_if(frame.features, [](const frontend::Feature& f) { return f.id < 0; });
+}
+
+/// Diagnostic ($EDX_VIO_TRACK_STATS=1): the frontend's track errors as the MSCKF sees them.
+/// Each track's first `length` left observations (the VIO's update_track_length) are
+/// triangulated at the ground-truth poses; the residuals' RMS per track, binned, and the lag-1
+/// correlation of consecutive residuals (x and y pooled) per bin and overall.
+void print_track_stats(const std::vector<frontend::FrontendFrame>& frames,
+                       const std::vector<std::optional<Eigen::Isometry3d>>& T_world_left,
+                       const datasets::CameraIntrinsics& K, std::size_t length) {
+  struct Bin {
+    long tracks = 0;
+    double sum_sq = 0, lag_xy = 0, lag_xx = 0, lag_yy = 0;
+    long residuals = 0;
+  };
+  const std::vector<std::pair<double, std::string>> edges = {
+      {0.3, "< 0.3 px"}, {0.6, "0.3-0.6 px"}, {1.0, "0.6-1 px"}, {2.0, "1-2 px"}, {1e9, "> 2 px"}};
+  std::vector<Bin> bins(edges.size() + 1);  // last: all
+  for (auto [id, obs] : tracks_of(frames, T_world_left)) {
+    if (obs.size() < 3) continue;
+    if (obs.size() > length) obs.resize(length);
+    const std::optional<Eigen::Vector3d> pw = triangulate_at_truth(frames, obs, T_world_left, K);
+    if (!pw) continue;
+    std::vector<Eigen::Vector2d> r;
+    double sq = 0;
+    for (const auto& [i, j] : obs) {
+      const auto& f = frames[i].features[j];
+      const Eigen::Vector3d pc = T_world_left[i]->inverse() * *pw;
+      r.emplace_back(f.left.x - (K.fx * pc.x() / pc.z() + K.cx),
+                     f.left.y - (K.fy * pc.y() / pc.z() + K.cy));
+      sq += r.back().squaredNorm() / 2;
+    }
+    const double rms = std::sqrt(sq / static_cast<double>(r.size()));
+    std::size_t b = 0;
+    while (rms >= edges[b].first) ++b;
+    for (Bin* bin : {&bins[b], &bins.back()}) {
+      ++bin->tracks;
+      bin->sum_sq += sq;
+      bin->residuals += static_cast<long>(r.size());
+      for (std::size_t k = 1; k < r.size(); ++k) {
+        bin->lag_xy += r[k].dot(r[k - 1]);
+        bin->lag_xx += r[k - 1].squaredNorm();
+        bin->lag_yy += r[k].squaredNorm();
+      }
+    }
+  }
+  std::fprintf(stderr, "[tracks] first %zu observations at the true poses:", length);
+  for (std::size_t b = 0; b < bins.size(); ++b) {
+    const Bin& bin = bins[b];
+    std::fprintf(stderr, " | %s: %ld tracks, RMS %.3f px, rho %.2f",
+                 b < edges.size() ? edges[b].second.c_str() : "all", bin.tracks,
+                 bin.residuals ? std::sqrt(bin.sum_sq / static_cast<double>(bin.residuals)) : 0.0,
+                 bin.lag_xx > 0 ? bin.lag_xy / std::sqrt(bin.lag_xx * bin.lag_yy) : 0.0);
+  }
+  std::fprintf(stderr, "\n");
 }
 
 }  // namespace
@@ -133,6 +205,15 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
   if (const char* env = std::getenv("EDX_VIO_FEATURES")) {
     frontend_options.features_per_image = std::atoi(env);
   }
+  if (const char* env = std::getenv("EDX_VIO_LK_ITERATIONS")) {
+    frontend_options.lk_max_iterations = std::atoi(env);
+  }
+  if (const char* env = std::getenv("EDX_VIO_LK_EPSILON")) {
+    frontend_options.lk_epsilon_px = std::atof(env);
+  }
+  if (const char* env = std::getenv("EDX_VIO_LK_WINDOW")) {
+    frontend_options.lk_window_px = std::atoi(env);
+  }
   frontend::StereoFrontend frontend(frontend_options,
                                     {calibration.rectified.fx, calibration.baseline_m});
   VioRun run;
@@ -149,7 +230,8 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
   int nees_count = 0, nees_inside = 0;
   const double nees_lo = chi2_quantile(0.025, 6), nees_hi = chi2_quantile(0.975, 6);
   std::vector<frontend::FrontendFrame> ideal;
-  if (const char* env = std::getenv("EDX_VIO_IDEAL_FEATURES")) {
+  const char* ideal_sigma = std::getenv("EDX_VIO_IDEAL_FEATURES");
+  if (ideal_sigma || std::getenv("EDX_VIO_TRACK_STATS")) {
     std::vector<std::optional<Eigen::Isometry3d>> T_world_left;
     for (std::size_t i = 0; i < run.frames; ++i) {
       const datasets::StereoFrame images = dataset->load_frame(i);
@@ -159,8 +241,14 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
           truth ? std::optional<Eigen::Isometry3d>(truth->T_world_body * calibration.T_body_left)
                 : std::nullopt);
     }
-    idealize_tracks(ideal, T_world_left, calibration.rectified, calibration.baseline_m,
-                    std::stod(env));
+    if (std::getenv("EDX_VIO_TRACK_STATS")) {
+      print_track_stats(ideal, T_world_left, calibration.rectified,
+                        static_cast<std::size_t>(options.update_track_length));
+    }
+    if (ideal_sigma) {
+      idealize_tracks(ideal, T_world_left, calibration.rectified, calibration.baseline_m,
+                      std::stod(ideal_sigma));
+    }
   }
   for (std::size_t i = 0; i < run.frames; ++i) {
     const datasets::StereoFrame images = dataset->load_frame(i);
@@ -268,6 +356,35 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
     eval_options.alignment = eval::AlignmentMethod::kPosYaw;
     eval_options.t_max_diff_s = 1e-3;
     run.accuracy = eval::evaluate(gt, est, eval_options);
+    // Diagnosis ($EDX_VIO_AXES): the aligned error's RMS along track, across track and
+    // vertically, and per 100 frames.
+    if (std::getenv("EDX_VIO_AXES") && gt.poses.size() == est.poses.size()) {
+      double along = 0, across = 0, up = 0, block = 0;
+      std::string blocks;
+      const std::size_t n = gt.poses.size();
+      for (std::size_t k = 0; k < n; ++k) {
+        const Eigen::Vector3d g = gt.poses[k].pose.translation();
+        const Eigen::Vector3d e =
+            run.accuracy->align.apply(Eigen::Vector3d(est.poses[k].pose.translation())) - g;
+        const Eigen::Vector3d next = gt.poses[std::min(k + 1, n - 1)].pose.translation();
+        const Eigen::Vector3d prev = gt.poses[k > 0 ? k - 1 : 0].pose.translation();
+        Eigen::Vector3d dir = next - prev;
+        dir.z() = 0;
+        dir = dir.norm() > 1e-9 ? dir.normalized() : Eigen::Vector3d::UnitX();
+        const Eigen::Vector3d side = Eigen::Vector3d::UnitZ().cross(dir);
+        along += e.dot(dir) * e.dot(dir);
+        across += e.dot(side) * e.dot(side);
+        up += e.z() * e.z();
+        block += e.squaredNorm();
+        if ((k + 1) % 100 == 0 || k + 1 == n) {
+          blocks += fmt::format(" {:.3f}", std::sqrt(block / static_cast<double>(k % 100 + 1)));
+          block = 0;
+        }
+      }
+      const double m = static_cast<double>(n);
+      std::fprintf(stderr, "[axes] along %.3f across %.3f up %.3f | per 100 frames%s\n",
+                   std::sqrt(along / m), std::sqrt(across / m), std::sqrt(up / m), blocks.c_str());
+    }
   }
   return run;
 }
