@@ -53,7 +53,7 @@ TEST(FrontendOptions, JsonHasEveryField) {
   EXPECT_DOUBLE_EQ(j.at("ratio").get<double>(), 0.75);
   EXPECT_EQ(j.at("count_lk_iterations"), false);
   EXPECT_EQ(j.at("dr_window_px"), 11);
-  EXPECT_EQ(j.at("lk_window_px"), 16);
+  EXPECT_EQ(j.at("lk_window_px"), 12);
   EXPECT_EQ(j.at("right_features_per_image"), 2000);
   EXPECT_EQ(j.size(), 28u);  // one key per field of FrontendOptions
 }

@@ -42,9 +42,9 @@ struct VioOptions {
   bool measurement_compression = true;
   /// Refine the camera-IMU extrinsics online. Off by default: the datasets state calibrated
   /// extrinsics (exact for the synthetic rigs, Kalibr's for EuRoC), and on a car's planar,
-  /// mostly one-axis motion the calibration is degenerate (Yang, Geneva & Huang, RA-L 2019:
-  /// the translation along the rotation axis is unobservable), so the filter lets the
-  /// extrinsics absorb the tracks' correlated errors for good (docs/VIO.md, issue 16).
+  /// mostly one-axis motion their calibration is degenerate (Yang, Geneva & Huang, RA-L 2019:
+  /// the translation along the rotation axis is unobservable), so the filter let them absorb
+  /// the tracks' correlated errors for good (docs/VIO.md "Track window and extrinsics").
   bool estimate_extrinsics = false;
   double extrinsic_rotation_sigma_rad = 0.002;
   double extrinsic_translation_sigma_m = 0.002;
