@@ -136,8 +136,8 @@ TEST(HostCosts, ModeledTimesNeverReadTheMeasuredOnes) {
   trace::TraceMeta other = reader.meta();
   other["host_speed"] = R"({"suite": 1, "frontend_ms": 400.0, "backend_ms": 70.0, "samples": 3})";
   HostConfig host;
-  host.frontend_suite_ms = 172.27;
-  host.backend_suite_ms = 46.01;
+  host.frontend_suite_ms = 170.03;
+  host.backend_suite_ms = 48.01;
   const PlatformHostTimes a = PlatformHostTimes::of(host, frames, reader.meta(), "a");
   const PlatformHostTimes b = PlatformHostTimes::of(host, scrambled, other, "b");
   EXPECT_EQ(a.frontend_ms, b.frontend_ms);
