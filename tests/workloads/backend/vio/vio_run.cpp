@@ -250,8 +250,16 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
                       std::stod(ideal_sigma));
     }
   }
+  // Diagnosis ($EDX_VIO_FIRST_FRAME=k): the backend starts at frame k, as after a mode switch.
+  const std::size_t first_frame =
+      std::getenv("EDX_VIO_FIRST_FRAME") ? std::stoul(std::getenv("EDX_VIO_FIRST_FRAME")) : 0;
   for (std::size_t i = 0; i < run.frames; ++i) {
     const datasets::StereoFrame images = dataset->load_frame(i);
+    if (i < first_frame) {
+      if (ideal.empty()) frontend.process(images.left, images.right);
+      previous = images.t_ns;
+      continue;
+    }
     const frontend::FrontendFrame features =
         ideal.empty() ? frontend.process(images.left, images.right) : ideal[i];
     BackendInput input;
