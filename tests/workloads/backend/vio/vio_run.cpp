@@ -40,7 +40,7 @@ using Observations = std::vector<std::pair<std::size_t, std::size_t>>;  // (fram
 
 /// Least-squares point of a track's left observations at the ground-truth left-camera poses
 /// (linear triangulation, x P3 - P1 and y P3 - P2 rows, then Gauss-Newton on the pixels);
-/// nothing when it is degenerate or behind a camera.
+/// nothing when it is degenerate or falls behind a camera during the iterations.
 std::optional<Eigen::Vector3d> triangulate_at_truth(
     const std::vector<frontend::FrontendFrame>& frames, const Observations& obs,
     const std::vector<std::optional<Eigen::Isometry3d>>& T_world_left,
@@ -74,8 +74,6 @@ std::optional<Eigen::Vector3d> triangulate_at_truth(
     }
     pw += H.ldlt().solve(b);
   }
-  for (const auto& [i, j] : obs)
-    if ((T_world_left[i]->inverse() * pw).z() < 0.1) return std::nullopt;
   return pw;
 }
 
@@ -102,11 +100,12 @@ void idealize_tracks(std::vector<frontend::FrontendFrame>& frames,
     const std::optional<Eigen::Vector3d> pw = triangulate_at_truth(frames, obs, T_world_left, K);
     for (const auto& [i, j] : obs) {
       auto& f = frames[i].features[j];
-      if (!pw) {
-        f.id = -1;  // removed below
+      const Eigen::Vector3d pc =
+          pw ? Eigen::Vector3d(T_world_left[i]->inverse() * *pw) : Eigen::Vector3d::Zero();
+      if (!pw || pc.z() < 0.1) {
+        f.id = -1;  // removed below (this observation only, when behind the camera)
         continue;
       }
-      const Eigen::Vector3d pc = T_world_left[i]->inverse() * *pw;
       f.left = {static_cast<float>(K.fx * pc.x() / pc.z() + K.cx + noise(rng)),
                 static_cast<float>(K.fy * pc.y() / pc.z() + K.cy + noise(rng))};
       if (f.stereo) {
@@ -147,10 +146,12 @@ void print_track_stats(const std::vector<frontend::FrontendFrame>& frames,
     for (const auto& [i, j] : obs) {
       const auto& f = frames[i].features[j];
       const Eigen::Vector3d pc = T_world_left[i]->inverse() * *pw;
+      if (pc.z() < 0.1) break;  // behind a camera at the final point: not a usable track
       r.emplace_back(f.left.x - (K.fx * pc.x() / pc.z() + K.cx),
                      f.left.y - (K.fy * pc.y() / pc.z() + K.cy));
       sq += r.back().squaredNorm() / 2;
     }
+    if (r.size() < obs.size()) continue;
     const double rms = std::sqrt(sq / static_cast<double>(r.size()));
     std::size_t b = 0;
     while (rms >= edges[b].first) ++b;
