@@ -42,11 +42,16 @@ KalmanGain kalman_gain(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H,
   return gain;
 }
 
+bool update_covariance(Eigen::MatrixXd& P, const KalmanGain& gain) {
+  Eigen::MatrixXd updated = P - gain.K * gain.PHt.transpose();
+  updated = 0.5 * (updated + updated.transpose()).eval();
+  if ((updated.diagonal().array() < 0).any()) return false;  // states without variance stay at 0
+  P = std::move(updated);
+  return true;
+}
+
 bool apply_update(VioState& state, const KalmanGain& gain, const Eigen::VectorXd& r) {
-  Eigen::MatrixXd P = state.P - gain.K * gain.PHt.transpose();
-  P = 0.5 * (P + P.transpose()).eval();
-  if ((P.diagonal().array() < 0).any()) return false;  // states without variance stay at 0
-  state.P = std::move(P);
+  if (!update_covariance(state.P, gain)) return false;
   state.correct(gain.K * r);
   return true;
 }

@@ -22,8 +22,12 @@ struct KalmanGain {
 KalmanGain kalman_gain(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H,
                        const Eigen::VectorXd& noise_var, KernelRecorder* ops);
 
-/// Applies dx = K r to the state and P <- P - K (P H^T)^T, kept symmetric. Returns false (and
-/// leaves P unchanged) when a diagonal entry would turn negative.
+/// P <- P - K (P H^T)^T, kept symmetric. Returns false (and leaves P unchanged) when a diagonal
+/// entry would turn negative.
+bool update_covariance(Eigen::MatrixXd& P, const KalmanGain& gain);
+
+/// update_covariance on the state's P, then dx = K r applied to the state. Returns false (and
+/// leaves the state unchanged) when the covariance update fails.
 bool apply_update(VioState& state, const KalmanGain& gain, const Eigen::VectorXd& r);
 
 }  // namespace edx::backend::vio

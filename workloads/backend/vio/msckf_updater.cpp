@@ -144,6 +144,7 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
   // Left null-space projection and the chi-square gate.
   Eigen::MatrixXd H;
   Eigen::VectorXd r;
+  std::vector<Eigen::Index> feature_rows;  ///< rows of each accepted feature, in H's order
   {
     auto kernel = recorder.kernel("nullspace_projection");
     std::vector<FeatureRows*> accepted;
@@ -188,6 +189,7 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
       const Eigen::Index k = f->r.size();
       H.middleRows(row, k) = f->H_x;
       r.segment(row, k) = f->r;
+      feature_rows.push_back(k);
       row += static_cast<int>(k);
     }
     report.accepted = static_cast<int>(accepted.size());
@@ -206,7 +208,8 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
       if (!H.col(c).isZero(0.0)) cols.push_back(c);
   }
   const int used_cols = static_cast<int>(cols.size());
-  if (options_.measurement_compression && H.rows() > used_cols) {
+  const bool compressed = options_.measurement_compression && H.rows() > used_cols;
+  if (compressed) {
     auto kernel = recorder.kernel("compression");
     kernel.record().m = H.rows();
     kernel.record().n = used_cols;
@@ -221,20 +224,47 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
   }
   report.rows_used = static_cast<int>(H.rows());
 
-  KalmanGain gain;
-  {
-    auto kernel = recorder.kernel("kalman_gain", /*accelerable=*/true);
-    kernel.record().m = H.rows();
-    kernel.record().n = n;
-    gain = kalman_gain(state.P, H, Eigen::VectorXd::Constant(H.rows(), sigma2), &recorder);
+  // Groups of whole features of at most max_gain_rows rows each (one group when compressed).
+  const Eigen::Index max_rows = options_.max_gain_rows > 0 ? options_.max_gain_rows : n;
+  std::vector<Eigen::Index> group_rows;
+  if (compressed) {
+    group_rows.push_back(H.rows());
+  } else {
+    for (const Eigen::Index k : feature_rows) {
+      if (group_rows.empty() || group_rows.back() + k > max_rows)
+        group_rows.push_back(k);
+      else
+        group_rows.back() += k;
+    }
   }
-  if (!gain.ok) return report;
-  {
+
+  // Sequential update at one linearization point: dx_g = K_g (r_g - H_g dx), P <- P - K_g H_g P.
+  Eigen::VectorXd dx = Eigen::VectorXd::Zero(n);
+  Eigen::MatrixXd P = state.P;
+  Eigen::Index begin = 0;
+  for (const Eigen::Index rows : group_rows) {
+    const Eigen::MatrixXd H_g = H.middleRows(begin, rows);
+    const Eigen::VectorXd r_g = r.segment(begin, rows) - H_g * dx;
+    begin += rows;
+    KalmanGain gain;
+    {
+      auto kernel = recorder.kernel("kalman_gain", /*accelerable=*/true);
+      kernel.record().m = rows;
+      kernel.record().n = n;
+      gain = kalman_gain(P, H_g, Eigen::VectorXd::Constant(rows, sigma2), &recorder);
+    }
+    if (!gain.ok) break;
     auto kernel = recorder.kernel("covariance_update");
-    kernel.record().m = H.rows();
+    kernel.record().m = rows;
     kernel.record().n = n;
-    report.updated = apply_update(state, gain, r);
+    if (!update_covariance(P, gain)) break;
+    dx += gain.K * r_g;
+    ++report.gains;
   }
+  if (report.gains == 0) return report;
+  state.P = std::move(P);
+  state.correct(dx);
+  report.updated = true;
   return report;
 }
 

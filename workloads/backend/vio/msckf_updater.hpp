@@ -3,7 +3,7 @@
 // per track, triangulation of the point from the clone cameras, the stereo measurement Jacobians
 // with respect to the clones (and extrinsics) and the point, projection onto the left null space
 // of the point's Jacobian (which removes the point from the problem), a chi-square gate; then the
-// stacked rows, compressed by QR when they outnumber the state, go through the EKF update.
+// stacked rows go through the EKF update of Eq. 1 (ekf_update.hpp).
 //
 // Per observation in clone j (p_C = R_IC^T (R_WIj^T (p_W - p_WIj) - p_IC), d = p_W - p_WIj,
 // q = p_I - p_IC, J = dz/dp_C of feature_track.hpp):
@@ -11,8 +11,10 @@
 //   dz/dtheta_IC  = J R_IC^T [q]x              dz/dp_IC  = -J R_IC^T
 //   dz/dp_W       =  J R_IC^T R_WIj^T
 // Null space: H_f = Q [R1; 0] (Householder QR), rows 3.. of Q^T [H_x | r] no longer depend on
-// the point. Compression, when the rows outnumber the c state columns H touches: on those
-// columns H = Q1 T (thin QR), H <- T (c rows), r <- Q1^T r (the noise stays sigma^2 I).
+// the point. Compression (an option, off by default), when the rows outnumber the c state
+// columns H touches: on those columns H = Q1 T (thin QR), H <- T (c rows), r <- Q1^T r (the
+// noise stays sigma^2 I). Without it the stacked rows update in groups of whole features of at
+// most max_gain_rows rows, one after the other at the same linearization point.
 #include <Eigen/Core>
 #include <vector>
 
@@ -29,6 +31,7 @@ struct UpdateReport {
   int accepted = 0;      ///< of them passing the chi-square gate
   int rows = 0;          ///< rows of H before compression
   int rows_used = 0;     ///< rows of H in the EKF update
+  int gains = 0;         ///< Kalman gains (groups of rows) applied, at most max_gain_rows each
   /// Sum of the accepted features' normalized innovations gamma and of their dof: the ratio is
   /// about 1 when the measurement noise model fits.
   double gamma_sum = 0;

@@ -28,6 +28,7 @@ void VioOptions::validate() const {
   require(triangulation_iterations >= 1, "triangulation_iterations", ">= 1");
   require(chi2_confidence > 0 && chi2_confidence < 1, "chi2_confidence", "a value in (0, 1)");
   require(max_features_per_update >= 1, "max_features_per_update", ">= 1");
+  require(max_gain_rows >= 0, "max_gain_rows", ">= 0 (0: the state's dimension)");
   require(extrinsic_rotation_sigma_rad > 0, "extrinsic_rotation_sigma_rad", "> 0");
   require(extrinsic_translation_sigma_m > 0, "extrinsic_translation_sigma_m", "> 0");
   require(gravity_m_s2 > 0, "gravity_m_s2", "> 0");
@@ -70,6 +71,7 @@ nlohmann::json VioOptions::to_json() const {
           {"chi2_confidence", chi2_confidence},
           {"max_features_per_update", max_features_per_update},
           {"measurement_compression", measurement_compression},
+          {"max_gain_rows", max_gain_rows},
           {"estimate_extrinsics", estimate_extrinsics},
           {"extrinsic_rotation_sigma_rad", extrinsic_rotation_sigma_rad},
           {"extrinsic_translation_sigma_m", extrinsic_translation_sigma_m},

@@ -1,6 +1,7 @@
 // Unit tests of the VIO backend's pieces against hand-computed or independently known values.
 #include <gtest/gtest.h>
 
+#include <numeric>
 #include <random>
 
 #include "workloads/backend/vio/chi_square.hpp"
@@ -361,10 +362,11 @@ PerturbedScene perturbed_scene(int clone_count, int features) {
   return scene;
 }
 
-// One update must pull the perturbed clones to the truth, with the stacked H compressed (the
-// default, as msckf_vio) and without (the paper's Eq. 1 on all the accepted features' rows).
+// One update must pull the perturbed clones to the truth, with the stacked H (the default: the
+// paper's Eq. 1 on all the accepted features' rows, in groups of at most n rows) and with it
+// compressed (as msckf_vio).
 TEST(MsckfUpdater, UpdateMovesPerturbedClonesTowardTheTruth) {
-  for (const bool compression : {true, false}) {
+  for (const bool compression : {false, true}) {
     SCOPED_TRACE(compression ? "compressed" : "stacked");
     VioOptions options;
     options.estimate_extrinsics = false;
@@ -372,6 +374,7 @@ TEST(MsckfUpdater, UpdateMovesPerturbedClonesTowardTheTruth) {
     options.measurement_compression = compression;
     PerturbedScene scene = perturbed_scene(6, 60);
     const double before = scene.error();
+    const int n = scene.state.dim();
     MsckfUpdater updater(options, scene.baseline, scene.fx);
     KernelRecorder recorder;
     const UpdateReport report = updater.update(scene.state, scene.pointers(), recorder);
@@ -385,54 +388,83 @@ TEST(MsckfUpdater, UpdateMovesPerturbedClonesTowardTheTruth) {
     EXPECT_LE(report.rows, report.accepted * (4 * 6 - 3));
     EXPECT_GT(report.rows, 10 * 36);
     EXPECT_EQ(report.rows_used, compression ? 36 : report.rows);
-    // The kernels of one update, in order; kalman_gain's m is the height of the H it uses.
+    // The kernels of one update, in order; each kalman_gain's m is the height of the H it
+    // uses: all the compressed rows at once, or groups of whole features of at most n rows
+    // (a feature has at most 4 * 6 - 3 = 21 rows, so a group holds more than n - 21).
     std::vector<std::string> names;
+    std::vector<std::int64_t> heights;
     for (const auto& k : recorder.take()) {
       names.push_back(k.kernel);
-      if (k.kernel == "kalman_gain") {
-        EXPECT_EQ(k.m, report.rows_used);
+      if (k.kernel == "kalman_gain") heights.push_back(k.m);
+    }
+    const std::int64_t total = std::accumulate(heights.begin(), heights.end(), std::int64_t{0});
+    EXPECT_EQ(total, report.rows_used);
+    EXPECT_EQ(static_cast<int>(heights.size()), report.gains);
+    for (std::size_t g = 0; g < heights.size(); ++g) {
+      EXPECT_LE(heights[g], n);
+      if (g + 1 < heights.size()) {
+        EXPECT_GT(heights[g], n - 21);
       }
     }
-    std::vector<std::string> expected{"triangulation", "jacobians",   "nullspace_projection",
-                                      "compression",   "kalman_gain", "covariance_update"};
-    if (!compression) expected.erase(expected.begin() + 3);
+    std::vector<std::string> expected{"triangulation", "jacobians", "nullspace_projection"};
+    if (compression) expected.push_back("compression");
+    if (compression) {
+      EXPECT_EQ(report.gains, 1);
+    } else {
+      EXPECT_GE(report.gains, report.rows / n);
+    }
+    for (int g = 0; g < report.gains; ++g) {
+      expected.push_back("kalman_gain");
+      expected.push_back("covariance_update");
+    }
     EXPECT_EQ(names, expected);
   }
 }
 
-// With R = sigma^2 I, QR compression of the stacked H (H = Q1 T, r -> Q1^T r) leaves the update
-// unchanged in exact arithmetic: the compressed and the uncompressed Kalman gain give the same
-// state correction and covariance (to round-off) on a window of 12 clones and 80 features.
-TEST(MsckfUpdater, CompressionLeavesTheUpdateUnchanged) {
-  VioOptions options;
-  options.estimate_extrinsics = false;
-  options.track_error_correlation = 0;
-  options.measurement_compression = false;
-  VioOptions compressed_options = options;
+// With R = sigma^2 I the stacked update of Eq. 1 has three equal forms, to round-off: one
+// Kalman gain on all the rows; the default, groups of whole features of at most n rows updating
+// one after the other at the same linearization point; and QR compression (H = Q1 T,
+// r -> Q1^T r). Same state correction and covariance on a window of 12 clones and 80 features.
+TEST(MsckfUpdater, GroupedStackedAndCompressedUpdatesAgree) {
+  VioOptions grouped_options;
+  grouped_options.estimate_extrinsics = false;
+  grouped_options.track_error_correlation = 0;
+  ASSERT_FALSE(grouped_options.measurement_compression);  // the default
+  VioOptions stacked_options = grouped_options;
+  stacked_options.max_gain_rows = 100000;
+  VioOptions compressed_options = grouped_options;
   compressed_options.measurement_compression = true;
   const PerturbedScene scene = perturbed_scene(12, 80);
-  PerturbedScene plain = scene, compressed = scene;
-  KernelRecorder plain_recorder, compressed_recorder;
-  const UpdateReport a = MsckfUpdater(options, scene.baseline, scene.fx)
-                             .update(plain.state, plain.pointers(), plain_recorder);
+  PerturbedScene grouped = scene, stacked = scene, compressed = scene;
+  KernelRecorder grouped_recorder, stacked_recorder, compressed_recorder;
+  const UpdateReport g = MsckfUpdater(grouped_options, scene.baseline, scene.fx)
+                             .update(grouped.state, grouped.pointers(), grouped_recorder);
+  const UpdateReport a = MsckfUpdater(stacked_options, scene.baseline, scene.fx)
+                             .update(stacked.state, stacked.pointers(), stacked_recorder);
   const UpdateReport c = MsckfUpdater(compressed_options, scene.baseline, scene.fx)
                              .update(compressed.state, compressed.pointers(), compressed_recorder);
+  ASSERT_TRUE(g.updated);
   ASSERT_TRUE(a.updated);
   ASSERT_TRUE(c.updated);
   EXPECT_EQ(a.rows, c.rows);
   EXPECT_EQ(a.rows_used, a.rows);
+  EXPECT_EQ(a.gains, 1);
+  EXPECT_EQ(g.rows_used, g.rows);
+  EXPECT_GT(g.gains, 3);  // 80 features of up to 45 rows, groups of <= n = 97 rows
   EXPECT_LT(c.rows_used, c.rows);  // compressed to the columns H touches
   EXPECT_LE(c.rows_used, 6 * 12);
-  // State correction: the clones moved by the same amount (relative to the move).
-  for (std::size_t i = 0; i < scene.truth.size(); ++i) {
-    const Eigen::Vector3d move = plain.state.clones[i].p_WI - scene.state.clones[i].p_WI;
-    EXPECT_LE((plain.state.clones[i].p_WI - compressed.state.clones[i].p_WI).norm(),
-              1e-9 * std::max(move.norm(), 1e-3));
-    EXPECT_LE(
-        so3_log(plain.state.clones[i].R_WI * compressed.state.clones[i].R_WI.transpose()).norm(),
-        1e-9);
+  for (const PerturbedScene* other : {&grouped, &compressed}) {
+    // State correction: the clones moved by the same amount (relative to the move).
+    for (std::size_t i = 0; i < scene.truth.size(); ++i) {
+      const Eigen::Vector3d move = stacked.state.clones[i].p_WI - scene.state.clones[i].p_WI;
+      EXPECT_LE((stacked.state.clones[i].p_WI - other->state.clones[i].p_WI).norm(),
+                1e-9 * std::max(move.norm(), 1e-3));
+      EXPECT_LE(
+          so3_log(stacked.state.clones[i].R_WI * other->state.clones[i].R_WI.transpose()).norm(),
+          1e-9);
+    }
+    EXPECT_LE((stacked.state.P - other->state.P).norm(), 1e-9 * stacked.state.P.norm());
   }
-  EXPECT_LE((plain.state.P - compressed.state.P).norm(), 1e-9 * plain.state.P.norm());
   int compression_kernels = 0;
   for (const auto& k : compressed_recorder.take())
     compression_kernels += k.kernel == "compression" ? 1 : 0;
