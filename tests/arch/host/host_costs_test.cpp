@@ -160,7 +160,7 @@ TEST(HostCosts, TheBundledTableCostsEveryKindThePipelineRecords) {
     EXPECT_TRUE(bundled.frontend.contains(task)) << task;
   }
   for (const char* kernel :
-       {"projection", "kalman_gain", "marginalization", "nullspace_projection", "compression",
+       {"projection", "kalman_gain", "marginalization", "nullspace_projection", "covariance_update",
         "linearization", "schur_complement", "solve", "lm_iteration", "pnp", "bow_query",
         "backend_rest:vio", "backend_rest:slam", "backend_rest:registration"}) {
     EXPECT_TRUE(bundled.backend.contains(kernel)) << kernel;
