@@ -4,9 +4,11 @@
 // Static (accelerometer SD and mean track motion below thresholds): the mean specific force is
 // -g in the body frame, so R_WI maps it onto +z (yaw set to 0), the gyro bias is the mean gyro
 // reading, v = 0.
-// Moving: rotations R_0k (I0 <- Ik) by integrating the gyro; camera positions of frames k
-// relative to frame 0 by chaining frame-to-frame PnP (RANSAC): frame k against the points frame
-// k-1 triangulated by stereo, T_CkC0 = T_CkCk-1 T_Ck-1C0; the
+// Moving: camera poses of frames k relative to frame 0 by chaining frame-to-frame PnP (RANSAC):
+// frame k against the points frame k-1 triangulated by stereo, T_CkC0 = T_CkCk-1 T_Ck-1C0; the
+// gyro bias b from their rotations (VINS-Mono's gyroscope bias calibration): the gyro-integrated
+// R_0k(b) = R_0k(0) Exp(D_k b) fitted to the visual R_0k by least squares; rotations R_0k
+// (I0 <- Ik) by integrating the gyro less b; the
 // accelerometer preintegrated in I0, alpha_k = double integral of R_0(t) a(t), beta_k = its single
 // integral; then velocity v0 and gravity g0 in I0 from the linear least squares
 //   p_k = v0 t_k + g0 t_k^2 / 2 + alpha_k,
