@@ -44,9 +44,10 @@ struct VioOptions {
   /// whole, into consecutive groups of at most this many rows (a taller feature alone), which
   /// update one after the other at the same linearization point, dx_g = K_g (r_g - H_g dx),
   /// P <- P - K_g H_g P: a sequential Kalman update, equal to the stacked one when the groups'
-  /// noises are independent. The stacked S = H P H^T + R of the car's 300-3000 rows costs m^3/3
-  /// a frame (0.3 s on this host); groups of at most n rows keep it within the n^2 m of
-  /// P H^T and the covariance update. 0: the state's dimension n.
+  /// noises are independent. One S = H P H^T + R on all of a frame's rows (219-3309 on the car
+  /// mix) costs m^2 n + m^3/3: 309 ms a VIO frame at 640x360 on the 2-core host (docs/VIO.md);
+  /// groups of at most n rows keep a frame within 2.7x of the 2 n^2 m of P H^T and the
+  /// covariance update. 0: the state's dimension n.
   int max_gain_rows = 0;
   /// Refine the camera-IMU extrinsics online. Off by default: the datasets state calibrated
   /// extrinsics (exact for the synthetic rigs, Kalibr's for EuRoC), and on a car's planar,
