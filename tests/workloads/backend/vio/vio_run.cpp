@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <map>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 #include "workloads/backend/vio/chi_square.hpp"
 #include "workloads/frontend/stereo_frontend.hpp"
@@ -91,9 +93,13 @@ std::map<int, Observations> tracks_of(const std::vector<frontend::FrontendFrame>
 /// exact projections of one static point (its least-squares triangulation from the left
 /// observations at the ground-truth poses) plus white N(0, sigma^2) pixel noise, left and right.
 /// Separates the filter's consistency from the frontend's (temporally correlated) track errors.
+/// $EDX_VIO_IDEAL_PART=left keeps the frontend's disparities on exact left tracks;
+/// =disparity keeps the frontend's left tracks with exact disparities (no noise added in either).
+enum class IdealPart { kAll, kLeft, kDisparity };
 void idealize_tracks(std::vector<frontend::FrontendFrame>& frames,
                      const std::vector<std::optional<Eigen::Isometry3d>>& T_world_left,
-                     const datasets::CameraIntrinsics& K, double baseline_m, double sigma_px) {
+                     const datasets::CameraIntrinsics& K, double baseline_m, double sigma_px,
+                     IdealPart part) {
   std::mt19937_64 rng(7);
   std::normal_distribution<double> noise(0.0, sigma_px);
   for (const auto& [id, obs] : tracks_of(frames, T_world_left)) {
@@ -106,8 +112,25 @@ void idealize_tracks(std::vector<frontend::FrontendFrame>& frames,
         f.id = -1;  // removed below (this observation only, when behind the camera)
         continue;
       }
-      f.left = {static_cast<float>(K.fx * pc.x() / pc.z() + K.cx + noise(rng)),
-                static_cast<float>(K.fy * pc.y() / pc.z() + K.cy + noise(rng))};
+      const cv::Point2f exact_left(static_cast<float>(K.fx * pc.x() / pc.z() + K.cx),
+                                   static_cast<float>(K.fy * pc.y() / pc.z() + K.cy));
+      const float exact_disparity = static_cast<float>(K.fx * baseline_m / pc.z());
+      if (part == IdealPart::kLeft) {  // exact left track, the frontend's disparity
+        const float disparity = f.disparity;
+        f.left = exact_left;
+        if (f.stereo) f.right = {f.left.x - disparity, f.left.y};
+        continue;
+      }
+      if (part == IdealPart::kDisparity) {  // the frontend's left track, exact disparity
+        if (f.stereo) {
+          f.right = {f.left.x - exact_disparity, f.left.y};
+          f.disparity = exact_disparity;
+          f.depth_m = pc.z();
+        }
+        continue;
+      }
+      f.left = {exact_left.x + static_cast<float>(noise(rng)),
+                exact_left.y + static_cast<float>(noise(rng))};
       if (f.stereo) {
         f.right = {static_cast<float>(K.fx * (pc.x() - baseline_m) / pc.z() + K.cx + noise(rng)),
                    f.left.y};
@@ -127,7 +150,13 @@ void idealize_tracks(std::vector<frontend::FrontendFrame>& frames,
 /// correlation of consecutive residuals (x and y pooled) per bin and overall.
 void print_track_stats(const std::vector<frontend::FrontendFrame>& frames,
                        const std::vector<std::optional<Eigen::Isometry3d>>& T_world_left,
-                       const datasets::CameraIntrinsics& K, std::size_t length) {
+                       const datasets::CameraIntrinsics& K, double baseline_m, std::size_t length) {
+  // Disparity errors of the tracks whose triangulation is well conditioned (>= `length`
+  // observations over >= 2 m of travel, depth <= 20 m): e = d - fx b / z, by the fractional
+  // part of d (pixel locking of the SAD parabola shows as a mean that depends on it).
+  std::vector<double> disparity_sum(5, 0.0), disparity_sq(5, 0.0);
+  std::vector<long> disparity_n(5, 0);
+  double disparity_lag = 0, disparity_lag_norm = 0;
   struct Bin {
     long tracks = 0;
     double sum_sq = 0, lag_xy = 0, lag_xx = 0, lag_yy = 0;
@@ -152,6 +181,31 @@ void print_track_stats(const std::vector<frontend::FrontendFrame>& frames,
       sq += r.back().squaredNorm() / 2;
     }
     if (r.size() < obs.size()) continue;
+    const double travel = (T_world_left[obs.back().first]->translation() -
+                           T_world_left[obs.front().first]->translation())
+                              .norm();
+    if (obs.size() >= length && travel >= 2.0) {
+      double last = std::nan("");
+      for (const auto& [i, j] : obs) {
+        const auto& f = frames[i].features[j];
+        const Eigen::Vector3d pc = T_world_left[i]->inverse() * *pw;
+        if (!f.stereo || pc.z() > 20.0) {
+          last = std::nan("");
+          continue;
+        }
+        const double e = f.disparity - K.fx * baseline_m / pc.z();
+        const auto bin = static_cast<std::size_t>(
+            std::min(4.0, std::floor((f.disparity - std::floor(f.disparity)) * 5.0)));
+        disparity_sum[bin] += e;
+        disparity_sq[bin] += e * e;
+        ++disparity_n[bin];
+        if (!std::isnan(last)) {
+          disparity_lag += e * last;
+          disparity_lag_norm += e * e;
+        }
+        last = e;
+      }
+    }
     const double rms = std::sqrt(sq / static_cast<double>(r.size()));
     std::size_t b = 0;
     while (rms >= edges[b].first) ++b;
@@ -174,7 +228,21 @@ void print_track_stats(const std::vector<frontend::FrontendFrame>& frames,
                  bin.residuals ? std::sqrt(bin.sum_sq / static_cast<double>(bin.residuals)) : 0.0,
                  bin.lag_xx > 0 ? bin.lag_xy / std::sqrt(bin.lag_xx * bin.lag_yy) : 0.0);
   }
-  std::fprintf(stderr, "\n");
+  std::fprintf(stderr, "\n[tracks] disparity error d - fx b / z by frac(d):");
+  double all_sum = 0, all_sq = 0;
+  long all_n = 0;
+  for (std::size_t b = 0; b < disparity_n.size(); ++b) {
+    const double n = std::max(1.0, static_cast<double>(disparity_n[b]));
+    std::fprintf(stderr, " | [%.1f, %.1f): %ld, mean %+.3f px, RMS %.3f px", 0.2 * b, 0.2 * (b + 1),
+                 disparity_n[b], disparity_sum[b] / n, std::sqrt(disparity_sq[b] / n));
+    all_sum += disparity_sum[b];
+    all_sq += disparity_sq[b];
+    all_n += disparity_n[b];
+  }
+  const double n = std::max(1.0, static_cast<double>(all_n));
+  std::fprintf(stderr, " | all: %ld, mean %+.3f px, RMS %.3f px, lag-1 rho %.2f\n", all_n,
+               all_sum / n, std::sqrt(all_sq / n),
+               disparity_lag_norm > 0 ? disparity_lag / disparity_lag_norm : 0.0);
 }
 
 }  // namespace
@@ -215,6 +283,9 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
   if (const char* env = std::getenv("EDX_VIO_LK_WINDOW")) {
     frontend_options.lk_window_px = std::atoi(env);
   }
+  if (const char* env = std::getenv("EDX_VIO_DR_WINDOW")) {
+    frontend_options.dr_window_px = std::atoi(env);
+  }
   frontend::StereoFrontend frontend(frontend_options,
                                     {calibration.rectified.fx, calibration.baseline_m});
   VioRun run;
@@ -243,12 +314,20 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
                 : std::nullopt);
     }
     if (std::getenv("EDX_VIO_TRACK_STATS")) {
-      print_track_stats(ideal, T_world_left, calibration.rectified,
+      print_track_stats(ideal, T_world_left, calibration.rectified, calibration.baseline_m,
                         static_cast<std::size_t>(options.update_track_length));
     }
     if (ideal_sigma) {
+      const char* part = std::getenv("EDX_VIO_IDEAL_PART");
+      if (part && std::string(part) != "left" && std::string(part) != "disparity") {
+        throw std::invalid_argument("$EDX_VIO_IDEAL_PART: expected 'left' or 'disparity', got '" +
+                                    std::string(part) + "'");
+      }
+      const IdealPart ideal_part = !part                         ? IdealPart::kAll
+                                   : std::string(part) == "left" ? IdealPart::kLeft
+                                                                 : IdealPart::kDisparity;
       idealize_tracks(ideal, T_world_left, calibration.rectified, calibration.baseline_m,
-                      std::stod(ideal_sigma));
+                      std::stod(ideal_sigma), ideal_part);
     }
   }
   // Diagnosis ($EDX_VIO_FIRST_FRAME=k): the backend starts at frame k, as after a mode switch.
