@@ -195,6 +195,7 @@ VioOptions diagnostic_options() {
   if (std::getenv("EDX_VIO_EXT")) options.estimate_extrinsics = true;
   if (const char* rms = std::getenv("EDX_VIO_MAX_TRI_RMS"))
     options.max_triangulation_rms_px = std::stod(rms);
+  if (const char* depth = std::getenv("EDX_VIO_MAX_DEPTH")) options.max_depth_m = std::stod(depth);
   if (std::getenv("EDX_VIO_GPS_HORIZONTAL")) options.gps_fuse_vertical = false;
   if (const char* extent = std::getenv("EDX_VIO_GPS_ALIGN_EXTENT"))
     options.gps_align_min_extent_m = std::stod(extent);
