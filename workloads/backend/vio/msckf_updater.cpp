@@ -7,6 +7,7 @@
 
 #include "workloads/backend/vio/chi_square.hpp"
 #include "workloads/backend/vio/ekf_update.hpp"
+#include "workloads/backend/vio/track_noise.hpp"
 #include "workloads/backend/vio/triangulation.hpp"
 
 namespace edx::backend::vio {
@@ -47,8 +48,11 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
   report.tracks = static_cast<int>(tracks.size());
   if (tracks.empty()) return report;
   const int n = state.dim();
-  const double sigma2 = sigma_ * sigma_;
-  const double gate_sigma2 = gate_sigma_ * gate_sigma_;
+  // kRandomWalk: rows whitened by the track's covariance, so unit variance at the gate and the
+  // inflation (1 + rho) / (1 - rho) in the update (sigma_^2 / gate_sigma_^2).
+  const bool whiten = options_.track_noise == VioOptions::TrackNoise::kRandomWalk;
+  const double sigma2 = whiten ? (sigma_ * sigma_) / (gate_sigma_ * gate_sigma_) : sigma_ * sigma_;
+  const double gate_sigma2 = whiten ? 1.0 : gate_sigma_ * gate_sigma_;
 
   // Triangulation of every track from the clone cameras.
   std::vector<FeatureRows> features;
@@ -133,6 +137,13 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
         f.H_f.middleRows(row, k) = J_world;
         f.r.segment(row, k) = measured(o) - z;
         row += k;
+      }
+      if (whiten) {  // L^-1 r, L^-1 H_x, L^-1 H_f with L L^T = the track's covariance
+        const Eigen::LLT<Eigen::MatrixXd> llt(
+            track_covariance(f.observations, options_.random_walk, focal_px_));
+        llt.matrixL().solveInPlace(f.r);
+        llt.matrixL().solveInPlace(f.H_x);
+        llt.matrixL().solveInPlace(f.H_f);
       }
       rows_total += rows;
     }

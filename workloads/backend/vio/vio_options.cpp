@@ -22,6 +22,10 @@ void VioOptions::validate() const {
   require(pixel_sigma > 0, "pixel_sigma", "> 0");
   require(track_error_correlation >= 0 && track_error_correlation < 1, "track_error_correlation",
           "a value in [0, 1)");
+  require(random_walk.detection_sigma_px > 0, "random_walk.detection_sigma_px", "> 0");
+  require(random_walk.step_sigma_px >= 0, "random_walk.step_sigma_px", ">= 0");
+  require(random_walk.step_flow_fraction >= 0, "random_walk.step_flow_fraction", ">= 0");
+  require(random_walk.disparity_sigma_px > 0, "random_walk.disparity_sigma_px", "> 0");
   require(min_depth_m > 0 && max_depth_m > min_depth_m, "min_depth_m/max_depth_m", "0 < min < max");
   require(max_depth_baseline_ratio >= 0, "max_depth_baseline_ratio", ">= 0 (0: no check)");
   require(max_triangulation_rms_px > 0, "max_triangulation_rms_px", "> 0");
@@ -63,6 +67,12 @@ nlohmann::json VioOptions::to_json() const {
           {"update_track_length", update_track_length},
           {"pixel_sigma", pixel_sigma},
           {"track_error_correlation", track_error_correlation},
+          {"track_noise", track_noise == TrackNoise::kWhite ? "white" : "random_walk"},
+          {"random_walk",
+           {{"detection_sigma_px", random_walk.detection_sigma_px},
+            {"step_sigma_px", random_walk.step_sigma_px},
+            {"step_flow_fraction", random_walk.step_flow_fraction},
+            {"disparity_sigma_px", random_walk.disparity_sigma_px}}},
           {"min_depth_m", min_depth_m},
           {"max_depth_m", max_depth_m},
           {"max_depth_baseline_ratio", max_depth_baseline_ratio},

@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "workloads/backend/vio/track_noise.hpp"
+
 namespace edx::backend::vio {
 
 struct VioOptions {
@@ -23,7 +25,15 @@ struct VioOptions {
   /// information of n (1 - rho) / (1 + rho) independent ones: the update uses the variance
   /// pixel_sigma^2 (1 + rho) / (1 - rho) (the variance of the mean of an AR(1) sequence).
   double track_error_correlation = 0.8;
-  double min_depth_m = 0.2;  ///< triangulated points nearer than this are rejected
+  /// How a track's rows are weighted in the update (docs/VIO.md "Track noise"). kWhite: every
+  /// coordinate independent, gated at pixel_sigma, updated at effective_pixel_sigma. kRandomWalk:
+  /// each feature's rows are whitened by track_covariance(random_walk) before the null-space
+  /// projection, gated at that covariance and updated at it times (1 + rho) / (1 - rho), the
+  /// same inflation as kWhite's.
+  enum class TrackNoise { kWhite, kRandomWalk };
+  TrackNoise track_noise = TrackNoise::kWhite;
+  RandomWalkTrackNoise random_walk;  ///< measured on development seed 1 (docs/VIO.md)
+  double min_depth_m = 0.2;          ///< triangulated points nearer than this are rejected
   /// ... and farther than this (OpenVINS's max_dist, 60 m): at 0.11 m baseline a point at 60 m
   /// has 0.8 px disparity (fx 458), whose stereo depth is not determined (docs/VIO.md).
   double max_depth_m = 60.0;

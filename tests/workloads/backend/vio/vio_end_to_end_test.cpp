@@ -199,6 +199,7 @@ VioOptions diagnostic_options() {
   if (std::getenv("EDX_VIO_GPS_HORIZONTAL")) options.gps_fuse_vertical = false;
   if (const char* extent = std::getenv("EDX_VIO_GPS_ALIGN_EXTENT"))
     options.gps_align_min_extent_m = std::stod(extent);
+  if (std::getenv("EDX_VIO_RANDOM_WALK")) options.track_noise = VioOptions::TrackNoise::kRandomWalk;
   return options;
 }
 

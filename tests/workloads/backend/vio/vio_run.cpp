@@ -1,6 +1,7 @@
 #include "vio_run.hpp"
 
 #include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
 
 #include <Eigen/Dense>
 #include <chrono>
@@ -13,6 +14,8 @@
 #include <string>
 
 #include "workloads/backend/vio/chi_square.hpp"
+#include "workloads/datasets/synthetic/generator.hpp"
+#include "workloads/datasets/synthetic/renderer.hpp"
 #include "workloads/frontend/stereo_frontend.hpp"
 
 namespace edx::backend::vio::testing {
@@ -140,6 +143,226 @@ void idealize_tracks(std::vector<frontend::FrontendFrame>& frames,
       }
     }
   }
+  for (auto& frame : frames)
+    std::erase_if(frame.features, [](const frontend::Feature& f) { return f.id < 0; });
+}
+
+/// Diagnostic ($EDX_VIO_MAX_FLOW=px): every track ends at its first step whose image motion
+/// |x_k - x_(k-1)| exceeds the bound (large steps are where translation-only LK errs most).
+void cut_fast_tracks(std::vector<frontend::FrontendFrame>& frames, double max_flow_px) {
+  std::map<int, cv::Point2f> last;
+  std::map<int, bool> cut;
+  long removed = 0, total = 0;
+  for (auto& frame : frames) {
+    for (auto& f : frame.features) {
+      ++total;
+      if (cut[f.id]) {
+        f.id = -1;
+        ++removed;
+        continue;
+      }
+      const auto it = last.find(f.id);
+      if (it != last.end() &&
+          std::hypot(f.left.x - it->second.x, f.left.y - it->second.y) > max_flow_px) {
+        cut[f.id] = true;
+        f.id = -1;
+        ++removed;
+        continue;
+      }
+      last[f.id] = f.left;
+    }
+    std::erase_if(frame.features, [](const frontend::Feature& f) { return f.id < 0; });
+  }
+  std::fprintf(stderr, "[flow] removed %ld of %ld observations (steps over %.1f px)\n", removed,
+               total, max_flow_px);
+}
+
+/// Diagnostic ($EDX_VIO_DEPTH_TRUTH=1, synthetic datasets only): the frontend's disparities and
+/// left tracks against the rendered truth. The generator's world is rebuilt from edx_gen.yaml
+/// (scenario, seed) and each frame's left view rendered with depth at the true pose:
+/// true disparity at a tracked pixel fx b / Z(u, v); a feature is "on an edge" when the depth
+/// inside its DR window varies by more than 10 % (an occlusion boundary, or sky). Left-track
+/// drift: the point seen at a track's first pixel (its rendered depth) reprojected into the
+/// track's later frames.
+void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
+                             const std::vector<std::optional<Eigen::Isometry3d>>& T_world_left,
+                             const datasets::CameraIntrinsics& K, double baseline_m,
+                             const std::filesystem::path& dataset_dir, int dr_window_px) {
+  const YAML::Node gen = YAML::LoadFile((dataset_dir / "edx_gen.yaml").string());
+  const synthetic::Scene scene =
+      synthetic::build_scene(synthetic::parse_scenario(gen["scenario"].as<std::string>()),
+                             gen["seed"].as<std::uint64_t>());
+  synthetic::Renderer renderer(scene.world, 2);
+  const synthetic::PinholeCamera camera{K.width, K.height, K.fx, K.fy, K.cx, K.cy};
+  const int half = dr_window_px / 2;
+  struct Sample {
+    double disparity_error = 0;
+    bool edge = false;
+  };
+  std::vector<std::vector<Sample>> samples(frames.size());
+  std::vector<std::vector<Eigen::Vector3d>> points(frames.size());  // world point at the pixel
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    samples[i].resize(frames[i].features.size());
+    points[i].assign(frames[i].features.size(), Eigen::Vector3d::Constant(std::nan("")));
+    if (!T_world_left[i]) continue;
+    std::vector<cv::Mat> radiance, depth;
+    renderer.render({{camera, *T_world_left[i]}}, radiance, &depth);
+    const cv::Mat& range = depth[0];
+    auto z_at = [&](int u, int v) {  // depth along the optical axis at pixel (u, v)
+      const double x = (u - K.cx) / K.fx, y = (v - K.cy) / K.fy;
+      return static_cast<double>(range.at<float>(v, u)) / std::sqrt(x * x + y * y + 1.0);
+    };
+    for (std::size_t j = 0; j < frames[i].features.size(); ++j) {
+      const auto& f = frames[i].features[j];
+      const int u = cvRound(f.left.x), v = cvRound(f.left.y);
+      if (u - half < 0 || v - half < 0 || u + half >= K.width || v + half >= K.height) {
+        samples[i][j].edge = true;
+        continue;
+      }
+      double lo = 1e30, hi = 0;
+      for (int dv = -half; dv <= half; ++dv)
+        for (int du = -half; du <= half; ++du) {
+          const double z = z_at(u + du, v + dv);
+          lo = std::min(lo, z);
+          hi = std::max(hi, z);
+        }
+      const double z = z_at(u, v);
+      samples[i][j].edge = !std::isfinite(hi) || hi > 1.1 * lo;
+      if (f.stereo && std::isfinite(z))
+        samples[i][j].disparity_error = f.disparity - K.fx * baseline_m / z;
+      if (std::isfinite(z)) {
+        const Eigen::Vector3d pc((f.left.x - K.cx) / K.fx * z, (f.left.y - K.cy) / K.fy * z, z);
+        points[i][j] = *T_world_left[i] * pc;
+      }
+    }
+  }
+  // Disparity errors: on smooth surfaces and on edges, and their quantiles.
+  std::vector<double> smooth, edge;
+  double lag = 0, lag_norm = 0;
+  std::vector<std::vector<double>> drift(11), drift_smooth(11);
+  std::vector<double> step_x, step_y;                 // signed, k = 1, smooth
+  std::vector<std::vector<double>> step_by_depth(4);  // |e|, k = 1, smooth, by depth of p0
+  const double depth_edges[] = {5.0, 15.0, 40.0, 1e30};
+  std::vector<std::vector<double>> step_by_flow(5);  // |e|, every step k >= 1, smooth, by flow
+  std::vector<double> flow_sum(5, 0.0);
+  const double flow_edges[] = {2.0, 5.0, 10.0, 20.0, 1e30};
+  const double gate = std::getenv("EDX_VIO_DEPTH_TRUTH_GATE")
+                          ? std::atof(std::getenv("EDX_VIO_DEPTH_TRUTH_GATE"))
+                          : 0.0;
+  const double drift_gate = std::getenv("EDX_VIO_DEPTH_TRUTH_DRIFT_GATE")
+                                ? std::atof(std::getenv("EDX_VIO_DEPTH_TRUTH_DRIFT_GATE"))
+                                : 0.0;
+  long dropped_stereo = 0, dropped_left = 0;
+  for (const auto& [id, obs] : tracks_of(frames, T_world_left)) {
+    double last = std::nan("");
+    const auto [i0, j0] = obs.front();
+    const Eigen::Vector3d p0 = points[i0][j0];
+    bool track_on_edge = false;
+    for (std::size_t k = 0; k < obs.size(); ++k) {
+      const auto [i, j] = obs[k];
+      const auto& f = frames[i].features[j];
+      const Sample& s = samples[i][j];
+      track_on_edge = track_on_edge || s.edge;
+      if (f.stereo && f.disparity > 0 && s.disparity_error != 0) {
+        (s.edge ? edge : smooth).push_back(s.disparity_error);
+        if (!s.edge && !std::isnan(last)) {
+          lag += s.disparity_error * last;
+          lag_norm += s.disparity_error * s.disparity_error;
+        }
+        last = s.edge ? std::nan("") : s.disparity_error;
+      } else {
+        last = std::nan("");
+      }
+      if (k > 0 && std::isfinite(p0.x())) {
+        const Eigen::Vector3d pc = T_world_left[i]->inverse() * p0;
+        if (pc.z() > 0.1) {
+          const double e = std::hypot(f.left.x - (K.fx * pc.x() / pc.z() + K.cx),
+                                      f.left.y - (K.fy * pc.y() / pc.z() + K.cy));
+          if (k <= 10) drift[k].push_back(e);
+          if (k <= 10 && !track_on_edge) drift_smooth[k].push_back(e);
+          if (!track_on_edge && k <= 10) {
+            // This step's error: e_k - e_{k-1} against the step's flow |x_k - x_{k-1}|.
+            const auto& prev = frames[obs[k - 1].first].features[obs[k - 1].second];
+            const Eigen::Vector3d pp = T_world_left[obs[k - 1].first]->inverse() * p0;
+            const Eigen::Vector2d e_now(f.left.x - (K.fx * pc.x() / pc.z() + K.cx),
+                                        f.left.y - (K.fy * pc.y() / pc.z() + K.cy));
+            const Eigen::Vector2d e_prev(prev.left.x - (K.fx * pp.x() / pp.z() + K.cx),
+                                         prev.left.y - (K.fy * pp.y() / pp.z() + K.cy));
+            const double flow = std::hypot(f.left.x - prev.left.x, f.left.y - prev.left.y);
+            std::size_t b = 0;
+            while (flow > flow_edges[b]) ++b;
+            step_by_flow[b].push_back((e_now - e_prev).norm());
+            flow_sum[b] += flow;
+          }
+          if (k == 1 && !track_on_edge) {
+            step_x.push_back(f.left.x - (K.fx * pc.x() / pc.z() + K.cx));
+            step_y.push_back(f.left.y - (K.fy * pc.y() / pc.z() + K.cy));
+            const double z0 = (T_world_left[i0]->inverse() * p0).z();
+            std::size_t b = 0;
+            while (z0 > depth_edges[b]) ++b;
+            step_by_depth[b].push_back(e);
+          }
+          if (drift_gate > 0 && e > drift_gate) {  // this and every later observation
+            for (std::size_t m = k; m < obs.size(); ++m)
+              frames[obs[m].first].features[obs[m].second].id = -1;
+            dropped_left += static_cast<long>(obs.size() - k);
+            break;
+          }
+        }
+      }
+      if (gate > 0 && f.stereo && std::abs(s.disparity_error) > gate) {
+        auto& g = frames[i].features[j];
+        g.stereo = false;
+        g.disparity = 0;
+        g.depth_m = 0;
+        ++dropped_stereo;
+      }
+    }
+  }
+  auto summary = [](std::vector<double> e) {
+    if (e.empty()) return std::string("none");
+    double sum = 0, sq = 0;
+    for (double x : e) sum += x, sq += x * x;
+    std::vector<double> a(e.size());
+    for (std::size_t k = 0; k < e.size(); ++k) a[k] = std::abs(e[k]);
+    std::sort(a.begin(), a.end());
+    const auto q = [&](double p) { return a[static_cast<std::size_t>(p * (a.size() - 1))]; };
+    const double n = static_cast<double>(e.size());
+    return fmt::format(
+        "{} samples, mean {:+.3f} px, RMS {:.3f} px, |e| median {:.3f} / 90 % {:.3f} "
+        "/ 99 % {:.3f} px, over 1 px {:.1f} %",
+        e.size(), sum / n, std::sqrt(sq / n), q(0.5), q(0.9), q(0.99),
+        100.0 *
+            static_cast<double>(std::count_if(a.begin(), a.end(), [](double x) { return x > 1; })) /
+            n);
+  };
+  std::fprintf(stderr, "[depth truth] disparity error, smooth: %s\n", summary(smooth).c_str());
+  std::fprintf(stderr, "[depth truth] disparity error, on edges: %s\n", summary(edge).c_str());
+  std::fprintf(stderr, "[depth truth] smooth lag-1 rho %.2f\n", lag_norm > 0 ? lag / lag_norm : 0);
+  for (std::size_t k : {1, 2, 5, 10}) {
+    std::fprintf(stderr, "[depth truth] left drift after %zu frames, all: %s\n", k,
+                 summary(drift[k]).c_str());
+    std::fprintf(stderr, "[depth truth] left drift after %zu frames, never on an edge: %s\n", k,
+                 summary(drift_smooth[k]).c_str());
+  }
+  auto median = [](std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  std::fprintf(stderr, "[depth truth] first step, smooth: signed median x %+.3f px, y %+.3f px\n",
+               median(step_x), median(step_y));
+  for (std::size_t b = 0; b < 4; ++b)
+    std::fprintf(stderr, "[depth truth] first step, smooth, depth bin %zu (<= %.0f m): %s\n", b,
+                 std::min(depth_edges[b], 999.0), summary(step_by_depth[b]).c_str());
+  for (std::size_t b = 0; b < 5; ++b)
+    std::fprintf(stderr,
+                 "[depth truth] step error, smooth, flow bin %zu (<= %.0f px, mean %.1f px): %s\n",
+                 b, std::min(flow_edges[b], 999.0),
+                 flow_sum[b] / std::max<double>(1.0, static_cast<double>(step_by_flow[b].size())),
+                 summary(step_by_flow[b]).c_str());
+  std::fprintf(stderr, "[depth truth] dropped: %ld stereo observations, %ld left observations\n",
+               dropped_stereo, dropped_left);
   for (auto& frame : frames)
     std::erase_if(frame.features, [](const frontend::Feature& f) { return f.id < 0; });
 }
@@ -303,7 +526,8 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
   const double nees_lo = chi2_quantile(0.025, 6), nees_hi = chi2_quantile(0.975, 6);
   std::vector<frontend::FrontendFrame> ideal;
   const char* ideal_sigma = std::getenv("EDX_VIO_IDEAL_FEATURES");
-  if (ideal_sigma || std::getenv("EDX_VIO_TRACK_STATS")) {
+  if (ideal_sigma || std::getenv("EDX_VIO_TRACK_STATS") || std::getenv("EDX_VIO_DEPTH_TRUTH") ||
+      std::getenv("EDX_VIO_MAX_FLOW")) {
     std::vector<std::optional<Eigen::Isometry3d>> T_world_left;
     for (std::size_t i = 0; i < run.frames; ++i) {
       const datasets::StereoFrame images = dataset->load_frame(i);
@@ -316,6 +540,13 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
     if (std::getenv("EDX_VIO_TRACK_STATS")) {
       print_track_stats(ideal, T_world_left, calibration.rectified, calibration.baseline_m,
                         static_cast<std::size_t>(options.update_track_length));
+    }
+    if (const char* flow = std::getenv("EDX_VIO_MAX_FLOW")) cut_fast_tracks(ideal, std::stod(flow));
+    if (std::getenv("EDX_VIO_DEPTH_TRUTH")) {
+      check_against_depth_truth(
+          ideal, T_world_left, calibration.rectified, calibration.baseline_m,
+          std::filesystem::exists(path / "edx_gen.yaml") ? path : path.parent_path(),
+          frontend_options.dr_window_px);
     }
     if (ideal_sigma) {
       const char* part = std::getenv("EDX_VIO_IDEAL_PART");

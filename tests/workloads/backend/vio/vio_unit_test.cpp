@@ -10,6 +10,7 @@
 #include "workloads/backend/vio/imu_propagator.hpp"
 #include "workloads/backend/vio/initializer.hpp"
 #include "workloads/backend/vio/msckf_updater.hpp"
+#include "workloads/backend/vio/track_noise.hpp"
 #include "workloads/backend/vio/triangulation.hpp"
 #include "workloads/backend/vio/vio_backend.hpp"
 #include "workloads/backend/vio/vio_options.hpp"
@@ -291,6 +292,40 @@ TEST(Triangulation, RejectsPointsFarForTheirBaseline) {
   EXPECT_FALSE(triangulate(one, one_camera, options));
 }
 
+// The random-walk covariance of three observations (stereo, stereo 10 px to the right, left-only
+// 20 px further down), focal 100 px, the default noise (sd 0.3, a 0.065, b 0.01, sigma_d 0.15 px):
+// C_0 = 0.09, C_1 = 0.09 + 0.065^2 + (0.01 * 10)^2 = 0.104225, C_2 = C_1 + 0.065^2 + 0.2^2 =
+// 0.14845 px^2; rows x_L, y_L, x_R | x_L, y_L, x_R | x_L, y_L.
+TEST(TrackNoise, RandomWalkCovarianceMatchesHandComputedValues) {
+  const double f = 100.0;
+  std::vector<Observation> obs(3);
+  obs[0].left = {0.0, 0.0};
+  obs[0].stereo = true;
+  obs[1].left = {0.1, 0.0};
+  obs[1].stereo = true;
+  obs[2].left = {0.1, 0.2};
+  const Eigen::MatrixXd R = track_covariance(obs, RandomWalkTrackNoise{}, f) * f * f;
+  ASSERT_EQ(R.rows(), 8);
+  const double C0 = 0.09, C1 = 0.104225, C2 = 0.14845, d2 = 0.0225;
+  EXPECT_NEAR(R(0, 0), C0, 1e-12);
+  EXPECT_NEAR(R(2, 2), C0 + d2, 1e-12);  // x_R: the left's error and the disparity's
+  EXPECT_NEAR(R(0, 2), C0, 1e-12);       // x_L and x_R share the track's error
+  EXPECT_NEAR(R(3, 3), C1, 1e-12);
+  EXPECT_NEAR(R(5, 5), C1 + d2, 1e-12);
+  EXPECT_NEAR(R(6, 6), C2, 1e-12);
+  EXPECT_NEAR(R(7, 7), C2, 1e-12);
+  EXPECT_NEAR(R(3, 6), C1, 1e-12);  // cov(x_1, x_2) = C_min(1,2)
+  EXPECT_NEAR(R(5, 6), C1, 1e-12);
+  EXPECT_NEAR(R(2, 6), C0, 1e-12);
+  EXPECT_NEAR(R(1, 7), C0, 1e-12);
+  EXPECT_NEAR(R(4, 7), C1, 1e-12);
+  EXPECT_EQ(R(0, 1), 0.0);  // x and y independent
+  EXPECT_EQ(R(1, 2), 0.0);
+  EXPECT_EQ(R(4, 6), 0.0);
+  EXPECT_TRUE(R.isApprox(R.transpose()));
+  EXPECT_EQ(Eigen::LLT<Eigen::MatrixXd>(R).info(), Eigen::Success);
+}
+
 /// Exact measurements of `features` known points from `clone_count` true clones; the filter
 /// starts from perturbed clones with a covariance that covers the perturbation.
 struct PerturbedScene {
@@ -421,6 +456,23 @@ TEST(MsckfUpdater, UpdateMovesPerturbedClonesTowardTheTruth) {
     }
     EXPECT_EQ(names, expected);
   }
+}
+
+// The random-walk track noise (rows whitened per feature before the null-space projection)
+// pulls the perturbed clones to the truth as the white model does.
+TEST(MsckfUpdater, RandomWalkTrackNoiseUpdateMovesClonesTowardTheTruth) {
+  VioOptions options;
+  options.estimate_extrinsics = false;
+  options.track_error_correlation = 0;
+  options.track_noise = VioOptions::TrackNoise::kRandomWalk;
+  PerturbedScene scene = perturbed_scene(6, 60);
+  const double before = scene.error();
+  MsckfUpdater updater(options, scene.baseline, scene.fx);
+  KernelRecorder recorder;
+  const UpdateReport report = updater.update(scene.state, scene.pointers(), recorder);
+  EXPECT_GT(report.accepted, 30);
+  EXPECT_TRUE(report.updated);
+  EXPECT_LT(scene.error(), 0.2 * before);
 }
 
 // With R = sigma^2 I the stacked update of Eq. 1 has three equal forms, to round-off: one
