@@ -185,9 +185,9 @@ void cut_fast_tracks(std::vector<frontend::FrontendFrame>& frames, double max_fl
 /// drift: the point seen at a track's first pixel (its rendered depth) reprojected into the
 /// track's later frames.
 void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
-                             const std::vector<std::optional<Eigen::Isometry3d>>& T_world_left,
-                             const datasets::CameraIntrinsics& K, double baseline_m,
-                             const std::filesystem::path& dataset_dir, int dr_window_px) {
+                               const std::vector<std::optional<Eigen::Isometry3d>>& T_world_left,
+                               const datasets::CameraIntrinsics& K, double baseline_m,
+                               const std::filesystem::path& dataset_dir, int dr_window_px) {
   const YAML::Node gen = YAML::LoadFile((dataset_dir / "edx_gen.yaml").string());
   const synthetic::Scene scene =
       synthetic::build_scene(synthetic::parse_scenario(gen["scenario"].as<std::string>()),
@@ -246,6 +246,10 @@ void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
   std::vector<std::vector<double>> step_by_flow(5);  // |e|, every step k >= 1, smooth, by flow
   std::vector<double> flow_sum(5, 0.0);
   const double flow_edges[] = {2.0, 5.0, 10.0, 20.0, 1e30};
+  // The same steps by the patch's scale change |Z_(k-1) / Z_k - 1| (the window's warp).
+  std::vector<std::vector<double>> step_by_scale(5);
+  std::vector<double> scale_sum(5, 0.0), scale_flow_sum(5, 0.0);
+  const double scale_edges[] = {0.005, 0.01, 0.02, 0.04, 1e30};
   const double gate = std::getenv("EDX_VIO_DEPTH_TRUTH_GATE")
                           ? std::atof(std::getenv("EDX_VIO_DEPTH_TRUTH_GATE"))
                           : 0.0;
@@ -293,6 +297,12 @@ void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
             while (flow > flow_edges[b]) ++b;
             step_by_flow[b].push_back((e_now - e_prev).norm());
             flow_sum[b] += flow;
+            const double scale = std::abs(pp.z() / pc.z() - 1.0);
+            std::size_t c = 0;
+            while (scale > scale_edges[c]) ++c;
+            step_by_scale[c].push_back((e_now - e_prev).norm());
+            scale_sum[c] += scale;
+            scale_flow_sum[c] += flow;
           }
           if (k == 1 && !track_on_edge) {
             step_x.push_back(f.left.x - (K.fx * pc.x() / pc.z() + K.cx));
@@ -361,6 +371,14 @@ void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
                  b, std::min(flow_edges[b], 999.0),
                  flow_sum[b] / std::max<double>(1.0, static_cast<double>(step_by_flow[b].size())),
                  summary(step_by_flow[b]).c_str());
+  for (std::size_t c = 0; c < 5; ++c) {
+    const double n = std::max<double>(1.0, static_cast<double>(step_by_scale[c].size()));
+    std::fprintf(stderr,
+                 "[depth truth] step error, smooth, scale-change bin %zu (<= %.3f, mean %.4f, "
+                 "mean motion %.1f px): %s\n",
+                 c, std::min(scale_edges[c], 9.0), scale_sum[c] / n, scale_flow_sum[c] / n,
+                 summary(step_by_scale[c]).c_str());
+  }
   std::fprintf(stderr, "[depth truth] dropped: %ld stereo observations, %ld left observations\n",
                dropped_stereo, dropped_left);
   for (auto& frame : frames)
