@@ -188,7 +188,12 @@ void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
                                const std::vector<std::optional<Eigen::Isometry3d>>& T_world_left,
                                const datasets::CameraIntrinsics& K, double baseline_m,
                                const std::filesystem::path& dataset_dir, int dr_window_px) {
-  const YAML::Node gen = YAML::LoadFile((dataset_dir / "edx_gen.yaml").string());
+  const std::filesystem::path gen_file = dataset_dir / "edx_gen.yaml";
+  if (!std::filesystem::exists(gen_file)) {
+    throw std::invalid_argument("$EDX_VIO_DEPTH_TRUTH: " + gen_file.string() +
+                                ": not found (needs a dataset made by edx gen)");
+  }
+  const YAML::Node gen = YAML::LoadFile(gen_file.string());
   const synthetic::Scene scene =
       synthetic::build_scene(synthetic::parse_scenario(gen["scenario"].as<std::string>()),
                              gen["seed"].as<std::uint64_t>());

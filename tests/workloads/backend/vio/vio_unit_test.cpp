@@ -45,6 +45,15 @@ TEST(VioOptions, ValidateNamesTheField) {
   options = VioOptions{};
   options.track_error_correlation = 1.0;  // would give the measurements no information
   EXPECT_THROW(options.validate(), std::runtime_error);
+  options = VioOptions{};
+  options.random_walk.disparity_sigma_px = 0;  // would make the track covariance singular
+  try {
+    options.validate();
+    FAIL() << "expected a throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("random_walk.disparity_sigma_px"), std::string::npos);
+  }
+  EXPECT_EQ(VioOptions{}.to_json().at("track_noise"), "white");
 }
 
 // sigma sqrt((1 + rho) / (1 - rho)): rho 0.8 -> sqrt(1.8 / 0.2) = 3; rho 0 -> white noise.
