@@ -19,5 +19,8 @@ void add_system_bench(CLI::App& app);
 void add_sweep_bench(CLI::App& app);
 /// `edx-bench sweep-mpi`: a workload sweep under mpirun -np 1 and -np N (arch/sweep MPI).
 void add_sweep_mpi_bench(CLI::App& app);
+/// `edx-bench host-load`: measured host times quiet vs beside busy siblings
+/// (workloads/modes/host_load_study.hpp).
+void add_host_load_bench(CLI::App& app);
 
 }  // namespace edx::bench

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   edx::bench::add_system_bench(app);
   edx::bench::add_sweep_bench(app);
   edx::bench::add_sweep_mpi_bench(app);
+  edx::bench::add_host_load_bench(app);
 
   try {
     app.parse(argc, argv);
