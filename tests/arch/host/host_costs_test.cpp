@@ -77,6 +77,22 @@ TEST(HostCosts, TheFitRecoversTheCostsTheTimesWereMadeOf) {
               1e-12);
 }
 
+// The VIO's `jacobians` kernel: its sizes and the whitening's flops from its detail (0 without).
+TEST(HostCosts, JacobiansWorkIncludesTheWhiteningFlopsOfItsDetail) {
+  trace::KernelRecord kernel;
+  kernel.kernel = "jacobians";
+  kernel.m = 40;
+  kernel.n = 81;
+  kernel.k = 7;
+  kernel.detail_json = R"({"whitening_flops": 12345.5})";
+  const WorkRow row = work_of(kernel);
+  EXPECT_EQ(feature_names(CostPart::kBackendKernel, "jacobians"),
+            (std::vector<std::string>{"call", "mn", "k", "whitening_flops"}));
+  EXPECT_EQ(row.x, (std::vector<double>{1.0, 40.0 * 81.0, 7.0, 12345.5}));
+  kernel.detail_json = "{}";
+  EXPECT_EQ(work_of(kernel).x.back(), 0.0);
+}
+
 TEST(HostCosts, ACostThatComesOutNegativeIsDroppedAndTheKindRefitted) {
   // solve times falling with m² (no real kernel does): least squares would give m² a negative
   // cost; it is dropped, and so is m³, leaving the mean per call.

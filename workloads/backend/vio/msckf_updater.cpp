@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
+#include <nlohmann/json.hpp>
 
 #include "workloads/backend/vio/chi_square.hpp"
 #include "workloads/backend/vio/ekf_update.hpp"
@@ -108,6 +109,8 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
     int rows_total = 0;
     Eigen::VectorXd z;
     Eigen::MatrixXd dz;
+    std::vector<double> depths;  ///< the point's depth in each observation's camera
+    double whitening_flops = 0;  ///< of the random-walk whitening (docs/TRACE.md)
     for (FeatureRows& f : features) {
       int rows = 0;
       for (const Observation& o : f.observations) rows += o.rows();
@@ -115,6 +118,7 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
       f.H_f.resize(rows, 3);
       f.r.resize(rows);
       int row = 0;
+      depths.resize(f.observations.size());
       for (std::size_t i = 0; i < f.observations.size(); ++i) {
         const Observation& o = f.observations[i];
         const Clone& clone = state.clones[static_cast<std::size_t>(f.clones[i])];
@@ -123,6 +127,7 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
         const Eigen::Vector3d q = p_I - state.p_IC;
         const Eigen::Vector3d p_C = state.R_IC.transpose() * q;
         project_stereo(p_C, baseline_m_, o.stereo, z, dz);
+        depths[i] = p_C.z();
         const int k = o.rows();
         const Eigen::MatrixXd J_world = dz * state.R_IC.transpose() * clone.R_WI.transpose();
         const int at = VioState::clone_index(static_cast<std::size_t>(f.clones[i]));
@@ -140,16 +145,28 @@ UpdateReport MsckfUpdater::update(VioState& state, const std::vector<const Featu
       }
       if (whiten) {  // L^-1 r, L^-1 H_x, L^-1 H_f with L L^T = the track's covariance
         const Eigen::LLT<Eigen::MatrixXd> llt(
-            track_covariance(f.observations, options_.random_walk, focal_px_));
+            track_covariance(f.observations, options_.random_walk, focal_px_, depths));
+        // L^-1 keeps H_x's zero columns zero: solve only on the columns the feature touches.
+        std::vector<Eigen::Index> cols;
+        for (Eigen::Index c = 0; c < n; ++c)
+          if (!f.H_x.col(c).isZero(0.0)) cols.push_back(c);
+        Eigen::MatrixXd touched = f.H_x(Eigen::all, cols);
+        llt.matrixL().solveInPlace(touched);
+        f.H_x(Eigen::all, cols) = touched;
         llt.matrixL().solveInPlace(f.r);
-        llt.matrixL().solveInPlace(f.H_x);
         llt.matrixL().solveInPlace(f.H_f);
+        // Cholesky rows^3 / 3, the solves rows^2 per right-hand side (H_x's touched, H_f, r).
+        const double r = rows;
+        whitening_flops += r * r * r / 3.0 + r * r * static_cast<double>(cols.size() + 4);
       }
       rows_total += rows;
     }
     kernel.record().m = rows_total;
     kernel.record().n = n;
     kernel.record().k = static_cast<std::int64_t>(features.size());
+    if (whiten) {
+      kernel.record().detail_json = nlohmann::json{{"whitening_flops", whitening_flops}}.dump();
+    }
   }
 
   // Left null-space projection and the chi-square gate.

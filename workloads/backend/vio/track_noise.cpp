@@ -2,11 +2,16 @@
 
 #include <array>
 #include <cmath>
+#include <stdexcept>
 
 namespace edx::backend::vio {
 
 Eigen::MatrixXd track_covariance(const std::vector<Observation>& observations,
-                                 const RandomWalkTrackNoise& noise, double focal_px) {
+                                 const RandomWalkTrackNoise& noise, double focal_px,
+                                 std::span<const double> depths_m) {
+  if (!depths_m.empty() && depths_m.size() != observations.size()) {
+    throw std::invalid_argument("track_covariance: expected one depth per observation");
+  }
   Eigen::Index rows = 0;
   for (const Observation& o : observations) rows += o.rows();
   Eigen::MatrixXd R = Eigen::MatrixXd::Zero(rows, rows);
@@ -20,6 +25,10 @@ Eigen::MatrixXd track_covariance(const std::vector<Observation>& observations,
       const double flow = focal_px * (observations[i].left - observations[i - 1].left).norm();
       const double b_flow = noise.step_flow_fraction * flow;
       c += noise.step_sigma_px * noise.step_sigma_px + b_flow * b_flow;
+      if (!depths_m.empty()) {
+        const double c_scale = noise.step_scale_px * std::abs(depths_m[i - 1] / depths_m[i] - 1.0);
+        c += c_scale * c_scale;
+      }
     }
     C[i] = c;
     at[i] = {row, row + 1, observations[i].stereo ? row + 2 : -1};

@@ -25,6 +25,7 @@ void VioOptions::validate() const {
   require(random_walk.detection_sigma_px > 0, "random_walk.detection_sigma_px", "> 0");
   require(random_walk.step_sigma_px >= 0, "random_walk.step_sigma_px", ">= 0");
   require(random_walk.step_flow_fraction >= 0, "random_walk.step_flow_fraction", ">= 0");
+  require(random_walk.step_scale_px >= 0, "random_walk.step_scale_px", ">= 0");
   require(random_walk.disparity_sigma_px > 0, "random_walk.disparity_sigma_px", "> 0");
   require(min_depth_m > 0 && max_depth_m > min_depth_m, "min_depth_m/max_depth_m", "0 < min < max");
   require(max_depth_baseline_ratio >= 0, "max_depth_baseline_ratio", ">= 0 (0: no check)");
@@ -72,6 +73,7 @@ nlohmann::json VioOptions::to_json() const {
            {{"detection_sigma_px", random_walk.detection_sigma_px},
             {"step_sigma_px", random_walk.step_sigma_px},
             {"step_flow_fraction", random_walk.step_flow_fraction},
+            {"step_scale_px", random_walk.step_scale_px},
             {"disparity_sigma_px", random_walk.disparity_sigma_px}}},
           {"min_depth_m", min_depth_m},
           {"max_depth_m", max_depth_m},

@@ -30,9 +30,11 @@ struct VioOptions {
   /// each feature's rows are whitened by track_covariance(random_walk) before the null-space
   /// projection, gated at that covariance and updated at it times (1 + rho) / (1 - rho), the
   /// same inflation as kWhite's.
+  /// kRandomWalk is the default: its step error follows the patch's scale change, which the
+  /// EuRoC and car rigs share (docs/VIO.md "Random-walk track noise").
   enum class TrackNoise { kWhite, kRandomWalk };
-  TrackNoise track_noise = TrackNoise::kWhite;
-  RandomWalkTrackNoise random_walk;  ///< measured on development seed 1 (docs/VIO.md)
+  TrackNoise track_noise = TrackNoise::kRandomWalk;
+  RandomWalkTrackNoise random_walk;  ///< measured against rendered depth (docs/VIO.md)
   double min_depth_m = 0.2;          ///< triangulated points nearer than this are rejected
   /// ... and farther than this (OpenVINS's max_dist, 60 m): at 0.11 m baseline a point at 60 m
   /// has 0.8 px disparity (fx 458), whose stereo depth is not determined (docs/VIO.md).

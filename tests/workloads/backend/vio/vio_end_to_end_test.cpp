@@ -199,15 +199,16 @@ VioOptions diagnostic_options() {
   if (std::getenv("EDX_VIO_GPS_HORIZONTAL")) options.gps_fuse_vertical = false;
   if (const char* extent = std::getenv("EDX_VIO_GPS_ALIGN_EXTENT"))
     options.gps_align_min_extent_m = std::stod(extent);
-  // $EDX_VIO_RANDOM_WALK=1, or =a,b,sd,sigma_d (px) to set the random-walk constants too.
+  // $EDX_VIO_WHITE=1: the white track noise model (before 2026-11-27); $EDX_VIO_RANDOM_WALK=
+  // a,b,sd,sigma_d[,c] (px): the random-walk constants (c 0 when not given).
+  if (std::getenv("EDX_VIO_WHITE")) options.track_noise = VioOptions::TrackNoise::kWhite;
   if (const char* rw = std::getenv("EDX_VIO_RANDOM_WALK")) {
-    options.track_noise = VioOptions::TrackNoise::kRandomWalk;
     RandomWalkTrackNoise& n = options.random_walk;
-    if (std::string(rw).find(',') != std::string::npos &&
-        std::sscanf(rw, "%lf,%lf,%lf,%lf", &n.step_sigma_px, &n.step_flow_fraction,
-                    &n.detection_sigma_px, &n.disparity_sigma_px) != 4) {
+    n.step_scale_px = 0;
+    if (std::sscanf(rw, "%lf,%lf,%lf,%lf,%lf", &n.step_sigma_px, &n.step_flow_fraction,
+                    &n.detection_sigma_px, &n.disparity_sigma_px, &n.step_scale_px) < 4) {
       throw std::invalid_argument(
-          std::string("$EDX_VIO_RANDOM_WALK: expected 1 or a,b,sd,sigma_d, got '") + rw + "'");
+          std::string("$EDX_VIO_RANDOM_WALK: expected a,b,sd,sigma_d[,c], got '") + rw + "'");
     }
   }
   return options;

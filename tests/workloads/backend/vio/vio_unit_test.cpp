@@ -53,7 +53,8 @@ TEST(VioOptions, ValidateNamesTheField) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("random_walk.disparity_sigma_px"), std::string::npos);
   }
-  EXPECT_EQ(VioOptions{}.to_json().at("track_noise"), "white");
+  EXPECT_EQ(VioOptions{}.to_json().at("track_noise"), "random_walk");
+  EXPECT_EQ(VioOptions{}.to_json().at("random_walk").at("step_scale_px"), 3.7);
 }
 
 // sigma sqrt((1 + rho) / (1 - rho)): rho 0.8 -> sqrt(1.8 / 0.2) = 3; rho 0 -> white noise.
@@ -313,7 +314,10 @@ TEST(TrackNoise, RandomWalkCovarianceMatchesHandComputedValues) {
   obs[1].left = {0.1, 0.0};
   obs[1].stereo = true;
   obs[2].left = {0.1, 0.2};
-  const Eigen::MatrixXd R = track_covariance(obs, RandomWalkTrackNoise{}, f) * f * f;
+  RandomWalkTrackNoise noise;
+  noise.step_sigma_px = 0.065;
+  noise.step_flow_fraction = 0.01;
+  const Eigen::MatrixXd R = track_covariance(obs, noise, f) * f * f;
   ASSERT_EQ(R.rows(), 8);
   const double C0 = 0.09, C1 = 0.104225, C2 = 0.14845, d2 = 0.0225;
   EXPECT_NEAR(R(0, 0), C0, 1e-12);
@@ -333,6 +337,31 @@ TEST(TrackNoise, RandomWalkCovarianceMatchesHandComputedValues) {
   EXPECT_EQ(R(4, 6), 0.0);
   EXPECT_TRUE(R.isApprox(R.transpose()));
   EXPECT_EQ(Eigen::LLT<Eigen::MatrixXd>(R).info(), Eigen::Success);
+}
+
+// The scale-change term: a step whose depth goes from Z_(k-1) to Z_k adds (c |Z_(k-1)/Z_k - 1|)^2.
+TEST(TrackNoise, ScaleChangeTermAddsToTheStepsItChanges) {
+  const double f = 100.0;
+  std::vector<Observation> obs(3);
+  obs[1].left = {0.1, 0.0};
+  obs[2].left = {0.1, 0.2};
+  RandomWalkTrackNoise noise;
+  noise.step_sigma_px = 0.065;
+  noise.step_flow_fraction = 0.01;
+  noise.step_scale_px = 4.0;
+  const std::vector<double> depths = {10.0, 8.0, 8.0};  // g_1 = 0.25, g_2 = 0
+  const Eigen::MatrixXd R = track_covariance(obs, noise, f, depths) * f * f;
+  ASSERT_EQ(R.rows(), 6);
+  // C_1 = 0.09 + 0.065^2 + (0.01 * 10)^2 + (4 * 0.25)^2; C_2 = C_1 + 0.065^2 + (0.01 * 20)^2.
+  const double C1 = 0.104225 + 1.0, C2 = C1 + 0.004225 + 0.04;
+  EXPECT_NEAR(R(0, 0), 0.09, 1e-12);
+  EXPECT_NEAR(R(2, 2), C1, 1e-12);
+  EXPECT_NEAR(R(4, 4), C2, 1e-12);
+  EXPECT_NEAR(R(2, 4), C1, 1e-12);
+  // Without depths the term is absent, and a depth per observation is required.
+  EXPECT_NEAR((track_covariance(obs, noise, f) * f * f)(2, 2), 0.104225, 1e-12);
+  EXPECT_THROW(track_covariance(obs, noise, f, std::vector<double>{1.0, 2.0}),
+               std::invalid_argument);
 }
 
 /// Exact measurements of `features` known points from `clone_count` true clones; the filter
