@@ -4,6 +4,7 @@
 // against issue 17's bar (busy / quiet within 10 %). Modeled host times (the default) do not
 // move at all: the load test checks that.
 #include <fmt/core.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <cmath>
