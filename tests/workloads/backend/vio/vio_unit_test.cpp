@@ -53,6 +53,14 @@ TEST(VioOptions, ValidateNamesTheField) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("random_walk.disparity_sigma_px"), std::string::npos);
   }
+  options = VioOptions{};
+  options.random_walk.step_scale_px = -1;  // a negative sd
+  try {
+    options.validate();
+    FAIL() << "expected a throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("random_walk.step_scale_px"), std::string::npos);
+  }
   EXPECT_EQ(VioOptions{}.to_json().at("track_noise"), "random_walk");
   EXPECT_EQ(VioOptions{}.to_json().at("random_walk").at("step_scale_px"), 3.7);
 }
