@@ -182,6 +182,7 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
   // or the point comes too close to the border for a descriptor at its octave.
   std::vector<cv::KeyPoint> left_keypoints;
   std::vector<Track> tracks_now;
+  std::vector<std::pair<float, float>> match_quality;  // tracks' (LK residual, round trip)
   std::vector<cv::Point2f> occupied;
   for (std::size_t i = 0; i < previous_tracks_.size(); ++i) {
     const Track& t = previous_tracks_[i];
@@ -194,6 +195,7 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
         static_cast<float>(left_corners.pyramid.scales[static_cast<std::size_t>(t.octave)]);
     left_keypoints.emplace_back(p, kOrbPatchSize * scale, -1.f, t.response, t.octave);
     tracks_now.push_back({t.id, t.age + 1, t.octave, t.response});
+    match_quality.emplace_back(tracks.lk_residual[i], tracks.round_trip_px[i]);
     occupied.push_back(p);
   }
   out.stats.tracked = static_cast<int>(tracks_now.size());
@@ -228,6 +230,10 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
     f.id = tracks_now[i].id;
     f.age = tracks_now[i].age;
     f.octave = k.octave;
+    if (i < match_quality.size()) {
+      f.lk_residual = match_quality[i].first;
+      f.round_trip_px = match_quality[i].second;
+    }
     f.left = k.pt;
     f.angle = k.angle;
     f.response = k.response;

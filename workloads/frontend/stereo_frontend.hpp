@@ -70,6 +70,11 @@ struct Feature {
   float disparity = 0;  ///< left.x - right.x, px, > 0
   double depth_m = 0;   ///< fx * baseline / disparity
   int hamming = -1;     ///< descriptor distance of the stereo match
+  /// Of the temporal match that brought a tracked feature here (-1 for a new one), for
+  /// diagnostics: LK's residual (OpenCV's `err`, the window's mean absolute grey-level
+  /// difference after convergence) and the forward-backward round trip, px.
+  float lk_residual = -1;
+  float round_trip_px = -1;
 };
 
 /// Counts of one frame (also found in the task rows).

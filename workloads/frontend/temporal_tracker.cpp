@@ -20,8 +20,9 @@ std::vector<cv::Mat> single_level(const LkPyramid& pyramid, int level) {
 
 void run_lk(const LkPyramid& from, const LkPyramid& to, const std::vector<cv::Point2f>& points,
             const LkCall& call, std::vector<cv::Point2f>& positions,
-            std::vector<unsigned char>& status) {
-  std::vector<float> error;
+            std::vector<unsigned char>& status, std::vector<float>* error_out) {
+  std::vector<float> local;
+  std::vector<float>& error = error_out ? *error_out : local;
   cv::calcOpticalFlowPyrLK(from.mats, to.mats, points, positions, status, error, call.window,
                            call.max_level, call.criteria, 0, call.min_eigen);
 }
@@ -136,6 +137,7 @@ TrackResult TemporalTracker::track(const LkPyramid& previous, const LkPyramid& c
   result.positions.assign(points.size(), cv::Point2f(-1, -1));
   result.tracked.assign(points.size(), 0);
   result.round_trip_px.assign(points.size(), -1.0f);
+  result.lk_residual.assign(points.size(), -1.0f);
   const int max_level = std::min({options_.lk_max_level, previous.max_level, current.max_level});
   lss.levels = max_level + 1;
   lss.window_size = options_.lk_window_px;
@@ -156,7 +158,11 @@ TrackResult TemporalTracker::track(const LkPyramid& previous, const LkPyramid& c
   std::vector<std::size_t> converged;
   {
     ScopedTaskTimer timer(lss);
-    run_lk(previous, current, points, forward, forward_points, forward_status);
+    std::vector<float> forward_residual;
+    run_lk(previous, current, points, forward, forward_points, forward_status, &forward_residual);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (forward_status[i]) result.lk_residual[i] = forward_residual[i];
+    }
     for (std::size_t i = 0; i < points.size(); ++i) {
       if (!forward_status[i]) continue;
       converged.push_back(i);

@@ -53,10 +53,11 @@ struct LkCall {
   double min_eigen = 1e-4;
 };
 
-/// cv::calcOpticalFlowPyrLK on the prebuilt pyramids as `call` says.
+/// cv::calcOpticalFlowPyrLK on the prebuilt pyramids as `call` says; `error`, when given,
+/// receives OpenCV's per-point residual (mean absolute grey-level difference of the window).
 void run_lk(const LkPyramid& from, const LkPyramid& to, const std::vector<cv::Point2f>& points,
             const LkCall& call, std::vector<cv::Point2f>& positions,
-            std::vector<unsigned char>& status);
+            std::vector<unsigned char>& status, std::vector<float>* error = nullptr);
 
 /// Re-runs the same LK call one iteration at a time, counting the iterations per level (see
 /// the file comment).
@@ -65,9 +66,10 @@ LkReplay replay_lk(const LkPyramid& from, const LkPyramid& to,
 
 /// Outcome of tracking points from the previous left image into the current one.
 struct TrackResult {
-  std::vector<cv::Point2f> positions;      ///< in the current image (level-0 px)
-  std::vector<unsigned char> tracked;      ///< 1: both directions converged, round trip < threshold
-  std::vector<float> round_trip_px;        ///< |backward(forward(p)) - p|, or -1 when not computed
+  std::vector<cv::Point2f> positions;  ///< in the current image (level-0 px)
+  std::vector<unsigned char> tracked;  ///< 1: both directions converged, round trip < threshold
+  std::vector<float> round_trip_px;    ///< |backward(forward(p)) - p|, or -1 when not computed
+  std::vector<float> lk_residual;      ///< forward LK's mean absolute grey-level difference, or -1
   std::vector<cv::Point2f> backward_from;  ///< points the backward pass started from
 };
 

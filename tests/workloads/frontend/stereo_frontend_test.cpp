@@ -5,8 +5,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
+#include <vector>
 
 #include "tests/workloads/frontend/plane_scene.hpp"
 
@@ -43,6 +45,7 @@ TEST(StereoFrontend, StereoAndTracksMatchThePlane) {
   const PlaneScene scene = slanted_plane();
   const std::vector<FrontendFrame> frames = run(scene, 4);
   std::map<std::int64_t, cv::Point2f> previous;
+  std::vector<float> residuals;  // LK residuals of the tracked features
   for (const FrontendFrame& frame : frames) {
     int stereo = 0, stereo_good = 0, tracked = 0, tracked_good = 0;
     for (const Feature& f : frame.features) {
@@ -60,6 +63,17 @@ TEST(StereoFrontend, StereoAndTracksMatchThePlane) {
         ASSERT_TRUE(previous.contains(f.id)) << "track " << f.id << " was not in the last frame";
         const cv::Point2f expected = previous.at(f.id) + cv::Point2f(kStep);
         if (cv::norm(f.left - expected) < 0.25) ++tracked_good;
+        // The match that brought it here: a converged LK window on a shifted copy of the
+        // texture leaves only the interpolation's residual (mean absolute grey levels; a
+        // window that slipped off would leave tens), and a round trip under the bar.
+        EXPECT_GE(f.lk_residual, 0.0f);
+        EXPECT_LT(f.lk_residual, 8.0f);
+        residuals.push_back(f.lk_residual);
+        EXPECT_GE(f.round_trip_px, 0.0f);
+        EXPECT_LT(f.round_trip_px, FrontendOptions{}.fb_threshold_px);
+      } else {
+        EXPECT_EQ(f.lk_residual, -1.0f);  // new features have no temporal match
+        EXPECT_EQ(f.round_trip_px, -1.0f);
       }
     }
     EXPECT_GT(stereo, frame.stats.left_keypoints / 2);
@@ -72,6 +86,9 @@ TEST(StereoFrontend, StereoAndTracksMatchThePlane) {
   }
   // After the first frame most features are tracks.
   EXPECT_GT(frames.back().stats.tracked, frames.back().stats.left_keypoints * 8 / 10);
+  ASSERT_FALSE(residuals.empty());
+  std::nth_element(residuals.begin(), residuals.begin() + residuals.size() / 2, residuals.end());
+  EXPECT_LT(residuals[residuals.size() / 2], 1.0f);  // median, grey levels
 }
 
 TEST(StereoFrontend, IdsAreUniqueAndTracksAge) {

@@ -4,6 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Dense>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -177,13 +178,36 @@ void cut_fast_tracks(std::vector<frontend::FrontendFrame>& frames, double max_fl
                total, max_flow_px);
 }
 
+/// Diagnostic ($EDX_VIO_MAX_TRACK_AGE=n): every track ends after its first n observations (the
+/// control of the drift oracle below: shorter tracks without looking at the truth).
+void cut_old_tracks(std::vector<frontend::FrontendFrame>& frames, long max_observations) {
+  std::map<std::int64_t, long> seen;
+  long removed = 0, total = 0;
+  for (auto& frame : frames) {
+    for (auto& f : frame.features) {
+      ++total;
+      if (++seen[f.id] > max_observations) {
+        f.id = -1;
+        ++removed;
+      }
+    }
+    std::erase_if(frame.features, [](const frontend::Feature& f) { return f.id < 0; });
+  }
+  std::fprintf(stderr, "[age] removed %ld of %ld observations (after %ld a track)\n", removed,
+               total, max_observations);
+}
+
 /// Diagnostic ($EDX_VIO_DEPTH_TRUTH=1, synthetic datasets only): the frontend's disparities and
 /// left tracks against the rendered truth. The generator's world is rebuilt from edx_gen.yaml
 /// (scenario, seed) and each frame's left view rendered with depth at the true pose:
 /// true disparity at a tracked pixel fx b / Z(u, v); a feature is "on an edge" when the depth
 /// inside its DR window varies by more than 10 % (an occlusion boundary, or sky). Left-track
 /// drift: the point seen at a track's first pixel (its rendered depth) reprojected into the
-/// track's later frames.
+/// track's later frames; how well three frontend signals (descriptor Hamming distance to the
+/// track's first, LK residual, forward-backward round trip) single out the drifted tracks.
+/// Oracles (they change the run): $EDX_VIO_DEPTH_TRUTH_GATE=x drops stereo matches more than x
+/// px off; $EDX_VIO_DEPTH_TRUTH_DRIFT_GATE=x ends tracks once they are x px off their point;
+/// $EDX_VIO_DEPTH_TRUTH_EDGE_GATE=1 ends tracks once they touch an edge.
 void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
                                const std::vector<std::optional<Eigen::Isometry3d>>& T_world_left,
                                const datasets::CameraIntrinsics& K, double baseline_m,
@@ -262,6 +286,14 @@ void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
                                 ? std::atof(std::getenv("EDX_VIO_DEPTH_TRUTH_DRIFT_GATE"))
                                 : 0.0;
   long dropped_stereo = 0, dropped_left = 0;
+  const bool edge_gate = std::getenv("EDX_VIO_DEPTH_TRUTH_EDGE_GATE") != nullptr;
+  // Frontend signals a drift check could use, against the track's drift (below).
+  struct SignalSample {
+    double drift_px;
+    float hamming_to_first, lk_residual, round_trip_px;
+    bool edge;
+  };
+  std::vector<SignalSample> signals;
   for (const auto& [id, obs] : tracks_of(frames, T_world_left)) {
     double last = std::nan("");
     const auto [i0, j0] = obs.front();
@@ -272,6 +304,12 @@ void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
       const auto& f = frames[i].features[j];
       const Sample& s = samples[i][j];
       track_on_edge = track_on_edge || s.edge;
+      if (edge_gate && s.edge && k > 0) {  // this and every later observation
+        for (std::size_t m = k; m < obs.size(); ++m)
+          frames[obs[m].first].features[obs[m].second].id = -1;
+        dropped_left += static_cast<long>(obs.size() - k);
+        break;
+      }
       if (f.stereo && f.disparity > 0 && s.disparity_error != 0) {
         (s.edge ? edge : smooth).push_back(s.disparity_error);
         if (!s.edge && !std::isnan(last)) {
@@ -288,6 +326,14 @@ void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
           const double e = std::hypot(f.left.x - (K.fx * pc.x() / pc.z() + K.cx),
                                       f.left.y - (K.fy * pc.y() / pc.z() + K.cy));
           if (k <= 10) drift[k].push_back(e);
+          if (f.lk_residual >= 0) {
+            const auto& first = frames[i0].features[j0].descriptor;
+            int hamming = 0;
+            for (std::size_t b = 0; b < first.size(); ++b)
+              hamming += std::popcount(static_cast<unsigned>(first[b] ^ f.descriptor[b]));
+            signals.push_back(
+                {e, static_cast<float>(hamming), f.lk_residual, f.round_trip_px, s.edge});
+          }
           if (k <= 10 && !track_on_edge) drift_smooth[k].push_back(e);
           if (!track_on_edge && k <= 10) {
             // This step's error: e_k - e_{k-1} against the step's flow |x_k - x_{k-1}|.
@@ -383,6 +429,41 @@ void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
                  "mean motion %.1f px): %s\n",
                  c, std::min(scale_edges[c], 9.0), scale_sum[c] / n, scale_flow_sum[c] / n,
                  summary(step_by_scale[c]).c_str());
+  }
+  // Each signal thresholded at its 90 / 95 / 99 % quantile over the good observations (within
+  // 0.5 px of the truth, never on an edge): the shares of the drifted (> 1 px), of the edge and
+  // of all observations it flags. A usable drift check flags far more of the drifted than of all.
+  const std::pair<const char*, float SignalSample::*> kSignals[] = {
+      {"Hamming to the first descriptor", &SignalSample::hamming_to_first},
+      {"LK residual", &SignalSample::lk_residual},
+      {"round trip px", &SignalSample::round_trip_px}};
+  auto percent = [](long part, long whole) {
+    return whole > 0 ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : 0.0;
+  };
+  for (const auto& [name, field] : kSignals) {
+    std::vector<float> good;
+    for (const SignalSample& x : signals) {
+      if (x.drift_px < 0.5 && !x.edge) good.push_back(x.*field);
+    }
+    if (good.empty()) continue;
+    std::sort(good.begin(), good.end());
+    for (double q : {0.9, 0.95, 0.99}) {
+      const float threshold =
+          good[static_cast<std::size_t>(q * static_cast<double>(good.size() - 1))];
+      long drifted = 0, drifted_flagged = 0, edges = 0, edges_flagged = 0, flagged = 0;
+      for (const SignalSample& x : signals) {
+        const bool flag = x.*field > threshold;
+        flagged += flag;
+        if (x.drift_px > 1.0) ++drifted, drifted_flagged += flag;
+        if (x.edge) ++edges, edges_flagged += flag;
+      }
+      std::fprintf(stderr,
+                   "[depth truth] %s > %.3f (good q%.0f): flags %.1f %% of drifted > 1 px, "
+                   "%.1f %% of edge, %.1f %% of all observations\n",
+                   name, threshold, 100 * q, percent(drifted_flagged, drifted),
+                   percent(edges_flagged, edges),
+                   percent(flagged, static_cast<long>(signals.size())));
+    }
   }
   std::fprintf(stderr, "[depth truth] dropped: %ld stereo observations, %ld left observations\n",
                dropped_stereo, dropped_left);
@@ -550,7 +631,7 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
   std::vector<frontend::FrontendFrame> ideal;
   const char* ideal_sigma = std::getenv("EDX_VIO_IDEAL_FEATURES");
   if (ideal_sigma || std::getenv("EDX_VIO_TRACK_STATS") || std::getenv("EDX_VIO_DEPTH_TRUTH") ||
-      std::getenv("EDX_VIO_MAX_FLOW")) {
+      std::getenv("EDX_VIO_MAX_FLOW") || std::getenv("EDX_VIO_MAX_TRACK_AGE")) {
     std::vector<std::optional<Eigen::Isometry3d>> T_world_left;
     for (std::size_t i = 0; i < run.frames; ++i) {
       const datasets::StereoFrame images = dataset->load_frame(i);
@@ -565,6 +646,9 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
                         static_cast<std::size_t>(options.update_track_length));
     }
     if (const char* flow = std::getenv("EDX_VIO_MAX_FLOW")) cut_fast_tracks(ideal, std::stod(flow));
+    if (const char* age = std::getenv("EDX_VIO_MAX_TRACK_AGE")) {
+      cut_old_tracks(ideal, std::stol(age));
+    }
     if (std::getenv("EDX_VIO_DEPTH_TRUTH")) {
       check_against_depth_truth(
           ideal, T_world_left, calibration.rectified, calibration.baseline_m,
