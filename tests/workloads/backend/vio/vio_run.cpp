@@ -207,20 +207,28 @@ constexpr float kNotMeasured = 99.0f;
 /// (1994) as a drift check without the truth. Each track's first 21x21 window is aligned to
 /// every later frame by OpenCV's ECC under an affine warp x' = A x + b, started at the track's
 /// position there (A = I); the track's drift is |A c + b - x_k|, c the window's centre.
-/// kNotMeasured when the window nears the border or ECC does not converge.
+/// kNotMeasured when the window nears the border or ECC does not converge. The control
+/// $EDX_VIO_FIRST_WINDOW_LK=1 aligns by translation only instead (OpenCV's LK from the first
+/// frame's level 0, window 21x21, started at the track's position).
 PerObservation first_window_drift(const std::vector<frontend::FrontendFrame>& frames,
                                   const std::vector<cv::Mat>& left_images, int half) {
   const int side = 2 * half + 1, margin = half + 8;  // the search region: 8 px beyond it
   long failed = 0, measured = 0;
   const auto start = std::chrono::steady_clock::now();
   std::map<std::int64_t, cv::Mat> first_windows;
+  std::map<std::int64_t, std::pair<std::size_t, cv::Point2f>> first_positions;
   PerObservation drift(frames.size());
+  std::vector<std::vector<cv::Mat>> pyramids(std::getenv("EDX_VIO_FIRST_WINDOW_LK") ? frames.size()
+                                                                                    : 0);
+  for (std::size_t i = 0; i < pyramids.size(); ++i)
+    cv::buildOpticalFlowPyramid(left_images[i], pyramids[i], {side, side}, 0, true);
   for (std::size_t i = 0; i < frames.size(); ++i) {
     drift[i].assign(frames[i].features.size(), -1.0f);
     for (std::size_t j = 0; j < frames[i].features.size(); ++j) {
       const frontend::Feature& f = frames[i].features[j];
       if (f.age == 0) {
         cv::getRectSubPix(left_images[i], {side, side}, f.left, first_windows[f.id], CV_32F);
+        first_positions[f.id] = {i, f.left};
         continue;
       }
       const auto window = first_windows.find(f.id);
@@ -231,6 +239,23 @@ PerObservation first_window_drift(const std::vector<frontend::FrontendFrame>& fr
       const cv::Rect region(origin, cv::Size(2 * margin + 1, 2 * margin + 1));
       if ((region & cv::Rect(0, 0, left_images[i].cols, left_images[i].rows)) != region) {
         ++failed;
+        continue;
+      }
+      if (std::getenv("EDX_VIO_FIRST_WINDOW_LK")) {
+        // Translation-only LK of the first window (its frame's image around the first
+        // position) into this frame, started at the track's position.
+        const auto& [i0, p0] = first_positions.at(f.id);
+        std::vector<cv::Point2f> from{p0}, to{f.left};
+        std::vector<unsigned char> status;
+        std::vector<float> error;
+        cv::calcOpticalFlowPyrLK(pyramids[i0], pyramids[i], from, to, status, error, {side, side},
+                                 0, {cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01},
+                                 cv::OPTFLOW_USE_INITIAL_FLOW);
+        if (!status[0]) {
+          ++failed;
+          continue;
+        }
+        drift[i][j] = std::hypot(to[0].x - f.left.x, to[0].y - f.left.y);
         continue;
       }
       cv::Mat input;
