@@ -230,7 +230,7 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
     f.id = tracks_now[i].id;
     f.age = tracks_now[i].age;
     f.octave = k.octave;
-    if (i < match_quality.size()) {
+    if (i < match_quality.size()) {  // the tracks come first in left_keypoints
       f.lk_residual = match_quality[i].first;
       f.round_trip_px = match_quality[i].second;
     }

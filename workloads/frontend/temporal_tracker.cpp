@@ -161,10 +161,8 @@ TrackResult TemporalTracker::track(const LkPyramid& previous, const LkPyramid& c
     std::vector<float> forward_residual;
     run_lk(previous, current, points, forward, forward_points, forward_status, &forward_residual);
     for (std::size_t i = 0; i < points.size(); ++i) {
-      if (forward_status[i]) result.lk_residual[i] = forward_residual[i];
-    }
-    for (std::size_t i = 0; i < points.size(); ++i) {
       if (!forward_status[i]) continue;
+      result.lk_residual[i] = forward_residual[i];
       converged.push_back(i);
       backward_points.push_back(forward_points[i]);
     }

@@ -53,11 +53,11 @@ struct LkCall {
   double min_eigen = 1e-4;
 };
 
-/// cv::calcOpticalFlowPyrLK on the prebuilt pyramids as `call` says; `error`, when given,
+/// cv::calcOpticalFlowPyrLK on the prebuilt pyramids as `call` says; `error_out`, when given,
 /// receives OpenCV's per-point residual (mean absolute grey-level difference of the window).
 void run_lk(const LkPyramid& from, const LkPyramid& to, const std::vector<cv::Point2f>& points,
             const LkCall& call, std::vector<cv::Point2f>& positions,
-            std::vector<unsigned char>& status, std::vector<float>* error = nullptr);
+            std::vector<unsigned char>& status, std::vector<float>* error_out = nullptr);
 
 /// Re-runs the same LK call one iteration at a time, counting the iterations per level (see
 /// the file comment).

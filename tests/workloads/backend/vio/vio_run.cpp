@@ -5,10 +5,13 @@
 
 #include <Eigen/Dense>
 #include <bit>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <functional>
 #include <map>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video.hpp>
@@ -150,53 +153,69 @@ void idealize_tracks(std::vector<frontend::FrontendFrame>& frames,
     std::erase_if(frame.features, [](const frontend::Feature& f) { return f.id < 0; });
 }
 
+}  // namespace
+
+double env_number(const char* name, double min) {
+  const char* text = std::getenv(name);
+  if (!text) throw std::invalid_argument(fmt::format("${}: not set", name));
+  double value = 0;
+  const char* end = text + std::strlen(text);
+  const auto [stop, error] = std::from_chars(text, end, value);
+  if (error != std::errc() || stop != end || !(value >= min)) {
+    throw std::invalid_argument(
+        fmt::format("${}: expected a number >= {}, got '{}'", name, min, text));
+  }
+  return value;
+}
+
+namespace {
+
+/// Ends every track at its first observation (frame i, feature j) for which `ends` is true:
+/// that and every later observation of the track are dropped. Returns the observations dropped.
+long end_tracks_where(
+    std::vector<frontend::FrontendFrame>& frames,
+    const std::function<bool(std::size_t, std::size_t, const frontend::Feature&)>& ends) {
+  std::map<std::int64_t, bool> ended;
+  long removed = 0;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    for (std::size_t j = 0; j < frames[i].features.size(); ++j) {
+      frontend::Feature& f = frames[i].features[j];
+      if (ended[f.id] || ends(i, j, f)) {
+        ended[f.id] = true;
+        f.id = -1;
+        ++removed;
+      }
+    }
+  }
+  for (auto& frame : frames)
+    std::erase_if(frame.features, [](const frontend::Feature& f) { return f.id < 0; });
+  return removed;
+}
+
 /// Diagnostic ($EDX_VIO_MAX_FLOW=px): every track ends at its first step whose image motion
 /// |x_k - x_(k-1)| exceeds the bound (large steps are where translation-only LK errs most).
 void cut_fast_tracks(std::vector<frontend::FrontendFrame>& frames, double max_flow_px) {
-  std::map<int, cv::Point2f> last;
-  std::map<int, bool> cut;
-  long removed = 0, total = 0;
-  for (auto& frame : frames) {
-    for (auto& f : frame.features) {
-      ++total;
-      if (cut[f.id]) {
-        f.id = -1;
-        ++removed;
-        continue;
-      }
-      const auto it = last.find(f.id);
-      if (it != last.end() &&
-          std::hypot(f.left.x - it->second.x, f.left.y - it->second.y) > max_flow_px) {
-        cut[f.id] = true;
-        f.id = -1;
-        ++removed;
-        continue;
-      }
-      last[f.id] = f.left;
-    }
-    std::erase_if(frame.features, [](const frontend::Feature& f) { return f.id < 0; });
-  }
-  std::fprintf(stderr, "[flow] removed %ld of %ld observations (steps over %.1f px)\n", removed,
-               total, max_flow_px);
+  std::map<std::int64_t, cv::Point2f> last;
+  const long removed = end_tracks_where(frames, [&](std::size_t, std::size_t, const auto& f) {
+    const auto it = last.find(f.id);
+    const bool fast = it != last.end() &&
+                      std::hypot(f.left.x - it->second.x, f.left.y - it->second.y) > max_flow_px;
+    last[f.id] = f.left;
+    return fast;
+  });
+  std::fprintf(stderr, "[flow] removed %ld observations (steps over %.1f px)\n", removed,
+               max_flow_px);
 }
 
 /// Diagnostic ($EDX_VIO_MAX_TRACK_AGE=n): every track ends after its first n observations (the
 /// control of the drift oracle below: shorter tracks without looking at the truth).
 void cut_old_tracks(std::vector<frontend::FrontendFrame>& frames, long max_observations) {
   std::map<std::int64_t, long> seen;
-  long removed = 0, total = 0;
-  for (auto& frame : frames) {
-    for (auto& f : frame.features) {
-      ++total;
-      if (++seen[f.id] > max_observations) {
-        f.id = -1;
-        ++removed;
-      }
-    }
-    std::erase_if(frame.features, [](const frontend::Feature& f) { return f.id < 0; });
-  }
-  std::fprintf(stderr, "[age] removed %ld of %ld observations (after %ld a track)\n", removed,
-               total, max_observations);
+  const long removed = end_tracks_where(frames, [&](std::size_t, std::size_t, const auto& f) {
+    return ++seen[f.id] > max_observations;
+  });
+  std::fprintf(stderr, "[age] removed %ld observations (after %ld a track)\n", removed,
+               max_observations);
 }
 
 /// A value per observation: [frame][feature], as FrontendFrame::features.
@@ -218,8 +237,8 @@ PerObservation first_window_drift(const std::vector<frontend::FrontendFrame>& fr
   std::map<std::int64_t, cv::Mat> first_windows;
   std::map<std::int64_t, std::pair<std::size_t, cv::Point2f>> first_positions;
   PerObservation drift(frames.size());
-  std::vector<std::vector<cv::Mat>> pyramids(std::getenv("EDX_VIO_FIRST_WINDOW_LK") ? frames.size()
-                                                                                    : 0);
+  const bool translation_only = std::getenv("EDX_VIO_FIRST_WINDOW_LK") != nullptr;
+  std::vector<std::vector<cv::Mat>> pyramids(translation_only ? frames.size() : 0);
   for (std::size_t i = 0; i < pyramids.size(); ++i)
     cv::buildOpticalFlowPyramid(left_images[i], pyramids[i], {side, side}, 0, true);
   for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -241,7 +260,7 @@ PerObservation first_window_drift(const std::vector<frontend::FrontendFrame>& fr
         ++failed;
         continue;
       }
-      if (std::getenv("EDX_VIO_FIRST_WINDOW_LK")) {
+      if (translation_only) {
         // Translation-only LK of the first window (its frame's image around the first
         // position) into this frame, started at the track's position.
         const auto& [i0, p0] = first_positions.at(f.id);
@@ -288,20 +307,9 @@ PerObservation first_window_drift(const std::vector<frontend::FrontendFrame>& fr
 /// (or was not measured).
 void end_drifted_tracks(std::vector<frontend::FrontendFrame>& frames, const PerObservation& drift,
                         float threshold_px) {
-  std::map<std::int64_t, bool> ended;
-  long removed = 0;
-  for (std::size_t i = 0; i < frames.size(); ++i) {
-    for (std::size_t j = 0; j < frames[i].features.size(); ++j) {
-      frontend::Feature& f = frames[i].features[j];
-      if (ended[f.id] || drift[i][j] > threshold_px) {
-        ended[f.id] = true;
-        f.id = -1;
-        ++removed;
-      }
-    }
-  }
-  for (auto& frame : frames)
-    std::erase_if(frame.features, [](const frontend::Feature& f) { return f.id < 0; });
+  const long removed = end_tracks_where(frames, [&](std::size_t i, std::size_t j, const auto&) {
+    return drift[i][j] > threshold_px;
+  });
   std::fprintf(stderr, "[first window] ended tracks: %ld observations dropped (over %.2f px)\n",
                removed, threshold_px);
 }
@@ -746,12 +754,18 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
   if (ideal_sigma || std::getenv("EDX_VIO_TRACK_STATS") || std::getenv("EDX_VIO_DEPTH_TRUTH") ||
       std::getenv("EDX_VIO_MAX_FLOW") || std::getenv("EDX_VIO_MAX_TRACK_AGE") ||
       std::getenv("EDX_VIO_FIRST_WINDOW")) {
+    // Settings parsed before the frames are run (a bad one costs nothing).
+    const bool check_first_window = std::getenv("EDX_VIO_FIRST_WINDOW") != nullptr;
+    const double first_window_px = check_first_window ? env_number("EDX_VIO_FIRST_WINDOW", 0) : 0.0;
+    const long max_track_age = std::getenv("EDX_VIO_MAX_TRACK_AGE")
+                                   ? static_cast<long>(env_number("EDX_VIO_MAX_TRACK_AGE", 1))
+                                   : 0;  // 0: no limit
     std::vector<cv::Mat> left_images;
     std::vector<std::optional<Eigen::Isometry3d>> T_world_left;
     for (std::size_t i = 0; i < run.frames; ++i) {
       const datasets::StereoFrame images = dataset->load_frame(i);
       ideal.push_back(frontend.process(images.left, images.right));
-      if (std::getenv("EDX_VIO_FIRST_WINDOW")) left_images.push_back(images.left.clone());
+      if (check_first_window) left_images.push_back(images.left.clone());
       const auto truth = datasets::interpolate_ground_truth(dataset->ground_truth(), images.t_ns);
       T_world_left.push_back(
           truth ? std::optional<Eigen::Isometry3d>(truth->T_world_body * calibration.T_body_left)
@@ -762,16 +776,14 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
                         static_cast<std::size_t>(options.update_track_length));
     }
     if (const char* flow = std::getenv("EDX_VIO_MAX_FLOW")) cut_fast_tracks(ideal, std::stod(flow));
-    if (const char* age = std::getenv("EDX_VIO_MAX_TRACK_AGE")) {
-      cut_old_tracks(ideal, std::stol(age));
-    }
+    if (max_track_age > 0) cut_old_tracks(ideal, max_track_age);
     // $EDX_VIO_FIRST_WINDOW=0 measures for the depth-truth table; > 0 ends tracks first (the
     // features' indices then change, so the table goes without the measure).
     PerObservation drift;
-    if (const char* fw = std::getenv("EDX_VIO_FIRST_WINDOW")) {
+    if (check_first_window) {
       drift = first_window_drift(ideal, left_images, 10);
-      if (std::atof(fw) > 0) {
-        end_drifted_tracks(ideal, drift, static_cast<float>(std::atof(fw)));
+      if (first_window_px > 0) {
+        end_drifted_tracks(ideal, drift, static_cast<float>(first_window_px));
         drift.clear();
       }
     }

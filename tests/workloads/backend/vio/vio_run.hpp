@@ -40,6 +40,10 @@ struct VioRun {
 VioRun run_vio(const std::filesystem::path& path, const VioOptions& options, std::size_t frames,
                bool collect_kernels = false);
 
+/// The number in environment variable `name` (a diagnostic's setting), at least `min`; a
+/// one-line std::invalid_argument naming the variable when it is unset, not a number or smaller.
+double env_number(const char* name, double min);
+
 /// Mean and SD of a series.
 std::pair<double, double> mean_sd(const std::vector<double>& values);
 

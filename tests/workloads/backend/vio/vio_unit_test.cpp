@@ -1,9 +1,13 @@
 // Unit tests of the VIO backend's pieces against hand-computed or independently known values.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <numeric>
 #include <random>
+#include <stdexcept>
+#include <string>
 
+#include "tests/workloads/backend/vio/vio_run.hpp"
 #include "workloads/backend/vio/chi_square.hpp"
 #include "workloads/backend/vio/ekf_update.hpp"
 #include "workloads/backend/vio/gps_fusion.hpp"
@@ -781,3 +785,31 @@ TEST(GpsFusion, HeightOnlyWhenVertical) {
 
 }  // namespace
 }  // namespace edx::backend::vio
+
+namespace edx::backend::vio::testing {
+namespace {
+
+// The diagnostics' settings ($EDX_VIO_FIRST_WINDOW, $EDX_VIO_MAX_TRACK_AGE): a number at least
+// the minimum, or a one-line error naming the variable.
+TEST(DiagnosticSettings, EnvNumberParsesOrNamesTheVariable) {
+  const char* name = "EDX_VIO_TEST_SETTING";
+  ::setenv(name, "1.5", 1);
+  EXPECT_DOUBLE_EQ(env_number(name, 0), 1.5);
+  for (const char* bad : {"", "abc", "1.5px", "-2"}) {
+    ::setenv(name, bad, 1);
+    try {
+      env_number(name, 0);
+      ADD_FAILURE() << "expected a throw for '" << bad << "'";
+    } catch (const std::invalid_argument& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("$EDX_VIO_TEST_SETTING"), std::string::npos) << message;
+      EXPECT_NE(message.find(std::string("'") + bad + "'"), std::string::npos) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  }
+  ::unsetenv(name);
+  EXPECT_THROW(env_number(name, 0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace edx::backend::vio::testing
