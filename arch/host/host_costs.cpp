@@ -141,6 +141,9 @@ const std::map<std::string, std::vector<KernelFeature>>& kernel_table() {
       {"clone_marginalization", {kCall, EDX_K("n2", n * n)}},
       {"gps_fusion", {kCall, EDX_K("n2", n * n), EDX_K("mn2", m * n * n)}},
       {"triangulation", {kCall, EDX_K("m", m), EDX_K("n", n)}},
+      // m observations aligned, n first windows cut, Gauss-Newton updates (docs/VIO.md).
+      {"track_check",
+       {kCall, EDX_K("m", m), EDX_K("n", n), EDX_K("iterations", detail_count(j, "iterations"))}},
       // SLAM (docs/SLAM.md).
       {"tracking", {kCall, EDX_K("m", m)}},
       {"keyframe_selection", {kCall, EDX_K("m", m)}},

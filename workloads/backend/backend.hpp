@@ -34,6 +34,9 @@ struct BackendCamera {
 struct BackendInput {
   std::int64_t t_ns = 0;                              ///< the frame's time stamp
   const frontend::FrontendFrame* frontend = nullptr;  ///< features of this frame (never null)
+  /// The rectified left image the frontend processed (8-bit grey), for a backend that looks at
+  /// image windows on the host (the VIO's first-window check); may be null.
+  const cv::Mat* left_image = nullptr;
   /// IMU samples with t_prev < t_ns' <= t_ns (t_prev: the previous frame's time; on the first
   /// frame, every sample up to t_ns). Empty for data without an IMU.
   std::span<const datasets::ImuSample> imu;

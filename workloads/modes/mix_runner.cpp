@@ -232,6 +232,7 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
       backend::BackendInput input;
       input.t_ns = images.t_ns;
       input.frontend = &result;
+      input.left_image = &images.left;
       input.imu = between(dataset.imu(), previous_t_ns, images.t_ns);
       input.gps = between(dataset.gps(), previous_t_ns, images.t_ns);
       auto [output, backend_ns] = run_backend_timed(*backend, input);

@@ -155,6 +155,7 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
       backend::BackendInput input;
       input.t_ns = images.t_ns;
       input.frontend = &result;
+      input.left_image = &images.left;
       input.imu = between(dataset->imu(), previous_t_ns, images.t_ns);
       input.gps = between(dataset->gps(), previous_t_ns, images.t_ns);
       auto [output, backend_ns] = run_backend_timed(*backend, input);

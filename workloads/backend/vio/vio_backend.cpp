@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <stdexcept>
 
@@ -71,6 +73,64 @@ std::vector<FrameFeature> VioBackend::to_frame_features(
   return out;
 }
 
+/// The first-window alignment's stopping rule: at most this many Gauss-Newton updates, or an
+/// update that moves no window corner by more than this (px).
+constexpr int kCheckIterations = 30;
+constexpr double kCheckEpsilonPx = 0.01;
+
+void VioBackend::check_first_windows(const frontend::FrontendFrame& frame,
+                                     const cv::Mat& left_image,
+                                     std::vector<FrameFeature>& features) {
+  auto kernel = recorder_.kernel("track_check");
+  const cv::Mat prepared = frontend::FirstWindow::prepare(left_image);
+  std::int64_t checked = 0, created = 0, ended = 0, iterations = 0;
+  std::set<std::int64_t> ending, present;
+  for (const frontend::Feature& f : frame.features) {
+    present.insert(f.id);
+    if (ended_by_check_.contains(f.id)) {
+      ending.insert(f.id);
+      continue;
+    }
+    const auto checked_track = first_windows_.find(f.id);
+    if (checked_track == first_windows_.end()) {
+      first_windows_.emplace(
+          f.id, CheckedTrack{frontend::FirstWindow(prepared, f.left, options_.first_window_half_px),
+                             std::nullopt, f.left});
+      ++created;
+      continue;
+    }
+    ++checked;
+    // Drift = |c* - x_k|, c* where the first window's centre lands (30 updates, 0.01 px), warm
+    // started from the last frame's warp moved by the track's own motion.
+    CheckedTrack& track = checked_track->second;
+    std::optional<frontend::WindowAlignment> aligned;
+    if (track.last) {
+      frontend::WindowAlignment start = *track.last;
+      start.centre += f.left - track.last_position;
+      aligned = track.window.refine(prepared, start, kCheckIterations, kCheckEpsilonPx);
+    }
+    if (!aligned) aligned = track.window.align(prepared, f.left, kCheckIterations, kCheckEpsilonPx);
+    if (aligned) iterations += aligned->iterations;
+    if (!aligned || std::hypot(aligned->centre.x - f.left.x, aligned->centre.y - f.left.y) >
+                        options_.first_window_check_px) {
+      ended_by_check_.insert(f.id);
+      first_windows_.erase(checked_track);
+      ending.insert(f.id);
+      ++ended;
+      continue;
+    }
+    track.last = aligned;
+    track.last_position = f.left;
+  }
+  // Tracks the frontend ended are forgotten (it never reuses an id).
+  std::erase_if(first_windows_, [&](const auto& entry) { return !present.contains(entry.first); });
+  std::erase_if(ended_by_check_, [&](std::int64_t id) { return !present.contains(id); });
+  std::erase_if(features, [&](const FrameFeature& f) { return ending.contains(f.id); });
+  kernel.record().m = checked;
+  kernel.record().n = created;
+  kernel.record().detail_json = nlohmann::json{{"iterations", iterations}, {"ended", ended}}.dump();
+}
+
 void VioBackend::start(const InitialState& initial) {
   state_ = VioState{};
   state_.t_ns = initial.t_ns;
@@ -105,6 +165,9 @@ BackendOutput VioBackend::process(const BackendInput& input) {
   BackendOutput out;
   propagator_.add(input.imu);
   std::vector<FrameFeature> features = to_frame_features(*input.frontend);
+  if (options_.first_window_check_px > 0 && input.left_image != nullptr) {
+    check_first_windows(*input.frontend, *input.left_image, features);
+  }
   last_update_ = {};
   last_gps_ = {};
 

@@ -2,14 +2,16 @@
 // The VIO backend (paper Sec. IV-A, "Filtering" and "Fusion"): an MSCKF over the stereo
 // frontend's feature tracks and the IMU, with loosely coupled GPS fusion.
 //
-// Per frame: IMU propagation to the image time (imu_propagation), stochastic cloning (cloning),
-// the update from the tracks that ended and, when the window is full, from those seen in the
-// oldest clone (triangulation, jacobians, nullspace_projection, compression, kalman_gain,
-// covariance_update), marginalization of the oldest clone (clone_marginalization), and GPS
-// fusion (gps_fusion) when fixes arrived.
+// Per frame: the first-window check of every track (track_check, on the host; it ends the
+// tracks that drifted from their first window), IMU propagation to the image time
+// (imu_propagation), stochastic cloning (cloning), the update from the tracks that ended and, when
+// the window is full, from those seen in the oldest clone (triangulation, jacobians,
+// nullspace_projection, compression, kalman_gain, covariance_update), marginalization of the oldest
+// clone (clone_marginalization), and GPS fusion (gps_fusion) when fixes arrived.
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 
 #include "workloads/backend/backend.hpp"
 #include "workloads/backend/kernel_recorder.hpp"
@@ -19,6 +21,7 @@
 #include "workloads/backend/vio/msckf_updater.hpp"
 #include "workloads/backend/vio/vio_options.hpp"
 #include "workloads/backend/vio/vio_state.hpp"
+#include "workloads/frontend/first_window.hpp"
 
 namespace edx::backend::vio {
 
@@ -47,6 +50,10 @@ class VioBackend final : public Backend {
 
  private:
   std::vector<FrameFeature> to_frame_features(const frontend::FrontendFrame& frame) const;
+  /// The first-window check (VioOptions::first_window_check_px): removes from `features` the
+  /// tracks that end here, and every later observation of them.
+  void check_first_windows(const frontend::FrontendFrame& frame, const cv::Mat& left_image,
+                           std::vector<FrameFeature>& features);
   void start(const InitialState& initial);
 
   BackendCamera camera_;
@@ -60,6 +67,14 @@ class VioBackend final : public Backend {
   bool initialized_ = false;
   VioState state_;
   std::map<std::int64_t, FeatureTrack> tracks_;
+  /// A track's first window and where it was last aligned (the next frame's warm start).
+  struct CheckedTrack {
+    frontend::FirstWindow window;
+    std::optional<frontend::WindowAlignment> last;
+    cv::Point2f last_position;
+  };
+  std::map<std::int64_t, CheckedTrack> first_windows_;  ///< by track id
+  std::set<std::int64_t> ended_by_check_;  ///< tracks the check ended that the frontend still has
   UpdateReport last_update_;
   GpsReport last_gps_;
 };

@@ -19,6 +19,9 @@ void VioOptions::validate() const {
   require(min_track_length >= 2 && min_track_length <= max_clones, "min_track_length",
           "an integer in [2, max_clones]");
   require(update_track_length >= min_track_length, "update_track_length", ">= min_track_length");
+  require(first_window_check_px >= 0, "first_window_check_px", ">= 0 (0: off)");
+  require(first_window_half_px >= 3 && first_window_half_px <= 30, "first_window_half_px",
+          "an integer in [3, 30]");
   require(pixel_sigma > 0, "pixel_sigma", "> 0");
   require(track_error_correlation >= 0 && track_error_correlation < 1, "track_error_correlation",
           "a value in [0, 1)");
@@ -66,6 +69,8 @@ nlohmann::json VioOptions::to_json() const {
   return {{"max_clones", max_clones},
           {"min_track_length", min_track_length},
           {"update_track_length", update_track_length},
+          {"first_window_check_px", first_window_check_px},
+          {"first_window_half_px", first_window_half_px},
           {"pixel_sigma", pixel_sigma},
           {"track_error_correlation", track_error_correlation},
           {"track_noise", track_noise == TrackNoise::kWhite ? "white" : "random_walk"},

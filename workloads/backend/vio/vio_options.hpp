@@ -17,6 +17,15 @@ struct VioOptions {
   /// Tracks still alive are used once they reach this many observations (then restarted), so
   /// that long tracks (slow or far scenes) inform the filter before the window is full.
   int update_track_length = 10;
+  /// First-window check (docs/VIO.md "First-window check"; Shi and Tomasi 1994): each track's
+  /// first window (2 first_window_half_px + 1 px square, cut where the VIO first sees the
+  /// track) is aligned into every later frame under an affine warp, started at the track's
+  /// position (frontend::FirstWindow); the track ends where the window's centre lands more
+  /// than this far from it, or the window cannot be aligned (px; 0 turns the check off).
+  /// Frame-to-frame LK drifts where the scene's perspective changes under its window, and a
+  /// drifted track biases the update while passing its gate.
+  double first_window_check_px = 1.0;
+  int first_window_half_px = 10;
   /// White measurement noise of a feature coordinate, px; the chi-square gate uses it as is (a
   /// track its residual does not fit is an outlier), the update inflates it (below).
   double pixel_sigma = 1.0;

@@ -218,102 +218,6 @@ void cut_old_tracks(std::vector<frontend::FrontendFrame>& frames, long max_obser
                max_observations);
 }
 
-/// A value per observation: [frame][feature], as FrontendFrame::features.
-using PerObservation = std::vector<std::vector<float>>;
-constexpr float kNotMeasured = 99.0f;
-
-/// Diagnostic ($EDX_VIO_FIRST_WINDOW=px, any dataset): Shi and Tomasi's feature monitoring
-/// (1994) as a drift check without the truth. Each track's first 21x21 window is aligned to
-/// every later frame by OpenCV's ECC under an affine warp x' = A x + b, started at the track's
-/// position there (A = I); the track's drift is |A c + b - x_k|, c the window's centre.
-/// kNotMeasured when the window nears the border or ECC does not converge. The control
-/// $EDX_VIO_FIRST_WINDOW_LK=1 aligns by translation only instead (OpenCV's LK from the first
-/// frame's level 0, window 21x21, started at the track's position).
-PerObservation first_window_drift(const std::vector<frontend::FrontendFrame>& frames,
-                                  const std::vector<cv::Mat>& left_images, int half) {
-  const int side = 2 * half + 1, margin = half + 8;  // the search region: 8 px beyond it
-  long failed = 0, measured = 0;
-  const auto start = std::chrono::steady_clock::now();
-  std::map<std::int64_t, cv::Mat> first_windows;
-  std::map<std::int64_t, std::pair<std::size_t, cv::Point2f>> first_positions;
-  PerObservation drift(frames.size());
-  const bool translation_only = std::getenv("EDX_VIO_FIRST_WINDOW_LK") != nullptr;
-  std::vector<std::vector<cv::Mat>> pyramids(translation_only ? frames.size() : 0);
-  for (std::size_t i = 0; i < pyramids.size(); ++i)
-    cv::buildOpticalFlowPyramid(left_images[i], pyramids[i], {side, side}, 0, true);
-  for (std::size_t i = 0; i < frames.size(); ++i) {
-    drift[i].assign(frames[i].features.size(), -1.0f);
-    for (std::size_t j = 0; j < frames[i].features.size(); ++j) {
-      const frontend::Feature& f = frames[i].features[j];
-      if (f.age == 0) {
-        cv::getRectSubPix(left_images[i], {side, side}, f.left, first_windows[f.id], CV_32F);
-        first_positions[f.id] = {i, f.left};
-        continue;
-      }
-      const auto window = first_windows.find(f.id);
-      if (window == first_windows.end()) continue;
-      ++measured;
-      drift[i][j] = kNotMeasured;
-      const cv::Point origin(cvRound(f.left.x) - margin, cvRound(f.left.y) - margin);
-      const cv::Rect region(origin, cv::Size(2 * margin + 1, 2 * margin + 1));
-      if ((region & cv::Rect(0, 0, left_images[i].cols, left_images[i].rows)) != region) {
-        ++failed;
-        continue;
-      }
-      if (translation_only) {
-        // Translation-only LK of the first window (its frame's image around the first
-        // position) into this frame, started at the track's position.
-        const auto& [i0, p0] = first_positions.at(f.id);
-        std::vector<cv::Point2f> from{p0}, to{f.left};
-        std::vector<unsigned char> status;
-        std::vector<float> error;
-        cv::calcOpticalFlowPyrLK(pyramids[i0], pyramids[i], from, to, status, error, {side, side},
-                                 0, {cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01},
-                                 cv::OPTFLOW_USE_INITIAL_FLOW);
-        if (!status[0]) {
-          ++failed;
-          continue;
-        }
-        drift[i][j] = std::hypot(to[0].x - f.left.x, to[0].y - f.left.y);
-        continue;
-      }
-      cv::Mat input;
-      left_images[i](region).convertTo(input, CV_32F);
-      const float x0 = f.left.x - static_cast<float>(origin.x + half);
-      const float y0 = f.left.y - static_cast<float>(origin.y + half);
-      cv::Mat warp = (cv::Mat_<float>(2, 3) << 1, 0, x0, 0, 1, y0);
-      try {
-        cv::findTransformECC(window->second, input, warp, cv::MOTION_AFFINE,
-                             {cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-4},
-                             cv::noArray(), 1);
-      } catch (const cv::Exception&) {
-        ++failed;
-        continue;
-      }
-      const auto c = static_cast<float>(half);
-      const float x = warp.at<float>(0, 0) * c + warp.at<float>(0, 1) * c + warp.at<float>(0, 2);
-      const float y = warp.at<float>(1, 0) * c + warp.at<float>(1, 1) * c + warp.at<float>(1, 2);
-      drift[i][j] = std::hypot(x + static_cast<float>(origin.x) - f.left.x,
-                               y + static_cast<float>(origin.y) - f.left.y);
-    }
-  }
-  std::fprintf(stderr, "[first window] %ld observations measured, %ld not (border, ECC), %.1f s\n",
-               measured, failed,
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  return drift;
-}
-
-/// Ends every track at its first observation whose first-window drift exceeds `threshold_px`
-/// (or was not measured).
-void end_drifted_tracks(std::vector<frontend::FrontendFrame>& frames, const PerObservation& drift,
-                        float threshold_px) {
-  const long removed = end_tracks_where(frames, [&](std::size_t i, std::size_t j, const auto&) {
-    return drift[i][j] > threshold_px;
-  });
-  std::fprintf(stderr, "[first window] ended tracks: %ld observations dropped (over %.2f px)\n",
-               removed, threshold_px);
-}
-
 /// Diagnostic ($EDX_VIO_DEPTH_TRUTH=1, synthetic datasets only): the frontend's disparities and
 /// left tracks against the rendered truth. The generator's world is rebuilt from edx_gen.yaml
 /// (scenario, seed) and each frame's left view rendered with depth at the true pose:
@@ -328,8 +232,7 @@ void end_drifted_tracks(std::vector<frontend::FrontendFrame>& frames, const PerO
 void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
                                const std::vector<std::optional<Eigen::Isometry3d>>& T_world_left,
                                const datasets::CameraIntrinsics& K, double baseline_m,
-                               const std::filesystem::path& dataset_dir, int dr_window_px,
-                               const PerObservation* first_window) {
+                               const std::filesystem::path& dataset_dir, int dr_window_px) {
   const std::filesystem::path gen_file = dataset_dir / "edx_gen.yaml";
   if (!std::filesystem::exists(gen_file)) {
     throw std::invalid_argument("$EDX_VIO_DEPTH_TRUTH: " + gen_file.string() +
@@ -410,7 +313,6 @@ void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
     double drift_px;
     float hamming_to_first, lk_residual, round_trip_px;
     bool edge;
-    float first_window = -1;
   };
   std::vector<SignalSample> signals;
   for (const auto& [id, obs] : tracks_of(frames, T_world_left)) {
@@ -452,7 +354,6 @@ void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
               hamming += std::popcount(static_cast<unsigned>(first[b] ^ f.descriptor[b]));
             signals.push_back(
                 {e, static_cast<float>(hamming), f.lk_residual, f.round_trip_px, s.edge});
-            if (first_window) signals.back().first_window = (*first_window)[i][j];
           }
           if (k <= 10 && !track_on_edge) drift_smooth[k].push_back(e);
           if (!track_on_edge && k <= 10) {
@@ -556,8 +457,7 @@ void check_against_depth_truth(std::vector<frontend::FrontendFrame>& frames,
   const std::pair<const char*, float SignalSample::*> kSignals[] = {
       {"Hamming to the first descriptor", &SignalSample::hamming_to_first},
       {"LK residual", &SignalSample::lk_residual},
-      {"round trip px", &SignalSample::round_trip_px},
-      {"first-window drift px", &SignalSample::first_window}};
+      {"round trip px", &SignalSample::round_trip_px}};
   auto percent = [](long part, long whole) {
     return whole > 0 ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : 0.0;
   };
@@ -752,20 +652,15 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
   std::vector<frontend::FrontendFrame> ideal;
   const char* ideal_sigma = std::getenv("EDX_VIO_IDEAL_FEATURES");
   if (ideal_sigma || std::getenv("EDX_VIO_TRACK_STATS") || std::getenv("EDX_VIO_DEPTH_TRUTH") ||
-      std::getenv("EDX_VIO_MAX_FLOW") || std::getenv("EDX_VIO_MAX_TRACK_AGE") ||
-      std::getenv("EDX_VIO_FIRST_WINDOW")) {
+      std::getenv("EDX_VIO_MAX_FLOW") || std::getenv("EDX_VIO_MAX_TRACK_AGE")) {
     // Settings parsed before the frames are run (a bad one costs nothing).
-    const bool check_first_window = std::getenv("EDX_VIO_FIRST_WINDOW") != nullptr;
-    const double first_window_px = check_first_window ? env_number("EDX_VIO_FIRST_WINDOW", 0) : 0.0;
     const long max_track_age = std::getenv("EDX_VIO_MAX_TRACK_AGE")
                                    ? static_cast<long>(env_number("EDX_VIO_MAX_TRACK_AGE", 1))
                                    : 0;  // 0: no limit
-    std::vector<cv::Mat> left_images;
     std::vector<std::optional<Eigen::Isometry3d>> T_world_left;
     for (std::size_t i = 0; i < run.frames; ++i) {
       const datasets::StereoFrame images = dataset->load_frame(i);
       ideal.push_back(frontend.process(images.left, images.right));
-      if (check_first_window) left_images.push_back(images.left.clone());
       const auto truth = datasets::interpolate_ground_truth(dataset->ground_truth(), images.t_ns);
       T_world_left.push_back(
           truth ? std::optional<Eigen::Isometry3d>(truth->T_world_body * calibration.T_body_left)
@@ -777,21 +672,11 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
     }
     if (const char* flow = std::getenv("EDX_VIO_MAX_FLOW")) cut_fast_tracks(ideal, std::stod(flow));
     if (max_track_age > 0) cut_old_tracks(ideal, max_track_age);
-    // $EDX_VIO_FIRST_WINDOW=0 measures for the depth-truth table; > 0 ends tracks first (the
-    // features' indices then change, so the table goes without the measure).
-    PerObservation drift;
-    if (check_first_window) {
-      drift = first_window_drift(ideal, left_images, 10);
-      if (first_window_px > 0) {
-        end_drifted_tracks(ideal, drift, static_cast<float>(first_window_px));
-        drift.clear();
-      }
-    }
     if (std::getenv("EDX_VIO_DEPTH_TRUTH")) {
       check_against_depth_truth(
           ideal, T_world_left, calibration.rectified, calibration.baseline_m,
           std::filesystem::exists(path / "edx_gen.yaml") ? path : path.parent_path(),
-          frontend_options.dr_window_px, drift.empty() ? nullptr : &drift);
+          frontend_options.dr_window_px);
     }
     if (ideal_sigma) {
       const char* part = std::getenv("EDX_VIO_IDEAL_PART");
@@ -821,6 +706,7 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
     BackendInput input;
     input.t_ns = images.t_ns;
     input.frontend = &features;
+    input.left_image = &images.left;
     input.imu = imu_between(dataset->imu(), previous, images.t_ns);
     if (options.use_gps) input.gps = gps_between(dataset->gps(), previous, images.t_ns);
     previous = images.t_ns;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "tests/workloads/backend/vio/vio_run.hpp"
+#include "tests/workloads/frontend/plane_scene.hpp"
 #include "workloads/backend/vio/chi_square.hpp"
 #include "workloads/backend/vio/ekf_update.hpp"
 #include "workloads/backend/vio/gps_fusion.hpp"
@@ -65,6 +66,18 @@ TEST(VioOptions, ValidateNamesTheField) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("random_walk.step_scale_px"), std::string::npos);
   }
+  options = VioOptions{};
+  options.first_window_check_px = -1;  // 0 turns the check off; below that means nothing
+  try {
+    options.validate();
+    FAIL() << "expected a throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("first_window_check_px"), std::string::npos);
+  }
+  options = VioOptions{};
+  options.first_window_half_px = 2;
+  EXPECT_THROW(options.validate(), std::runtime_error);
+  EXPECT_EQ(VioOptions{}.to_json().at("first_window_check_px"), 1.0);
   EXPECT_EQ(VioOptions{}.to_json().at("track_noise"), "random_walk");
   EXPECT_EQ(VioOptions{}.to_json().at("random_walk").at("step_scale_px"), 3.7);
 }
@@ -80,6 +93,78 @@ TEST(VioOptions, EffectivePixelSigmaInflatesForTrackCorrelation) {
   EXPECT_NEAR(options.effective_pixel_sigma(), 1.0, 1e-12);
   options.track_error_correlation = 0;
   EXPECT_DOUBLE_EQ(options.effective_pixel_sigma(), 0.5);
+}
+
+// The first-window check: twelve tracks follow a textured image sliding 2 px a frame; one of
+// them is reported 0.3 px a frame further (a drifting track), so it is 1.2 px off its point at
+// frame 4, where the check (1 px) ends it; the others stay. Checked through the track_check
+// kernel the backend records: windows cut, observations checked, tracks ended.
+TEST(VioBackend, FirstWindowCheckEndsTheDriftingTrack) {
+  BackendCamera camera;
+  camera.width = 640;
+  camera.height = 400;
+  camera.fx = camera.fy = 400;
+  camera.cx = 320;
+  camera.cy = 200;
+  camera.baseline_m = 0.1;
+  datasets::ImuNoise noise;
+  noise.gyro_noise_density = 1.7e-4;
+  noise.gyro_random_walk = 1.9e-5;
+  noise.accel_noise_density = 2.0e-3;
+  noise.accel_random_walk = 3.0e-3;
+  frontend::testing::PlaneScene scene;
+  scene.texture = frontend::testing::make_texture({1000, 700}, 31);
+  // Twelve textured points (an aligned window found where it is).
+  std::vector<cv::Point2f> points;
+  for (int y = 100; y < 300 && points.size() < 12; y += 37) {
+    for (int x = 100; x < 500 && points.size() < 12; x += 53) {
+      const cv::Point2f p(static_cast<float>(x), static_cast<float>(y));
+      const cv::Mat prepared = frontend::FirstWindow::prepare(scene.left());
+      if (frontend::FirstWindow(prepared, p, 10).align(prepared, p, 30, 0.01)) {
+        points.push_back(p);
+      }
+    }
+  }
+  ASSERT_EQ(points.size(), 12u);
+  const auto run = [&](const VioOptions& options) {
+    VioBackend backend(camera, noise, options);
+    std::vector<trace::KernelRecord> checks;
+    for (int k = 0; k <= 6; ++k) {
+      const cv::Mat image = scene.left({2.0 * k, 0});
+      frontend::FrontendFrame frame;
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        frontend::Feature f;
+        f.id = static_cast<std::int64_t>(i);
+        f.age = k;
+        f.left = points[i] + cv::Point2f(2.0f * static_cast<float>(k), 0);
+        if (i == 5) f.left.x += 0.3f * static_cast<float>(k);  // drifts 0.3 px a frame
+        frame.features.push_back(f);
+      }
+      BackendInput input;
+      input.t_ns = 50'000'000LL * k;
+      input.frontend = &frame;
+      input.left_image = &image;
+      for (const trace::KernelRecord& kernel : backend.process(input).kernels) {
+        if (kernel.kernel == "track_check") checks.push_back(kernel);
+      }
+    }
+    return checks;
+  };
+  const std::vector<trace::KernelRecord> checks = run(VioOptions{});
+  ASSERT_EQ(checks.size(), 7u);
+  EXPECT_EQ(checks[0].n, 12);  // windows cut
+  EXPECT_EQ(checks[0].m, 0);
+  for (int k = 1; k <= 6; ++k) {
+    SCOPED_TRACE(k);
+    const nlohmann::json detail = nlohmann::json::parse(checks[k].detail_json);
+    EXPECT_EQ(checks[k].n, 0);
+    EXPECT_EQ(checks[k].m, k <= 4 ? 12 : 11);  // the ended track is not checked again
+    EXPECT_EQ(detail.at("ended"), k == 4 ? 1 : 0);
+    EXPECT_GT(detail.at("iterations"), 0);
+  }
+  VioOptions off;
+  off.first_window_check_px = 0;
+  EXPECT_TRUE(run(off).empty());
 }
 
 // Bias priors: the option when set, else the IMU file's stated turn-on bias, else the fallback.
@@ -789,8 +874,8 @@ TEST(GpsFusion, HeightOnlyWhenVertical) {
 namespace edx::backend::vio::testing {
 namespace {
 
-// The diagnostics' settings ($EDX_VIO_FIRST_WINDOW, $EDX_VIO_MAX_TRACK_AGE): a number at least
-// the minimum, or a one-line error naming the variable.
+// The diagnostics' settings ($EDX_VIO_FIRST_WINDOW_CHECK, $EDX_VIO_MAX_TRACK_AGE): a number at
+// least the minimum, or a one-line error naming the variable.
 TEST(DiagnosticSettings, EnvNumberParsesOrNamesTheVariable) {
   const char* name = "EDX_VIO_TEST_SETTING";
   ::setenv(name, "1.5", 1);
