@@ -87,19 +87,28 @@ FirstWindow::FirstWindow(const cv::Mat& prepared, cv::Point2f centre, int half) 
 }
 
 std::optional<WindowAlignment> FirstWindow::align(const cv::Mat& prepared, cv::Point2f position,
-                                                  int max_iterations, double epsilon_px) const {
-  return solve(prepared, cv::Matx22f::eye(), position, true, max_iterations, epsilon_px);
+                                                  int max_iterations, double epsilon_px,
+                                                  int* updates) const {
+  int spent = 0;
+  auto out = solve(prepared, cv::Matx22f::eye(), position, true, max_iterations, epsilon_px, spent);
+  if (updates != nullptr) *updates = spent;
+  return out;
 }
 
 std::optional<WindowAlignment> FirstWindow::refine(const cv::Mat& prepared,
                                                    const WindowAlignment& start, int max_iterations,
-                                                   double epsilon_px) const {
-  return solve(prepared, start.A, start.centre, false, max_iterations, epsilon_px);
+                                                   double epsilon_px, int* updates) const {
+  int spent = 0;
+  auto out = solve(prepared, start.A, start.centre, false, max_iterations, epsilon_px, spent);
+  if (updates != nullptr) *updates = spent;
+  return out;
 }
 
 std::optional<WindowAlignment> FirstWindow::solve(const cv::Mat& prepared, const cv::Matx22f& A0,
                                                   cv::Point2f position, bool translation_first,
-                                                  int max_iterations, double epsilon_px) const {
+                                                  int max_iterations, double epsilon_px,
+                                                  int& updates) const {
+  updates = 0;
   if (!textured_) return std::nullopt;
   const double h = half_;
   const std::array<Eigen::Vector2d, 4> corners{Eigen::Vector2d(-h, -h), Eigen::Vector2d(h, -h),
@@ -118,6 +127,7 @@ std::optional<WindowAlignment> FirstWindow::solve(const cv::Mat& prepared, const
         return std::nullopt;
       }
     }
+    updates = iteration;
     // e = I(W(x)) - T(x); dp = H^-1 SD^T e (SD's columns sum to 0 and are orthogonal to T,
     // so neither the template's mean nor its gain enters).
     sample(prepared, A, c, half_, sampled);

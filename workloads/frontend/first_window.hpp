@@ -45,14 +45,17 @@ class FirstWindow {
   /// update moves no window corner by more than `epsilon_px`. nullopt when the template has too
   /// little texture for an affine warp, the warped window leaves the image, or
   /// `max_iterations` do not converge.
+  /// `updates`, when given, receives the Gauss-Newton updates computed, aligned or not.
   std::optional<WindowAlignment> align(const cv::Mat& prepared, cv::Point2f position,
-                                       int max_iterations, double epsilon_px) const;
+                                       int max_iterations, double epsilon_px,
+                                       int* updates = nullptr) const;
 
   /// Warm start: aligns from a previous alignment moved to this image (A = start.A, c =
   /// start.centre), the whole affine warp at once. A track's warp changes little from frame to
   /// frame, so this takes a few updates where align() takes ten or more.
   std::optional<WindowAlignment> refine(const cv::Mat& prepared, const WindowAlignment& start,
-                                        int max_iterations, double epsilon_px) const;
+                                        int max_iterations, double epsilon_px,
+                                        int* updates = nullptr) const;
 
   int half() const { return half_; }
 
@@ -64,7 +67,7 @@ class FirstWindow {
   using Params = Eigen::Matrix<double, 6, 1>;
   std::optional<WindowAlignment> solve(const cv::Mat& prepared, const cv::Matx22f& A0,
                                        cv::Point2f position, bool translation_first,
-                                       int max_iterations, double epsilon_px) const;
+                                       int max_iterations, double epsilon_px, int& updates) const;
   int half_;
   Eigen::VectorXd template_;  ///< zero-mean template, row-major
   Eigen::Matrix<double, Eigen::Dynamic, 6>

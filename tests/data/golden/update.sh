@@ -9,7 +9,7 @@
 #                                          # the figures follow its work, not this machine)
 #
 # golden_mix.db: `edx trace --mix paper --frames 240 --resolution 320x240` (seed 1): all three
-# modes and all three accelerable kernels (60 projections, 102 Kalman gains, 3 marginalizations),
+# modes and all three accelerable kernels (60 projections, 173 Kalman gains, 3 marginalizations),
 # about 1 MB.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"

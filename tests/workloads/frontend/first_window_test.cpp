@@ -89,6 +89,11 @@ TEST(FirstWindow, SaysWhenItCannotAlign) {
   EXPECT_NEAR(still->centre.x, kFirst.x, 1e-3);
   EXPECT_NEAR(still->centre.y, kFirst.y, 1e-3);
   EXPECT_LE(still->iterations, 2);
+  // One update allowed: the translation converges but the affine stage never runs. Not aligned,
+  // and the update spent is reported.
+  int updates = -1;
+  EXPECT_FALSE(window.align(texture, kFirst, 1, 0.01, &updates).has_value());
+  EXPECT_EQ(updates, 1);
 }
 
 }  // namespace

@@ -103,14 +103,19 @@ void VioBackend::check_first_windows(const frontend::FrontendFrame& frame,
     // Drift = |c* - x_k|, c* where the first window's centre lands (30 updates, 0.01 px), warm
     // started from the last frame's warp moved by the track's own motion.
     CheckedTrack& track = checked_track->second;
+    // Every update computed counts as work, a failed warm start's too.
     std::optional<frontend::WindowAlignment> aligned;
+    int updates = 0;
     if (track.last) {
       frontend::WindowAlignment start = *track.last;
       start.centre += f.left - track.last_position;
-      aligned = track.window.refine(prepared, start, kCheckIterations, kCheckEpsilonPx);
+      aligned = track.window.refine(prepared, start, kCheckIterations, kCheckEpsilonPx, &updates);
+      iterations += updates;
     }
-    if (!aligned) aligned = track.window.align(prepared, f.left, kCheckIterations, kCheckEpsilonPx);
-    if (aligned) iterations += aligned->iterations;
+    if (!aligned) {
+      aligned = track.window.align(prepared, f.left, kCheckIterations, kCheckEpsilonPx, &updates);
+      iterations += updates;
+    }
     if (!aligned || std::hypot(aligned->centre.x - f.left.x, aligned->centre.y - f.left.y) >
                         options_.first_window_check_px) {
       ended_by_check_.insert(f.id);

@@ -77,7 +77,7 @@ TEST(VioOptions, ValidateNamesTheField) {
   options = VioOptions{};
   options.first_window_half_px = 2;
   EXPECT_THROW(options.validate(), std::runtime_error);
-  EXPECT_EQ(VioOptions{}.to_json().at("first_window_check_px"), 1.0);
+  EXPECT_EQ(VioOptions{}.to_json().at("first_window_check_px"), 0.0);  // off by default
   EXPECT_EQ(VioOptions{}.to_json().at("track_noise"), "random_walk");
   EXPECT_EQ(VioOptions{}.to_json().at("random_walk").at("step_scale_px"), 3.7);
 }
@@ -150,7 +150,9 @@ TEST(VioBackend, FirstWindowCheckEndsTheDriftingTrack) {
     }
     return checks;
   };
-  const std::vector<trace::KernelRecord> checks = run(VioOptions{});
+  VioOptions on;
+  on.first_window_check_px = 1.0;
+  const std::vector<trace::KernelRecord> checks = run(on);
   ASSERT_EQ(checks.size(), 7u);
   EXPECT_EQ(checks[0].n, 12);  // windows cut
   EXPECT_EQ(checks[0].m, 0);
@@ -162,9 +164,7 @@ TEST(VioBackend, FirstWindowCheckEndsTheDriftingTrack) {
     EXPECT_EQ(detail.at("ended"), k == 4 ? 1 : 0);
     EXPECT_GT(detail.at("iterations"), 0);
   }
-  VioOptions off;
-  off.first_window_check_px = 0;
-  EXPECT_TRUE(run(off).empty());
+  EXPECT_TRUE(run(VioOptions{}).empty());  // off by default: no track_check kernel
 }
 
 // Bias priors: the option when set, else the IMU file's stated turn-on bias, else the fallback.
