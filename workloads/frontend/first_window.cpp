@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <opencv2/imgproc.hpp>
 
 namespace edx::frontend {
@@ -18,8 +19,7 @@ void sample(const cv::Mat& image, const Eigen::Matrix2d& A, const Eigen::Vector2
             Eigen::VectorXd& out) {
   const int side = 2 * half + 1;
   out.resize(side * side);
-  const double step = static_cast<double>(image.step1());
-  const float* data = image.ptr<float>();
+  const auto step = static_cast<std::ptrdiff_t>(image.step1());
   const int max_x = image.cols - 2, max_y = image.rows - 2;
   for (int v = 0; v < side; ++v) {
     // Along a row the sample point moves by A's first column.
@@ -28,8 +28,8 @@ void sample(const cv::Mat& image, const Eigen::Matrix2d& A, const Eigen::Vector2
       const int x0 = std::min(static_cast<int>(p.x()), max_x);
       const int y0 = std::min(static_cast<int>(p.y()), max_y);
       const double ax = p.x() - x0, ay = p.y() - y0;
-      const float* top = data + static_cast<std::ptrdiff_t>(y0 * step) + x0;
-      const float* bottom = top + static_cast<std::ptrdiff_t>(step);
+      const float* top = image.ptr<float>(y0) + x0;
+      const float* bottom = top + step;
       out[v * side + u] = (1 - ay) * ((1 - ax) * top[0] + ax * top[1]) +
                           ay * ((1 - ax) * bottom[0] + ax * bottom[1]);
     }

@@ -57,8 +57,6 @@ class FirstWindow {
                                         int max_iterations, double epsilon_px,
                                         int* updates = nullptr) const;
 
-  int half() const { return half_; }
-
   /// prepare()'s Gaussian: sigma (px) and kernel radius.
   static constexpr double kSmoothingSigma = 1.0;
   static constexpr int kSmoothingRadius = 3;
@@ -70,8 +68,8 @@ class FirstWindow {
                                        int max_iterations, double epsilon_px, int& updates) const;
   int half_;
   Eigen::VectorXd template_;  ///< zero-mean template, row-major
-  Eigen::Matrix<double, Eigen::Dynamic, 6>
-      sd_;  ///< steepest-descent images [gx x, gy x, gx y, gy y, gx, gy]
+  /// Steepest-descent images [gx x, gy x, gx y, gy y, gx, gy], one row per window pixel.
+  Eigen::Matrix<double, Eigen::Dynamic, 6> sd_;
   Eigen::LDLT<Eigen::Matrix<double, 6, 6>> hessian_;
   Eigen::LDLT<Eigen::Matrix2d> translation_hessian_;  ///< of the translation columns alone
   bool textured_ = false;

@@ -2,13 +2,13 @@
 // The VIO backend (paper Sec. IV-A, "Filtering" and "Fusion"): an MSCKF over the stereo
 // frontend's feature tracks and the IMU, with loosely coupled GPS fusion.
 //
-// Per frame: (with VioOptions::first_window_check_px > 0, off by default) the first-window check
-// of every track (track_check, on the host; it ends the tracks that drifted from their first
-// window), IMU propagation to the image time
-// (imu_propagation), stochastic cloning (cloning), the update from the tracks that ended and, when
-// the window is full, from those seen in the oldest clone (triangulation, jacobians,
-// nullspace_projection, compression, kalman_gain, covariance_update), marginalization of the oldest
-// clone (clone_marginalization), and GPS fusion (gps_fusion) when fixes arrived.
+// Per frame: the first-window check of every track (track_check, on the host, only with
+// VioOptions::first_window_check_px > 0, off by default; it ends the tracks that drifted from
+// their first window), IMU propagation to the image time (imu_propagation), stochastic cloning
+// (cloning), the update from the tracks that ended and, when the window is full, from those
+// seen in the oldest clone (triangulation, jacobians, nullspace_projection, compression,
+// kalman_gain, covariance_update), marginalization of the oldest clone (clone_marginalization),
+// and GPS fusion (gps_fusion) when fixes arrived.
 #include <map>
 #include <memory>
 #include <optional>

@@ -13,8 +13,6 @@
 #include <cstring>
 #include <functional>
 #include <map>
-#include <opencv2/imgproc.hpp>
-#include <opencv2/video.hpp>
 #include <random>
 #include <stdexcept>
 #include <string>
