@@ -36,47 +36,38 @@ TEST(ChiSquare, QuantilesMatchTables) {
   EXPECT_NEAR(chi2_survival(2.0, 2), std::exp(-1.0), 1e-12);  // Q = exp(-x/2) for k = 2
 }
 
+// validate() throws a message naming `field` for options with one bad field.
+void expect_rejected_naming(const VioOptions& options, const std::string& field) {
+  try {
+    options.validate();
+    ADD_FAILURE() << "expected a throw naming " << field;
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+  }
+}
+
 TEST(VioOptions, ValidateNamesTheField) {
-  VioOptions options;
-  EXPECT_NO_THROW(options.validate());
-  options.max_clones = 1;
-  try {
-    options.validate();
-    FAIL() << "expected a throw";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("max_clones"), std::string::npos);
-  }
+  EXPECT_NO_THROW(VioOptions{}.validate());
+  const auto with = [](auto change) {
+    VioOptions options;
+    change(options);
+    return options;
+  };
+  expect_rejected_naming(with([](VioOptions& o) { o.max_clones = 1; }), "max_clones");
   EXPECT_EQ(VioOptions{}.to_json().at("max_clones"), 30);
-  options = VioOptions{};
-  options.track_error_correlation = 1.0;  // would give the measurements no information
-  EXPECT_THROW(options.validate(), std::runtime_error);
-  options = VioOptions{};
-  options.random_walk.disparity_sigma_px = 0;  // would make the track covariance singular
-  try {
-    options.validate();
-    FAIL() << "expected a throw";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("random_walk.disparity_sigma_px"), std::string::npos);
-  }
-  options = VioOptions{};
-  options.random_walk.step_scale_px = -1;  // a negative sd
-  try {
-    options.validate();
-    FAIL() << "expected a throw";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("random_walk.step_scale_px"), std::string::npos);
-  }
-  options = VioOptions{};
-  options.first_window_check_px = -1;  // 0 turns the check off; below that means nothing
-  try {
-    options.validate();
-    FAIL() << "expected a throw";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("first_window_check_px"), std::string::npos);
-  }
-  options = VioOptions{};
-  options.first_window_half_px = 2;
-  EXPECT_THROW(options.validate(), std::runtime_error);
+  // rho = 1 would give the measurements no information.
+  expect_rejected_naming(with([](VioOptions& o) { o.track_error_correlation = 1.0; }),
+                         "track_error_correlation");
+  // A zero disparity sigma would make the track covariance singular; a negative sd means nothing.
+  expect_rejected_naming(with([](VioOptions& o) { o.random_walk.disparity_sigma_px = 0; }),
+                         "random_walk.disparity_sigma_px");
+  expect_rejected_naming(with([](VioOptions& o) { o.random_walk.step_scale_px = -1; }),
+                         "random_walk.step_scale_px");
+  // 0 turns the first-window check off; below that means nothing.
+  expect_rejected_naming(with([](VioOptions& o) { o.first_window_check_px = -1; }),
+                         "first_window_check_px");
+  expect_rejected_naming(with([](VioOptions& o) { o.first_window_half_px = 2; }),
+                         "first_window_half_px");
   EXPECT_EQ(VioOptions{}.to_json().at("first_window_check_px"), 0.0);  // off by default
   EXPECT_EQ(VioOptions{}.to_json().at("track_noise"), "random_walk");
   EXPECT_EQ(VioOptions{}.to_json().at("random_walk").at("step_scale_px"), 3.7);
