@@ -49,6 +49,13 @@ void print(const std::string& name, const VioRun& run) {
       run.distance_m, run.final_drift_m, 100 * run.final_drift_m / std::max(run.distance_m, 1e-9),
       run.mean_nees, 100 * run.nees_in_bounds, run.visual_updates, run.gps_fused, run.gamma_per_dof,
       name, mean, sd, kernels);
+  if (run.global_accuracy) {
+    fmt::print(
+        "[vio] {}: after GPS alignment ({} frames): ATE GPS frame {:.4f} m (posyaw) {:.4f} m "
+        "(unaligned), filter frame {:.4f} m (posyaw)\n",
+        name, run.global_accuracy->pairs, run.global_accuracy->ate_m.rmse,
+        run.global_unaligned->ate_m.rmse, run.filter_accuracy_aligned_frames->ate_m.rmse);
+  }
   if (std::getenv("EDX_VIO_VERBOSE")) {
     std::string series;
     for (std::size_t i = 0; i < run.nees.size(); ++i) series += fmt::format(" {:.1f}", run.nees[i]);

@@ -636,8 +636,9 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
                                     {calibration.rectified.fx, calibration.baseline_m});
   VioRun run;
   run.frames = frames == 0 ? dataset->frame_count() : std::min(frames, dataset->frame_count());
-  eval::Trajectory gt, est;
+  eval::Trajectory gt, est, gt_g, est_g, est_w;  // _g, _w: frames after the GPS alignment
   gt.stamp_kind = est.stamp_kind = eval::StampKind::kSeconds;
+  gt_g.stamp_kind = est_g.stamp_kind = est_w.stamp_kind = eval::StampKind::kSeconds;
   gt.source = "ground truth";
   est.source = "vio estimate";
   std::int64_t previous = std::numeric_limits<std::int64_t>::min();
@@ -728,6 +729,16 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
         {t_s, static_cast<std::int64_t>(i), eval::Pose(truth->T_world_body.matrix()), 0});
     est.poses.push_back(
         {t_s, static_cast<std::int64_t>(i), eval::Pose(output.T_world_body->matrix()), 0});
+    if (backend.gps_aligned()) {
+      const VioState& s = backend.state();
+      Eigen::Isometry3d T_g = Eigen::Isometry3d::Identity();
+      T_g.linear() = Eigen::AngleAxisd(s.yaw_GV, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      T_g.translation() = s.t_GV;
+      gt_g.poses.push_back(gt.poses.back());
+      est_w.poses.push_back(est.poses.back());
+      est_g.poses.push_back({t_s, static_cast<std::int64_t>(i),
+                             eval::Pose((T_g * *output.T_world_body).matrix()), 0});
+    }
     if (last_gt_position)
       run.distance_m += (truth->T_world_body.translation() - *last_gt_position).norm();
     last_gt_position = truth->T_world_body.translation();
@@ -804,6 +815,13 @@ VioRun run_vio(const std::filesystem::path& path, const VioOptions& given, std::
     eval_options.alignment = eval::AlignmentMethod::kPosYaw;
     eval_options.t_max_diff_s = 1e-3;
     run.accuracy = eval::evaluate(gt, est, eval_options);
+    if (est_g.poses.size() >= 2) {
+      run.global_accuracy = eval::evaluate(gt_g, est_g, eval_options);
+      run.filter_accuracy_aligned_frames = eval::evaluate(gt_g, est_w, eval_options);
+      eval::EvalOptions none = eval_options;
+      none.alignment = eval::AlignmentMethod::kNone;
+      run.global_unaligned = eval::evaluate(gt_g, est_g, none);
+    }
     // Diagnosis ($EDX_VIO_AXES): the aligned error's RMS along track, across track and
     // vertically, and per 100 frames.
     if (std::getenv("EDX_VIO_AXES") && gt.poses.size() == est.poses.size()) {

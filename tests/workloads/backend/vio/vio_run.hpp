@@ -33,6 +33,11 @@ struct VioRun {
   int gps_fused = 0;
   double gamma_per_dof = 0;  ///< accepted features' sum gamma / sum dof (about 1: noise fits)
   bool gps_aligned = false;
+  /// The GPS-fused output in the GPS frame, p_G = Rz(yaw_GV) p_W + t_GV, R_G = Rz(yaw_GV) R_WI,
+  /// over the frames after the alignment (the synthetic worlds' GPS frame is their ground-truth
+  /// frame): ATE posyaw-aligned and without alignment, and the filter-frame ATE over the same
+  /// frames for comparison.
+  std::optional<eval::EvalResult> global_accuracy, global_unaligned, filter_accuracy_aligned_frames;
 };
 
 /// Runs `frames` frames (0: all) of the EuRoC-layout dataset at `path`. use_gps=false hides the
