@@ -147,8 +147,16 @@ LinkSpec LinkSpec::from_yaml(const YAML::Node& node, const std::string& where,
 
 sim::Time wire_time(const LinkConfig& link, std::int64_t bytes) {
   // bytes / (GBps * 1e9) s = bytes * 1000 / GBps ps
-  return static_cast<sim::Time>(
-      std::llround(static_cast<double>(bytes) * 1e3 / link.bandwidth_gb_per_s));
+  const double picoseconds = static_cast<double>(bytes) * 1e3 / link.bandwidth_gb_per_s;
+  // llround is undefined past 2^63; a tiny bandwidth must not wrap into a short time.
+  constexpr double kLimitPs = 9223372036854775808.0;  // 2^63
+  if (!std::isfinite(picoseconds) || picoseconds < 0.0 || picoseconds >= kLimitPs) {
+    throw std::out_of_range(
+        fmt::format("link.bandwidth_gb_per_s {}: {} bytes would take {:g} s on the wire, beyond "
+                    "the simulated time range (2^63 ps, 107 days)",
+                    link.bandwidth_gb_per_s, bytes, picoseconds * 1e-12));
+  }
+  return static_cast<sim::Time>(std::llround(picoseconds));
 }
 
 sim::Time chunk_wire_time(const LinkConfig& link, std::int64_t offset, std::int64_t bytes) {

@@ -96,7 +96,8 @@ struct LinkSpec {
                             const std::string& prefix = "link");
 };
 
-/// Wire time of `bytes` on `link`: round(bytes * 1000 / bandwidth_GB_per_s) ps.
+/// Wire time of `bytes` on `link`: round(bytes * 1000 / bandwidth_GB_per_s) ps; throws
+/// std::out_of_range naming `link.bandwidth_gb_per_s` when that is 2^63 ps or more.
 sim::Time wire_time(const LinkConfig& link, std::int64_t bytes);
 /// Wire time of the chunk of `bytes` at byte `offset` of a transfer:
 /// wire_time(offset + bytes) - wire_time(offset).

@@ -121,6 +121,19 @@ TEST(LinkTiming, WireTimeRoundsToPicoseconds) {
   EXPECT_EQ(wire_time(LinkSpec::axi4().link, 1200), sim::us(1));
 }
 
+TEST(LinkTiming, WireTimeBeyondTheTimeRangeIsAnErrorNamingTheBandwidth) {
+  // 1e-7 GB/s = 100 B/s: 1 MB takes 1e4 s = 1e16 ps (representable); 1e12 B take 1e22 ps.
+  LinkConfig slow = LinkSpec::pcie3_x8().link;
+  slow.bandwidth_gb_per_s = 1e-7;
+  EXPECT_EQ(wire_time(slow, 1'000'000), sim::Time{10'000'000'000'000'000});
+  try {
+    wire_time(slow, 1'000'000'000'000);
+    FAIL() << "expected std::out_of_range";
+  } catch (const std::out_of_range& e) {
+    EXPECT_NE(std::string(e.what()).find("link.bandwidth_gb_per_s"), std::string::npos) << e.what();
+  }
+}
+
 TEST(LinkTiming, OneMebibyteAt7p9GBps) {
   // 256 chunks of ~518481 ps behind one 1 us setup: the 8 slots cover setup + one chunk (8 x 518
   // ns > 1518 ns), so the wire never idles: T = 1 us + 2^20 B / 7.9 GB/s = 1 us + 132731139 ps.
