@@ -58,7 +58,7 @@ void add_sweep_mpi_bench(CLI::App& app) {
         "name: sweep_mpi\nbase: {}/configs/edx_car.yaml\n"
         "workload: {{mix: paper, frames: {}, resolution: {}}}\n"
         "parameters:\n  workload.seed: {{values: [1, 2, 3, 4, 5, 6, 7, 8]}}\n"
-        "  backend.gemm_block: {{values: [1, 2, 4]}}\n"
+        "  backend.units.gemm.block: {{values: [1, 2, 4]}}\n"
         "objectives: [{{minimize: e2e_latency_mean}}, {{minimize: energy_mean}}]\n",
         EDX_SOURCE_DIR, args->frames, args->resolution);
     const auto run = [&](int ranks) {

@@ -8,7 +8,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const bool base_written = [] {
     edx::fuzz::write_bytes(edx::fuzz::scratch_dir() / "base.yaml",
-                           "name: base\nbackend: {gemm_block: 2}\n");
+                           "name: base\nbackend: {units: {gemm: {block: 2}}}\n");
     return true;
   }();
   (void)base_written;

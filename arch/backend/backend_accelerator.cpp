@@ -8,35 +8,51 @@
 namespace edx::arch {
 
 BackendAccelerator::BackendAccelerator(sim::Simulator& sim, BackendConfig config)
-    : sim_(&sim),
-      config_((config.validate(), std::move(config))),
-      clock_("backend", config_.clock_mhz) {
-  for (BackendUnit u : kBackendUnits) {
-    units_[static_cast<std::size_t>(u)] = std::make_unique<sim::Resource>(sim, 1, to_string(u));
+    : sim_(&sim), config_((config.validate(), std::move(config))) {
+  for (const MatrixUnitInstance& u : config_.units) {
+    clocks_.push_back(std::make_unique<sim::ClockDomain>("backend." + u.name, config_.clock_of(u)));
+    units_.push_back(u.count > 0 ? std::make_unique<sim::Resource>(
+                                       sim, static_cast<std::size_t>(u.count), u.name)
+                                 : nullptr);
   }
 }
 
 sim::Task<void> BackendAccelerator::run(const trace::KernelRecord& kernel) {
   const KernelAccelResult plan = accelerate_kernel(kernel, config_);
+  if (!plan.offloadable) throw std::runtime_error(plan.message);
   co_await run(plan);
 }
 
 sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::string label) {
   const sim::Time start = sim_->now();
-  // A kernel issued between clock edges starts on the next one.
-  if (clock_.next_edge(start) != start) co_await sim_->cycles(clock_, 0);
   for (const OpTiming& t : plan.ops) {
-    sim::Lease lease = co_await units_[static_cast<std::size_t>(t.unit)]->acquire();
+    sim::Resource& unit = *units_[t.unit];
+    const sim::ClockDomain& clock = *clocks_[t.unit];
+    // An op issued between its unit's clock edges starts on the next one.
+    if (clock.next_edge(sim_->now()) != sim_->now()) co_await sim_->cycles(clock, 0);
+    std::vector<sim::Lease> leases;
+    leases.push_back(co_await unit.acquire());
+    // Every other copy free now shares the op's work.
+    while (leases.size() < unit.capacity()) {
+      sim::Lease more = unit.try_acquire();
+      if (!more) break;
+      leases.push_back(std::move(more));
+    }
+    const int copies = static_cast<int>(leases.size());
+    const std::int64_t cycles = copies == t.copies ? t.cycles : op_cycles(t.op, copies, config_);
     const sim::Time begin = sim_->now();
-    if (t.cycles > 0) co_await sim_->cycles(clock_, static_cast<std::uint64_t>(t.cycles));
+    if (cycles > 0) co_await sim_->cycles(clock, static_cast<std::uint64_t>(cycles));
     ops_.add();
     if (timeline_ != nullptr) {
       if (label.empty()) label = plan.kernel;
       timeline_->span(
-          unit_tracks_[static_cast<std::size_t>(t.unit)],
+          unit_tracks_[t.unit],
           fmt::format("{} {} {}x{}x{}", label, trace::to_string(t.op.op), t.op.m, t.op.n, t.op.k),
           begin, sim_->now(),
-          {{"cycles", t.cycles}, {"spm_bytes", t.spm_bytes}, {"spill_bytes", t.spill.bytes()}});
+          {{"cycles", cycles},
+           {"copies", copies},
+           {"spm_bytes", t.spm_bytes},
+           {"spill_bytes", t.spill.bytes()}});
     }
   }
   kernels_.add();
@@ -49,8 +65,9 @@ sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::stri
 
 void BackendAccelerator::register_stats(sim::StatsRegistry& registry,
                                         const std::string& prefix) const {
-  for (BackendUnit u : kBackendUnits) {
-    registry.add(fmt::format("{}.{}.busy", prefix, to_string(u)), unit(u).busy());
+  for (std::size_t i = 0; i < units_.size(); ++i) {
+    if (units_[i] == nullptr) continue;
+    registry.add(fmt::format("{}.{}.busy", prefix, config_.units[i].name), units_[i]->busy());
   }
   registry.add(prefix + ".kernels", kernels_);
   registry.add(prefix + ".ops", ops_);
@@ -60,8 +77,9 @@ void BackendAccelerator::register_stats(sim::StatsRegistry& registry,
 void BackendAccelerator::set_timeline(sim::Timeline& timeline, const std::string& group) {
   timeline_ = &timeline;
   kernel_track_ = timeline.track(group, "kernels");
-  for (BackendUnit u : kBackendUnits) {
-    unit_tracks_[static_cast<std::size_t>(u)] = timeline.track(group, to_string(u));
+  unit_tracks_.clear();
+  for (const MatrixUnitInstance& u : config_.units) {
+    unit_tracks_.push_back(timeline.track(group, u.name));
   }
 }
 

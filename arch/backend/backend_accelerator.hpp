@@ -1,10 +1,12 @@
 #pragma once
-// The backend accelerator as a DES component on sim_core (paper Sec. VI-A, Fig. 14): the five
-// units of Table II, each a sim::Resource of capacity 1 on the backend clock. A kernel runs its
-// ops (kernel_ops()) in trace order; each op waits for the previous one (data dependence), then
-// holds its unit for op_cycles() cycles. Kernels issued concurrently share the units: an op
-// waits (FIFO) while another kernel's op holds its unit. On an idle accelerator a kernel started
-// on a clock edge takes exactly the analytical Σ op_cycles (accelerate_kernel()).
+// The backend accelerator as a DES component on sim_core (paper Sec. VI-A, Fig. 14): each matrix
+// unit instance of the platform (BackendConfig::units) a sim::Resource of `count` copies on its
+// own clock. A kernel runs its ops (kernel_ops()) in trace order; each op waits for the previous
+// one (data dependence), then takes a copy of its unit (FIFO) and every other copy free at that
+// moment, and holds them for op_cycles() on that many copies (the copies share its work; with
+// all of them it is the analytical figure). Kernels issued concurrently share the units: an op
+// waits while other kernels' ops hold every copy of its unit. On an idle accelerator a kernel
+// started on a clock edge takes exactly the analytical Σ op_cycles (accelerate_kernel()).
 //
 //   sim::Simulator sim;
 //   BackendAccelerator accel(sim, config);
@@ -14,9 +16,9 @@
 // ops out of core: the units take the same cycles, and its spill traffic (plan.spill, DRAM bytes)
 // is the caller's to move: the system DES puts it on the link before and after the units
 // (docs/MODEL.md, "SPM spills").
-#include <array>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "arch/backend/backend_config.hpp"
 #include "arch/backend/kernel_replay.hpp"
@@ -34,15 +36,17 @@ class BackendAccelerator {
   BackendAccelerator& operator=(const BackendAccelerator&) = delete;
 
   /// Runs `kernel` (which must stay alive until the returned task completes, as it does in
-  /// `co_await accel.run(kernel)`). A kernel that spills runs its ops alone (see above).
+  /// `co_await accel.run(kernel)`). Throws std::runtime_error for a kernel it cannot run (an op
+  /// no unit serves).
   sim::Task<void> run(const trace::KernelRecord& kernel);
   /// Runs a kernel already replayed by accelerate_kernel() on this accelerator's config (which
   /// must outlive the task). `label` names its spans (e.g. "f12 projection").
   sim::Task<void> run(const KernelAccelResult& plan, std::string label = {});
 
-  /// Registers <prefix>.<unit>.busy (time-weighted 0/1: its mean is the unit's utilization) for
-  /// the five units, <prefix>.kernels and <prefix>.ops (counters) and <prefix>.kernel_latency_us
-  /// (samples: from a kernel's first request of a unit to its last op's end).
+  /// Registers <prefix>.<unit>.busy (time-weighted copies busy: its mean over the count is the
+  /// unit's utilization) for every unit, <prefix>.kernels and <prefix>.ops (counters) and
+  /// <prefix>.kernel_latency_us (samples: from a kernel's first request of a unit to its last
+  /// op's end).
   void register_stats(sim::StatsRegistry& registry, const std::string& prefix = "backend") const;
 
   /// Records every op as a span on one track per unit in `group` of `timeline`, and every kernel
@@ -50,10 +54,10 @@ class BackendAccelerator {
   void set_timeline(sim::Timeline& timeline, const std::string& group = "backend");
 
   const BackendConfig& config() const noexcept { return config_; }
-  const sim::ClockDomain& clock() const noexcept { return clock_; }
-  const sim::Resource& unit(BackendUnit u) const noexcept {
-    return *units_[static_cast<std::size_t>(u)];
-  }
+  /// The units' resources, in BackendConfig::units order (an instance of count 0 has none:
+  /// nullptr).
+  const sim::Resource* unit(std::size_t index) const noexcept { return units_[index].get(); }
+  const sim::ClockDomain& clock(std::size_t index) const noexcept { return *clocks_[index]; }
   std::uint64_t kernels() const noexcept { return kernels_.value(); }
   std::uint64_t ops() const noexcept { return ops_.value(); }
   const sim::SampleSet& kernel_latency_us() const noexcept { return latency_us_; }
@@ -61,12 +65,12 @@ class BackendAccelerator {
  private:
   sim::Simulator* sim_;
   BackendConfig config_;
-  sim::ClockDomain clock_;
-  std::array<std::unique_ptr<sim::Resource>, kBackendUnitCount> units_;
+  std::vector<std::unique_ptr<sim::ClockDomain>> clocks_;
+  std::vector<std::unique_ptr<sim::Resource>> units_;
   sim::Counter kernels_, ops_;
   sim::SampleSet latency_us_;
   sim::Timeline* timeline_ = nullptr;
-  std::array<sim::Timeline::TrackId, kBackendUnitCount> unit_tracks_{};
+  std::vector<sim::Timeline::TrackId> unit_tracks_;
   sim::Timeline::TrackId kernel_track_{};
 };
 

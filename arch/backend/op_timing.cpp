@@ -13,14 +13,16 @@ namespace flags = trace::op_flags;
 using trace::Op;
 using trace::OpRecord;
 
-/// Scalars of an n x n symmetric matrix as stored: n(n+1)/2 with the optimization, else n^2.
+bool has(const OpRecord& op, std::uint32_t flag) { return (op.flags & flag) != 0; }
+
+}  // namespace
+
+std::int64_t ceil_div(std::int64_t a, std::int64_t b) { return (a + b - 1) / b; }
+
 std::int64_t symmetric_scalars(std::int64_t n, const BackendConfig& config) {
   return config.symmetric_optimization ? n * (n + 1) / 2 : n * n;
 }
 
-bool has(const OpRecord& op, std::uint32_t flag) { return (op.flags & flag) != 0; }
-
-/// A gemm whose (square) result is symmetric (see op_timing.hpp).
 bool symmetric_gemm_result(const OpRecord& op) {
   return op.op == Op::Gemm && has(op, flags::kSymmetric) && op.m == op.n;
 }
@@ -32,129 +34,29 @@ void check_dimensions(const OpRecord& op) {
   }
 }
 
-}  // namespace
-
-std::int64_t ceil_div(std::int64_t a, std::int64_t b) { return (a + b - 1) / b; }
-
-std::int64_t gemm_tiles(std::int64_t m, std::int64_t n, int block, bool symmetric_result) {
-  const std::int64_t rows = ceil_div(m, block);
-  if (symmetric_result) return rows * (rows + 1) / 2;  // tiles on and above the diagonal
-  return rows * ceil_div(n, block);
-}
-
 std::int64_t factorization_macs(std::int64_t n) { return (n * n * n - n) / 6 + n * (n - 1) / 2; }
 
-std::int64_t general_inverse_cycles(std::int64_t n, const BackendConfig& config) {
-  return n * config.divide_latency_cycles + ceil_div(n * n * n, config.inverse_lanes);
-}
-
-std::int64_t structured_inverse_cycles(std::int64_t m, const BackendConfig& config) {
-  const std::int64_t d = m - kPoseBlock;  // diagonal (landmark) part
-  const std::int64_t lanes = config.inverse_lanes;
-  const std::int64_t reciprocals = config.divide_latency_cycles + ceil_div(d, lanes);
-  const std::int64_t pose_inverse = general_inverse_cycles(kPoseBlock, config);
-  // A^-1 B (6d) + B^T A^-1 B (36d) + A^-1 B S^-1 (36d) + the top-left block (6 per entry).
-  const std::int64_t products = 78 * d + kPoseBlock * symmetric_scalars(d, config);
-  return reciprocals + pose_inverse + ceil_div(products, lanes);
-}
-
-std::int64_t array_cycles(std::int64_t tiles, std::int64_t k, const BackendConfig& config) {
-  if (tiles == 0 || k == 0) return 0;
-  const std::int64_t b = config.gemm_block;
-  if (config.gemm_overlap_tiles) return tiles * std::max(k, b) + 2 * b;
-  return tiles * (k + 2 * b);
-}
-
-std::int64_t blocked_substitution_cycles(std::int64_t m, std::int64_t rhs,
-                                         const BackendConfig& config) {
-  if (m == 0 || rhs == 0) return 0;
-  const std::int64_t b = config.gemm_block;
-  std::int64_t cycles = config.divide_latency_cycles + (m - 1);  // all reciprocals, pipelined
-  for (std::int64_t done = 0; done < m; done += b) {
-    const std::int64_t s = std::min(b, m - done);
-    // B_i -= L_i,<i X_<i on the array (s x rhs result, k = done), then the s x s solve.
-    if (done > 0) {
-      cycles += array_cycles(gemm_tiles(s, rhs, config.gemm_block, false), done, config);
-    }
-    cycles += s + ceil_div(rhs * s * (s + 1) / 2, config.trsv_lanes);
-  }
-  return cycles;
-}
-
-std::int64_t blocked_factorization_cycles(std::int64_t m, std::int64_t per_column,
-                                          const BackendConfig& config) {
-  const std::int64_t b = config.gemm_block;
-  std::int64_t cycles = 0;
-  for (std::int64_t done = 0; done < m; done += b) {
-    const std::int64_t s = std::min(b, m - done);
-    const std::int64_t rest = m - done - s;
-    // The diagonal block on the decomposition unit.
-    cycles += ceil_div(factorization_macs(s), config.decomp_lanes()) + s * per_column;
-    if (rest == 0) break;
-    // The panel below it on the substitution unit (reciprocals known from the diagonal block),
-    // then the trailing update A_22 -= L_21 L_21^T on the array (a syrk, k = s).
-    cycles += s + ceil_div(rest * s * (s + 1) / 2, config.trsv_lanes);
-    cycles += array_cycles(gemm_tiles(rest, rest, config.gemm_block, config.symmetric_optimization),
-                           s, config);
-  }
-  return cycles;
-}
-
-bool uses_structured_inverse(const OpRecord& op, const BackendConfig& config) {
-  return config.structured_inverse && op.op == Op::Inverse && has(op, flags::kDiagonalBlock) &&
-         has(op, flags::kBlock6x6) && op.m > kPoseBlock;
+const MatrixUnitInstance& serving_unit(trace::Op op, const BackendConfig& config) {
+  if (const MatrixUnitInstance* unit = config.unit_for(op)) return *unit;
+  throw std::runtime_error(
+      fmt::format("no backend unit serves {} (backend.units)", trace::to_string(op)));
 }
 
 std::int64_t op_cycles(const OpRecord& op, const BackendConfig& config) {
-  check_dimensions(op);
-  const std::int64_t m = op.m, n = op.n, k = op.k;
-  const std::int64_t t_div = config.divide_latency_cycles;
-  switch (op.op) {
-    case Op::Gemm: {
-      if (m == 0 || n == 0 || k == 0) return 0;
-      const bool symmetric = config.symmetric_optimization && symmetric_gemm_result(op);
-      return array_cycles(gemm_tiles(m, n, config.gemm_block, symmetric), k, config);
-    }
-    case Op::Syrk:
-      if (m == 0 || k == 0) return 0;
-      return array_cycles(gemm_tiles(m, m, config.gemm_block, config.symmetric_optimization), k,
-                          config);
-    case Op::Potrf:
-    case Op::Ldlt: {
-      if (m == 0) return 0;
-      const std::int64_t per_column =
-          op.op == Op::Potrf ? config.sqrt_latency_cycles + t_div : t_div;
-      if (config.blocked_solvers) return blocked_factorization_cycles(m, per_column, config);
-      return ceil_div(factorization_macs(m), config.decomp_lanes()) + m * per_column;
-    }
-    case Op::Trsm:
-    case Op::Trsv: {
-      const std::int64_t rhs = op.op == Op::Trsv ? 1 : n;
-      if (m == 0 || rhs == 0) return 0;
-      if (config.blocked_solvers) return blocked_substitution_cycles(m, rhs, config);
-      return t_div + (m - 1) + m + ceil_div(rhs * m * (m + 1) / 2, config.trsv_lanes);
-    }
-    case Op::Transpose:
-      return ceil_div(m * n, config.transpose_words_per_cycle);
-    case Op::Inverse:
-      if (m == 0) return 0;
-      return uses_structured_inverse(op, config) ? structured_inverse_cycles(m, config)
-                                                 : general_inverse_cycles(m, config);
-  }
-  return 0;
+  const MatrixUnitInstance& unit = serving_unit(op.op, config);
+  return op_cycles(op, unit.count, config);
 }
 
-std::int64_t op_spm_bytes(const OpRecord& op, const BackendConfig& config) {
-  const OperandScalars operands = op_operand_scalars(op, config);
-  // Factorizations overwrite their matrix and triangular solves their right-hand side: an
-  // in-place op holds its inputs only; the others hold inputs and result.
-  const bool in_place =
-      op.op == Op::Potrf || op.op == Op::Ldlt || op.op == Op::Trsm || op.op == Op::Trsv;
-  return (in_place ? operands.in : operands.in + operands.out) * config.scalar_bytes;
+std::int64_t op_cycles(const OpRecord& op, int copies, const BackendConfig& config) {
+  check_dimensions(op);
+  return serving_unit(op.op, config).unit->cycles(op, copies, config);
 }
 
 OperandScalars op_operand_scalars(const OpRecord& op, const BackendConfig& config) {
   check_dimensions(op);
+  if (const MatrixUnitInstance* unit = config.unit_for(op.op)) {
+    if (auto own = unit->unit->own_operands(op, config)) return *own;
+  }
   const std::int64_t m = op.m, n = op.n, k = op.k;
   const auto sym = [&](std::int64_t s) { return symmetric_scalars(s, config); };
   switch (op.op) {
@@ -184,18 +86,26 @@ OperandScalars op_operand_scalars(const OpRecord& op, const BackendConfig& confi
     case Op::Transpose:
       return {m * n, m * n};
     case Op::Inverse:
-      if (uses_structured_inverse(op, config)) {
-        const std::int64_t d = m - kPoseBlock;
-        return {d + d * kPoseBlock + sym(kPoseBlock), sym(m)};
-      }
       if (has(op, flags::kSymmetric)) return {sym(m), sym(m)};
       return {m * m, m * m};
   }
   return {};
 }
 
+std::int64_t op_spm_bytes(const OpRecord& op, const BackendConfig& config) {
+  const OperandScalars operands = op_operand_scalars(op, config);
+  // Factorizations overwrite their matrix and triangular solves their right-hand side: an
+  // in-place op holds its inputs only; the others hold inputs and result.
+  const bool in_place =
+      op.op == Op::Potrf || op.op == Op::Ldlt || op.op == Op::Trsm || op.op == Op::Trsv;
+  return (in_place ? operands.in : operands.in + operands.out) * config.scalar_bytes;
+}
+
 std::int64_t op_macs(const OpRecord& op, const BackendConfig& config) {
   check_dimensions(op);
+  if (const MatrixUnitInstance* unit = config.unit_for(op.op)) {
+    if (auto own = unit->unit->own_macs(op, config)) return *own;
+  }
   const std::int64_t m = op.m, n = op.n, k = op.k;
   switch (op.op) {
     case Op::Gemm:
@@ -214,11 +124,6 @@ std::int64_t op_macs(const OpRecord& op, const BackendConfig& config) {
     case Op::Transpose:
       return 0;
     case Op::Inverse:
-      if (m == 0) return 0;
-      if (uses_structured_inverse(op, config)) {
-        const std::int64_t d = m - kPoseBlock;
-        return 78 * d + kPoseBlock * symmetric_scalars(d, config);
-      }
       return m * m * m;
   }
   return 0;
@@ -256,24 +161,32 @@ std::vector<OpRecord> kernel_ops(const trace::KernelRecord& kernel, const Backen
   return descriptor->derive_ops(kernel.m, kernel.n, config.matrix_format());
 }
 
+bool offloadable(const trace::KernelRecord& kernel, const BackendConfig& config) {
+  for (const OpRecord& op : kernel_ops(kernel, config)) {
+    if (config.unit_for(op.op) == nullptr) return false;
+  }
+  return true;
+}
+
+std::vector<std::string> kernels_using(std::size_t unit, const BackendConfig& config) {
+  // Sizes large enough that every kernel derives its full op list (r > 0 for marginalization).
+  const KernelMatrixFormat format{8, kPoseBlock, 3};
+  std::vector<std::string> out;
+  for (const AccelerableKernel* k : accelerable_kernels()) {
+    const auto ops = k->derive_ops(8, 8, format);
+    if (std::any_of(ops.begin(), ops.end(), [&](const OpRecord& op) {
+          return config.unit_for(op.op) == &config.units[unit];
+        })) {
+      out.emplace_back(k->name);
+    }
+  }
+  return out;
+}
+
 std::int64_t kernel_cycles(const trace::KernelRecord& kernel, const BackendConfig& config) {
   std::int64_t cycles = 0;
   for (const OpRecord& op : kernel_ops(kernel, config)) cycles += op_cycles(op, config);
   return cycles;
-}
-
-double kernel_seconds(const trace::KernelRecord& kernel, const BackendConfig& config) {
-  return static_cast<double>(kernel_cycles(kernel, config)) / (config.clock_mhz * 1e6);
-}
-
-double predict_kernel_seconds(const std::string& kernel, std::int64_t m, std::int64_t n,
-                              const BackendConfig& config) {
-  trace::KernelRecord record;
-  record.kernel = kernel;
-  record.accelerable = true;
-  record.m = m;
-  record.n = n;
-  return kernel_seconds(record, config);
 }
 
 }  // namespace edx::arch

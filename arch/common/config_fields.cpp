@@ -209,13 +209,16 @@ void validate_at(const YamlFields& fields, const std::function<void()>& validate
   try {
     validate();
   } catch (const std::runtime_error& e) {
-    // "section.key: message" (section possibly dotted: "link.dma.chunk_bytes").
+    // "section.key: message" (section possibly dotted: "link.dma.chunk_bytes"; a key below the
+    // map's own prefix possibly too: "backend.units.gemm").
     const std::string message = e.what();
     const std::size_t colon = message.find(": ");
     const std::string path = message.substr(0, colon);
     const std::size_t dot = path.rfind('.');
     if (colon == std::string::npos || dot == std::string::npos) throw;
-    fields.fail(path.substr(dot + 1), message.substr(colon + 2));
+    const std::string below = fields.prefix() + ".";
+    fields.fail(path.starts_with(below) ? path.substr(below.size()) : path.substr(dot + 1),
+                message.substr(colon + 2));
   }
 }
 
@@ -236,10 +239,13 @@ std::string render_reference(const std::vector<ReferenceRow>& rows) {
   std::string section = "\x01";
   for (const ReferenceRow& row : rows) {
     const std::size_t dot = row.key.rfind('.');
-    const std::string row_section = dot == std::string::npos ? "" : row.key.substr(0, dot);
+    const std::string key_section = dot == std::string::npos ? "" : row.key.substr(0, dot);
+    const std::string row_section = row.group.empty() ? key_section : row.group;
     if (row_section != section) {
       section = row_section;
-      out += section.empty() ? std::string("\n## Top level\n\n") : fmt::format("\n## `{}:`\n\n", section);
+      out += section.empty()      ? std::string("\n## Top level\n\n")
+             : !row.group.empty() ? fmt::format("\n## {}\n\n", section)
+                                  : fmt::format("\n## `{}:`\n\n", section);
       out += "| key | type | unit | default | accepted | description |\n";
       out += "|---|---|---|---|---|---|\n";
     }

@@ -67,7 +67,7 @@ struct Field {
 
 /// A field stored in member `member` of Config (double, int, std::int64_t, bool, std::string).
 template <class Config, class T>
-Field<Config> field(std::string key, T Config::* member, std::string unit, std::string doc,
+Field<Config> field(std::string key, T Config::*member, std::string unit, std::string doc,
                     Bounds bounds = {}) {
   Field<Config> f;
   f.key = std::move(key);
@@ -113,7 +113,7 @@ Field<Config> field(std::string key, T Config::* member, std::string unit, std::
 
 /// A field with a fixed set of `choices` (as text: "on_chip_double", "8"), stored in `member`.
 template <class Config, class T>
-Field<Config> choice_field(std::string key, T Config::* member, std::string unit,
+Field<Config> choice_field(std::string key, T Config::*member, std::string unit,
                            std::vector<std::string> choices, std::string doc) {
   Field<Config> f = field(std::move(key), member, std::move(unit), std::move(doc));
   f.choices = std::move(choices);
@@ -123,7 +123,7 @@ Field<Config> choice_field(std::string key, T Config::* member, std::string unit
 /// A text field with a fixed set of `choices` stored as an enum: `name` gives the text of a
 /// value, `parse` the value of a text (called with one of `choices` only).
 template <class Config, class Enum, class Name, class Parse>
-Field<Config> enum_field(std::string key, Enum Config::* member, std::vector<std::string> choices,
+Field<Config> enum_field(std::string key, Enum Config::*member, std::vector<std::string> choices,
                          Name name, Parse parse, std::string doc) {
   Field<Config> f;
   f.key = std::move(key);
@@ -184,8 +184,11 @@ nlohmann::json fields_to_json(const Config& config, const FieldList<Config>& lis
 
 /// One key of the reference (docs/CONFIG.md).
 struct ReferenceRow {
-  std::string key;       ///< dotted: "frontend.clock_mhz"
-  std::string type;      ///< number, integer, true/false, text
+  std::string key;  ///< dotted: "frontend.clock_mhz"
+  /// The heading of its table (Markdown) when it is not the key's section: a component kind's
+  /// keys ("`backend.units.<name>` of kind `systolic_array`: ...").
+  std::string group;
+  std::string type;  ///< number, integer, true/false, text
   std::string unit;
   std::string value;     ///< the default
   std::string accepted;  ///< "> 0", "[1, 256]", "on_chip_double, dram"
@@ -196,14 +199,17 @@ ReferenceRow reference_row(const std::string& section, const std::string& key, F
                            const std::string& unit, const FieldValue& value, const Bounds& bounds,
                            const std::vector<std::string>& choices, const std::string& doc);
 
-/// The reference rows of `list` under `section`, defaults from `defaults`.
+/// The reference rows of `list` under `section`, defaults from `defaults`, in a table headed
+/// `group` (empty: the section).
 template <class Config>
 std::vector<ReferenceRow> reference_rows(const std::string& section, const FieldList<Config>& list,
-                                         const Config& defaults = Config{}) {
+                                         const Config& defaults = Config{},
+                                         const std::string& group = {}) {
   std::vector<ReferenceRow> rows;
   for (const Field<Config>& f : list) {
-    rows.push_back(reference_row(section, f.key, f.kind, f.unit, f.get(defaults), f.bounds,
-                                 f.choices, f.doc));
+    rows.push_back(
+        reference_row(section, f.key, f.kind, f.unit, f.get(defaults), f.bounds, f.choices, f.doc));
+    rows.back().group = group;
   }
   return rows;
 }
@@ -230,7 +236,8 @@ Config parse_section(const YAML::Node& node, const std::string& where, const std
   return config;
 }
 
-/// Markdown tables, one per section, of `rows` (grouped by the key's section, in order).
+/// Markdown tables, one per section, of `rows` (grouped by the key's section or their group, in
+/// order).
 std::string render_reference(const std::vector<ReferenceRow>& rows);
 
 }  // namespace edx::arch

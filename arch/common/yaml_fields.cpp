@@ -69,8 +69,18 @@ YamlFields::YamlFields(const YAML::Node& node, std::string where, std::string pr
 }
 
 void YamlFields::fail(const std::string& key, const std::string& message) const {
-  const YAML::Node value = (node_ && node_.IsMap()) ? node_[key] : YAML::Node();
-  const std::string line = value ? line_of(value) : line_of(node_);
+  // The innermost map on the dotted key's path that holds the next part gives the line.
+  YAML::Node at = node_;
+  std::string line = line_of(node_);
+  for (std::size_t start = 0; at && at.IsMap();) {
+    const std::size_t dot = key.find('.', start);
+    const YAML::Node next = static_cast<const YAML::Node&>(at)[key.substr(start, dot - start)];
+    if (!next) break;
+    line = line_of(next);
+    if (dot == std::string::npos) break;
+    at = next;
+    start = dot + 1;
+  }
   throw std::runtime_error(fmt::format("{}{}: {}.{}: {}", where_, line, prefix_, key, message));
 }
 

@@ -31,8 +31,11 @@ class YamlFields {
   /// finish(), with `sections` (maps parsed by their own readers) counted as read.
   void finish_except(std::initializer_list<const char*> sections);
 
-  /// "file:line: prefix.key: message" for errors found later (e.g. in validate()).
+  /// "file:line: prefix.key: message" for errors found later (e.g. in validate()). `key` may be
+  /// dotted ("units.gemm"): the line is that of the nested key.
   [[noreturn]] void fail(const std::string& key, const std::string& message) const;
+  /// The dotted path of the map ("frontend").
+  const std::string& prefix() const { return prefix_; }
 
  private:
   YAML::Node node_;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "arch/backend/op_timing.hpp"
 #include "arch/cost/unit_costs.hpp"
 
 namespace edx::arch::cost {
@@ -101,7 +102,11 @@ nlohmann::json ResourceReport::to_json() const {
 
 std::vector<MemoryStructure> backend_memories(const BackendConfig& be) {
   const std::int64_t word_bytes = be.scalar_bytes;
-  const std::int64_t row_bytes = word_bytes * be.gemm_block;
+  // A row feeds every copy of the array a block row a cycle (one word without an array).
+  const MatrixUnitInstance* array = be.unit_for(trace::Op::Gemm);
+  const std::int64_t row_words =
+      array == nullptr ? 1 : std::int64_t(std::max(1, array->unit->tile())) * array->count;
+  const std::int64_t row_bytes = word_bytes * row_words;
   MemoryStructure spm{"backend_spm", row_bytes * 8, (be.spm_bytes + row_bytes - 1) / row_bytes, 1};
   return {spm};
 }
@@ -134,9 +139,11 @@ ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConf
   }
   // Table II: the non-shared design has one copy of a building block per kernel that uses it
   // (from the kernels' ops: multiply 3, decompose 2, inverse 1, transpose 2, substitute 2).
-  for (const BackendUnitDescriptor& u : backend_units()) {
-    v.push_back(entry(std::string(u.cost_entry), "backend", "unit", backend_unit_cost(u.unit, be),
-                      kernels(double(kernels_using(u.unit).size()))));
+  for (std::size_t i = 0; i < be.units.size(); ++i) {
+    const MatrixUnitInstance& u = be.units[i];
+    if (u.count == 0) continue;
+    v.push_back(entry(u.name, "backend", "unit", u.unit->resources(u.arithmetic()) * u.count,
+                      kernels(double(kernels_using(i, be).size()))));
   }
   v.push_back(entry("misc", "backend", "unit", misc_cost(be), kernels(2)));
   for (const MemoryStructure& s : backend_memories(be)) {

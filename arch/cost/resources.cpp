@@ -143,4 +143,8 @@ Datapath& Datapath::bram(double blocks) {
   return *this;
 }
 
+int word_bits(Arithmetic arithmetic) { return arithmetic == Arithmetic::kSingle ? 32 : 64; }
+
+void address_generator(Datapath& datapath) { datapath.adders(3, 16); }
+
 }  // namespace edx::arch::cost

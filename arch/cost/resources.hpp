@@ -76,6 +76,9 @@ enum class Arithmetic { kFixed, kSingle, kDouble };
 Arithmetic parse_arithmetic(const std::string& text, const std::string& what);
 const char* to_string(Arithmetic arithmetic);
 
+/// Bits of one word of a backend datapath of `arithmetic`: 32 single, else 64.
+int word_bits(Arithmetic arithmetic);
+
 /// Accumulates the primitives of one unit (the table at the top of this header).
 class Datapath {
  public:
@@ -103,5 +106,8 @@ class Datapath {
  private:
   Resources r_;
 };
+
+/// A unit's address generator (AGX of Fig. 14): row, column and block counters of 16 bits.
+void address_generator(Datapath& datapath);
 
 }  // namespace edx::arch::cost

@@ -16,11 +16,6 @@ constexpr int kCordicStages = 16;
 /// A k-row window of `columns` pixels held in flip-flops (the SB's shift register).
 double window_bits(int rows, int columns) { return double(rows) * columns * kPixelBits; }
 
-int word_bits(Arithmetic a) { return a == Arithmetic::kSingle ? 32 : 64; }
-
-/// AGX: row, column and block counters of 16 bits.
-void address_generator(Datapath& d) { d.adders(3, 16); }
-
 }  // namespace
 
 int lanes_of(double pixels_per_cycle) {
@@ -126,62 +121,8 @@ Resources lss_cost(const FrontendConfig& fe, const CostConfig& cost) {
   return d.resources();
 }
 
-Resources gemm_cost(const BackendConfig& be) {
-  const Arithmetic a = backend_arithmetic(be);
-  const double pes = double(be.gemm_block) * be.gemm_block;
-  Datapath d;
-  d.macs(pes, a);
-  d.registers(pes * 2 * word_bits(a));              // operands passed along rows and columns
-  d.registers(2.0 * be.gemm_block * word_bits(a));  // block row / column inputs
-  address_generator(d);
-  return d.resources();
-}
-
-Resources decomposition_cost(const BackendConfig& be) {
-  const Arithmetic a = backend_arithmetic(be);
-  Datapath d;
-  d.macs(be.decomp_lanes(), a).sqrt(1, a).divider(1, a);
-  d.registers(2.0 * be.decomp_lanes() * word_bits(a));
-  address_generator(d);
-  return d.resources();
-}
-
-Resources inverse_cost(const BackendConfig& be) {
-  const Arithmetic a = backend_arithmetic(be);
-  Datapath d;
-  d.divider(1, a).macs(be.inverse_lanes, a);
-  d.registers(2.0 * be.inverse_lanes * word_bits(a));
-  address_generator(d);
-  return d.resources();
-}
-
-Resources transpose_cost(const BackendConfig& be) {
-  const int w = be.transpose_words_per_cycle;
-  Datapath d;
-  d.registers(double(w) * w * word_bits(backend_arithmetic(be)));  // a w x w tile, read across
-  d.muxes(w, word_bits(backend_arithmetic(be)), w);
-  address_generator(d);
-  return d.resources();
-}
-
-Resources substitution_cost(const BackendConfig& be) {
-  const Arithmetic a = backend_arithmetic(be);
-  Datapath d;
-  d.macs(be.trsv_lanes, a).divider(1, a);
-  d.registers(2.0 * be.trsv_lanes * word_bits(a));
-  address_generator(d);
-  return d.resources();
-}
-
 Arithmetic backend_arithmetic(const BackendConfig& be) {
   return be.scalar_bytes == 4 ? Arithmetic::kSingle : Arithmetic::kDouble;
-}
-
-Resources backend_unit_cost(BackendUnit unit, const BackendConfig& be) {
-  // In kBackendUnits order: multiply, decompose, inverse, transpose, substitute.
-  static constexpr Resources (*kCost[kBackendUnitCount])(const BackendConfig&) = {
-      gemm_cost, decomposition_cost, inverse_cost, transpose_cost, substitution_cost};
-  return kCost[static_cast<std::size_t>(unit)](be);
 }
 
 Resources misc_cost(const BackendConfig& be) {

@@ -1,11 +1,10 @@
 #pragma once
 // Parameterised resource cost of each hardware unit (docs/MODEL.md, "Units"), built from the
 // primitives of arch/cost/resources.hpp and the unit's configured dimensions: the seven frontend
-// tasks (paper Sec. V, FrontendConfig) and the five backend building blocks (Table II,
-// BackendConfig). Memories are not here: they come in as BRAM structures
-// (arch/cost/resource_report.hpp).
+// tasks (paper Sec. V, FrontendConfig), and the backend's glue ("Misc." of Fig. 14). Each backend
+// matrix unit kind costs itself (arch/backend/units/). Memories are not here: they come in as
+// BRAM structures (arch/cost/resource_report.hpp).
 #include "arch/backend/backend_config.hpp"
-#include "arch/backend/units.hpp"
 #include "arch/cost/cost_config.hpp"
 #include "arch/cost/resources.hpp"
 #include "arch/frontend/frontend_config.hpp"
@@ -42,21 +41,6 @@ Resources dc_cost(const FrontendConfig& fe);
 /// solve of a Gauss-Newton step (4 multiplies, 2 adds, 1 divide in single precision).
 Resources lss_cost(const FrontendConfig& fe, const CostConfig& cost);
 
-// Backend (backend_arithmetic: backend.scalar_bytes). Each unit has an address generator (AGX:
-// three 16-bit counters).
-/// b x b PEs, one MAC each, with operand registers; b-wide input and output registers.
-Resources gemm_cost(const BackendConfig& be);
-/// Blocked Cholesky / LDL^T: decomp_lanes MACs, one square root, one divider (reciprocal).
-Resources decomposition_cost(const BackendConfig& be);
-/// Diagonal + 6x6 inverse: one divider (reciprocals of the diagonal), inverse_lanes MACs for
-/// the 6x6 block and the Schur complement.
-Resources inverse_cost(const BackendConfig& be);
-/// transpose_words_per_cycle word registers and a words:words crossbar.
-Resources transpose_cost(const BackendConfig& be);
-/// Forward / back substitution: trsv_lanes MACs and one divider.
-Resources substitution_cost(const BackendConfig& be);
-/// The cost of a backend unit (arch/backend/units.hpp): the function above for it.
-Resources backend_unit_cost(BackendUnit unit, const BackendConfig& be);
 /// "Misc." of Fig. 14: one adder (e.g. + R in S = H P H^T + R).
 Resources misc_cost(const BackendConfig& be);
 /// The backend units' MACs: single precision for backend.scalar_bytes 4, double for 8.

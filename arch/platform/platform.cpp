@@ -69,7 +69,7 @@ std::vector<ReferenceRow> Platform::reference() {
   add(reference_rows("", fields()));
   add(reference_rows("host", HostConfig::fields()));
   add(reference_rows("frontend", FrontendConfig::fields()));
-  add(reference_rows("backend", BackendConfig::fields()));
+  add(BackendConfig::reference());
   add(LinkSpec::reference());
   add(reference_rows("transfers", FrameTransferConfig::fields()));
   add(reference_rows("cost", cost::CostConfig::fields()));

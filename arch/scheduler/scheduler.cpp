@@ -90,7 +90,7 @@ bool OffloadScheduler::offload(const KernelInvocation& k) const {
     case OffloadPolicy::kNever:
       return false;
     case OffloadPolicy::kAlways:
-      return true;
+      return std::isfinite(k.accel_s);  // a kernel no unit can run stays on the host
     case OffloadPolicy::kOracle:
       return k.accel_s < k.host_s;
     case OffloadPolicy::kRegression: {

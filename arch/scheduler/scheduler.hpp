@@ -4,7 +4,7 @@
 //
 // Policies:
 //   never       always on the host (the CPU-only baseline of the backend)
-//   always      always offloaded
+//   always      always offloaded (unless the accelerator cannot run it: an op no unit serves)
 //   regression  offload when the host time predicted by a model of the kernel's size exceeds the
 //               accelerator time estimated from the units' latency profiles plus the transfers;
 //               each kernel's model is fit on the frames holding the first `training_fraction`

@@ -279,8 +279,7 @@ class SystemSimulation {
     sim::Timeline& t = *timeline_.timeline;
     frames_lanes_ = Lanes{"system", "frames", {}};
     if (accelerated_) {
-      for (trace::Task task : {trace::Task::FD, trace::Task::IF, trace::Task::FC, trace::Task::MO,
-                               trace::Task::DR, trace::Task::DC, trace::Task::LSS}) {
+      for (trace::Task task : trace::kTasks) {
         frontend_tracks_[task] = t.track("frontend", trace::to_string(task));
       }
       link_->set_timeline(t, t.track("link", "host_to_fpga"), t.track("link", "fpga_to_host"));
@@ -367,8 +366,7 @@ class SystemSimulation {
       r.resources.push_back({name, w.elapsed() > 0 ? w.mean() : 0.0, w.max()});
     };
     if (accelerated_) {
-      for (trace::Task task : {trace::Task::FD, trace::Task::IF, trace::Task::FC, trace::Task::MO,
-                               trace::Task::DR, trace::Task::DC, trace::Task::LSS}) {
+      for (trace::Task task : trace::kTasks) {
         use(std::string("frontend.") + trace::to_string(task), frontend_->unit(task));
       }
       use("frontend.frame_buffers", frontend_->frame_buffers());
@@ -381,8 +379,11 @@ class SystemSimulation {
         } else {
           r.resources.push_back({"link.wire", link_->wire_utilization(Direction::HostToFpga), 1.0});
         }
-        for (BackendUnit u : kBackendUnits) {
-          use(std::string("backend.") + to_string(u), backend_->unit(u));
+        const BackendConfig& config = backend_->config();
+        for (std::size_t u = 0; u < config.units.size(); ++u) {
+          if (const sim::Resource* unit = backend_->unit(u)) {
+            use("backend." + config.units[u].name, *unit);
+          }
         }
       }
     }

@@ -89,12 +89,13 @@ StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResu
   s.fps = run.fps;
   s.resources = run.resources;
   std::vector<double> latency;
-  std::array<double, kEnergyParts> part_j{};
+  EnergyParts parts;
+  parts.backend.assign(platform.backend.units.size(), 0.0);
   for (std::size_t f = 0; f < run.frames.size(); ++f) {
     const SystemFrameTiming& t = run.frames[f];
     if (t.dropped) continue;
     latency.push_back(sim::to_ms(t.end - t.arrival));
-    for (std::size_t p = 0; p < kEnergyParts; ++p) part_j[p] += frames[f].part_j[p];
+    parts += frames[f].parts;
   }
   s.latency_ms = Distribution::of(latency);
   if (latency.empty()) return s;
@@ -105,6 +106,13 @@ StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResu
     }
     return 0.0;  // not tracked (contention off): the unit keeps its work energy
   };
+  // A unit's copy-seconds over the run: its copies x the span.
+  const auto copies_s = [&](const std::string& name) {
+    for (const ResourceUse& u : run.resources) {
+      if (u.name == name) return u.max * span;
+    }
+    return span;
+  };
   std::vector<cost::ResourceEnergy>& out = s.energy_by_resource;
   const bool fpga = !frames.empty() && frames.front().activity.fpga_present;
   if (fpga) {
@@ -114,16 +122,15 @@ StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResu
     st.active_w = st.idle_w = power.fpga_static_w;
     st.energy_j = power.fpga_static_w * span;
     out.push_back(st);
-    for (trace::Task task : {trace::Task::FD, trace::Task::IF, trace::Task::FC, trace::Task::MO,
-                             trace::Task::DR, trace::Task::DC, trace::Task::LSS}) {
+    for (trace::Task task : trace::kTasks) {
       const std::string name = std::string("frontend.") + trace::to_string(task);
-      out.push_back(cost::unit_energy(
-          name, busy_s(name), span, part_j[kFrontendPart + static_cast<std::size_t>(task)], power));
+      out.push_back(cost::unit_energy(name, busy_s(name), copies_s(name),
+                                      parts.frontend[static_cast<std::size_t>(task)], power));
     }
-    for (BackendUnit u : kBackendUnits) {
-      const std::string name = std::string("backend.") + to_string(u);
-      out.push_back(cost::unit_energy(name, busy_s(name), span,
-                                      part_j[kBackendPart + static_cast<std::size_t>(u)], power));
+    for (std::size_t u = 0; u < platform.backend.units.size(); ++u) {
+      if (platform.backend.units[u].count == 0) continue;
+      const std::string name = "backend." + platform.backend.units[u].name;
+      out.push_back(cost::unit_energy(name, busy_s(name), copies_s(name), parts.backend[u], power));
     }
     const auto link = [&](const std::string& name, double j) {
       cost::ResourceEnergy e;
@@ -135,14 +142,14 @@ StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResu
       out.push_back(e);
     };
     if (platform.link.link.full_duplex) {
-      link("link.host_to_fpga", part_j[kLinkToFpgaPart]);
-      link("link.fpga_to_host", part_j[kLinkToHostPart]);
+      link("link.host_to_fpga", parts.link_to_fpga);
+      link("link.fpga_to_host", parts.link_to_host);
     } else {
-      link("link.wire", part_j[kLinkToFpgaPart] + part_j[kLinkToHostPart]);
+      link("link.wire", parts.link_to_fpga + parts.link_to_host);
     }
     cost::ResourceEnergy dram;
     dram.name = "dram";
-    dram.energy_j = part_j[kDramPart];
+    dram.energy_j = parts.dram;
     out.push_back(dram);
   }
   cost::ResourceEnergy host;
@@ -262,6 +269,23 @@ std::string fnv1a_hex(const std::string& text) {
     h *= 1099511628211ull;  // FNV prime
   }
   return fmt::format("{:016x}", h);
+}
+
+EnergyParts& EnergyParts::operator+=(const EnergyParts& other) {
+  for (std::size_t t = 0; t < frontend.size(); ++t) frontend[t] += other.frontend[t];
+  if (backend.size() < other.backend.size()) backend.resize(other.backend.size(), 0.0);
+  for (std::size_t u = 0; u < other.backend.size(); ++u) backend[u] += other.backend[u];
+  link_to_fpga += other.link_to_fpga;
+  link_to_host += other.link_to_host;
+  dram += other.dram;
+  return *this;
+}
+
+double EnergyParts::total() const {
+  double sum = 0;
+  for (double j : frontend) sum += j;
+  for (double j : backend) sum += j;
+  return sum + link_to_fpga + link_to_host + dram;
 }
 
 nlohmann::json KernelDecision::to_json() const {
@@ -561,9 +585,10 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     acc.activity.link_bytes = double(r.frontend.frame_results_bytes[f]);
     // The same work by resource (docs/MODEL.md, "Energy per resource").
     for (std::size_t t = 0; t < task_activity.size(); ++t) {
-      acc.part_j[kFrontendPart + t] = cost::dynamic_energy_j(task_activity[t], platform.power);
+      acc.parts.frontend[t] = cost::dynamic_energy_j(task_activity[t], platform.power);
     }
-    std::array<cost::FrameActivity, kBackendUnitCount> unit_activity{};
+    const std::vector<MatrixUnitInstance>& units = platform.backend.units;
+    std::vector<cost::FrameActivity> unit_activity(units.size());
     double to_fpga_bytes = 0, to_host_bytes = acc.activity.link_bytes;
     double backend_ms = base.backend_ms, host_ms = base.backend_ms;
     for (; next < r.decisions.size() && r.decisions[next].frame_id == frame.frame.frame_id;
@@ -573,15 +598,16 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       ++acc.offloaded;
       backend_ms += d.accel_ms - d.host_ms;
       host_ms -= d.host_ms;
-      for (BackendUnit u : kBackendUnits) {
-        const double macs =
-            double(accel[next].busy_cycles(u)) * backend_unit(u).mac_lanes(platform.backend);
-        acc.activity.double_macs += macs;
-        unit_activity[static_cast<std::size_t>(u)].double_macs += macs;
+      for (std::size_t u = 0; u < units.size(); ++u) {
+        // A busy copy-cycle is mac_lanes MACs of the unit's precision.
+        const double macs = double(accel[next].unit_busy_cycles[u]) * units[u].unit->mac_lanes();
+        const bool single = units[u].arithmetic() == cost::Arithmetic::kSingle;
+        (single ? acc.activity.single_macs : acc.activity.double_macs) += macs;
+        (single ? unit_activity[u].single_macs : unit_activity[u].double_macs) += macs;
       }
       for (const OpTiming& op : accel[next].ops) {
         acc.activity.bram_bytes += double(op.spm_bytes);
-        unit_activity[static_cast<std::size_t>(op.unit)].bram_bytes += double(op.spm_bytes);
+        unit_activity[op.unit].bram_bytes += double(op.spm_bytes);
       }
       acc.activity.link_bytes += double(transfers[next].input_bytes + transfers[next].output_bytes);
       // Spill traffic: DRAM bytes carried by the link (kernel_replay.hpp: spill_seconds).
@@ -590,13 +616,14 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       to_fpga_bytes += double(transfers[next].input_bytes + accel[next].spill.read_bytes);
       to_host_bytes += double(transfers[next].output_bytes + accel[next].spill.write_bytes);
     }
-    for (std::size_t u = 0; u < kBackendUnitCount; ++u) {
-      acc.part_j[kBackendPart + u] = cost::dynamic_energy_j(unit_activity[u], platform.power);
+    acc.parts.backend.resize(units.size());
+    for (std::size_t u = 0; u < units.size(); ++u) {
+      acc.parts.backend[u] = cost::dynamic_energy_j(unit_activity[u], platform.power);
     }
     const auto bytes_j = [&](double bytes, double pj) { return 1e-12 * bytes * pj; };
-    acc.part_j[kLinkToFpgaPart] = bytes_j(to_fpga_bytes, platform.power.link_pj_per_byte);
-    acc.part_j[kLinkToHostPart] = bytes_j(to_host_bytes, platform.power.link_pj_per_byte);
-    acc.part_j[kDramPart] = bytes_j(acc.activity.dram_bytes, platform.power.dram_pj_per_byte);
+    acc.parts.link_to_fpga = bytes_j(to_fpga_bytes, platform.power.link_pj_per_byte);
+    acc.parts.link_to_host = bytes_j(to_host_bytes, platform.power.link_pj_per_byte);
+    acc.parts.dram = bytes_j(acc.activity.dram_bytes, platform.power.dram_pj_per_byte);
     acc.backend_ms = std::max(0.0, backend_ms);
     acc.e2e_ms = acc.frontend_ms + acc.backend_ms;
     acc.host_busy_ms = std::clamp(host_ms, 0.0, acc.e2e_ms);

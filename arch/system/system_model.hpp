@@ -64,12 +64,14 @@ struct KernelDecision {
 };
 
 /// Where an accelerated frame's work-proportional energy (compute + memory + link) goes, by
-/// resource (docs/MODEL.md, "Energy per resource"): the seven frontend task units (trace::Task
-/// order), the five backend units (BackendUnit order), each link direction, DRAM.
-inline constexpr std::size_t kFrontendPart = 0, kBackendPart = 7,
-                             kLinkToFpgaPart = kBackendPart + kBackendUnitCount,
-                             kLinkToHostPart = kLinkToFpgaPart + 1, kDramPart = kLinkToHostPart + 1,
-                             kEnergyParts = kDramPart + 1;
+/// resource (docs/MODEL.md, "Energy per resource"), J.
+struct EnergyParts {
+  std::array<double, trace::kTasks.size()> frontend{};  ///< its task units, trace::Task order
+  std::vector<double> backend;  ///< its matrix units, BackendConfig::units order
+  double link_to_fpga = 0, link_to_host = 0, dram = 0;
+  EnergyParts& operator+=(const EnergyParts& other);
+  double total() const;
+};
 
 /// One frame of one variant.
 struct FrameResult {
@@ -80,8 +82,8 @@ struct FrameResult {
   int offloaded = 0;        ///< kernels offloaded
   cost::FrameActivity activity;
   cost::FrameEnergy energy;
-  /// activity's dynamic energy (J) split by resource, kEnergyParts entries (accelerated only).
-  std::array<double, kEnergyParts> part_j{};
+  /// activity's dynamic energy split by resource (accelerated only).
+  EnergyParts parts;
 };
 
 /// Which model computes latency and throughput.

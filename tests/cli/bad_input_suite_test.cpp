@@ -75,7 +75,7 @@ void results_db(const fs::path& dir, const std::string& name) {
 std::string sweep_spec(const std::string& trace = "{golden}",
                        const std::string& objective = "dsp") {
   return "base: {car}\ntrace: " + trace +
-         "\nparameters:\n  backend.gemm_block: {values: [2, 4]}\nobjectives: [{minimize: " +
+         "\nparameters:\n  backend.units.gemm.block: {values: [2, 4]}\nobjectives: [{minimize: " +
          objective + "}]\n";
 }
 
@@ -112,7 +112,7 @@ std::vector<BadInputCase> cases() {
        [](const fs::path& d) {
          write(d, "big.yaml",
                "base: {car}\ntrace: {golden}\nparameters:\n"
-               "  backend.gemm_block: {range: {from: 1, to: 1000, step: 1}}\n"
+               "  backend.units.gemm.block: {range: {from: 1, to: 1000, step: 1}}\n"
                "  backend.clock_mhz: {range: {from: 1, to: 1000, step: 1}}\n"
                "  frontend.clock_mhz: {range: {from: 1, to: 1000, step: 1}}\n"
                "objectives: [{minimize: dsp}]\n");
@@ -163,20 +163,22 @@ std::vector<BadInputCase> cases() {
       // 6. Values no run produces.
       {"c6_random_samples_beyond_a_million",
        [](const fs::path& d) {
-         write(d, "s.yaml",
-               "base: {car}\ntrace: {golden}\nparameters:\n  backend.gemm_block: {values: [2, "
-               "4]}\nsampling: {random: {samples: 99999999999999999999}}\nobjectives: "
-               "[{minimize: dsp}]\n");
+         write(
+             d, "s.yaml",
+             "base: {car}\ntrace: {golden}\nparameters:\n  backend.units.gemm.block: {values: [2, "
+             "4]}\nsampling: {random: {samples: 99999999999999999999}}\nobjectives: "
+             "[{minimize: dsp}]\n");
        },
        "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
        "edx: error: {dir}/s.yaml:5: sampling.random.samples: expected an integer from 1 to 10^6"},
       // Found by fuzz_sweep_spec (a seed beyond 2^64 was converted to an integer: undefined).
       {"c6_random_seed_beyond_two_to_the_53",
        [](const fs::path& d) {
-         write(d, "s.yaml",
-               "base: {car}\ntrace: {golden}\nparameters:\n  backend.gemm_block: {values: [2, "
-               "4]}\nsampling: {random: {samples: 5, seed: 333333333333333333333337}}\nobjectives: "
-               "[{minimize: dsp}]\n");
+         write(
+             d, "s.yaml",
+             "base: {car}\ntrace: {golden}\nparameters:\n  backend.units.gemm.block: {values: [2, "
+             "4]}\nsampling: {random: {samples: 5, seed: 333333333333333333333337}}\nobjectives: "
+             "[{minimize: dsp}]\n");
        },
        "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
        "edx: error: {dir}/s.yaml:5: sampling.random.seed: expected an integer from 0 to 2^53"},
@@ -190,18 +192,20 @@ std::vector<BadInputCase> cases() {
        "edx: error: {dir}/s.yaml:4: parameters.backend.clock_mhz.range: more than 100000 values"},
       {"c6_platform_key_written_twice",
        [](const fs::path& d) {
-         write(d, "p.yaml", "name: p\nbackend:\n  gemm_block: 4\n  gemm_block: 8\n");
+         write(d, "p.yaml", "name: p\nbackend:\n  spm_bytes: 4\n  spm_bytes: 8\n");
        },
        "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}' --out '{dir}/r.db'", 1,
-       "edx: error: {dir}/p.yaml:4: backend.gemm_block: written twice (also on line 3)"},
+       "edx: error: {dir}/p.yaml:4: backend.spm_bytes: written twice (also on line 3)"},
       {"c6_sweep_parameter_written_twice",
        [](const fs::path& d) {
          write(d, "s.yaml",
-               "base: {car}\ntrace: {golden}\nparameters:\n  backend.gemm_block: {values: [2]}\n"
-               "  backend.gemm_block: {values: [4]}\nobjectives: [{minimize: dsp}]\n");
+               "base: {car}\ntrace: {golden}\nparameters:\n  backend.units.gemm.block: {values: "
+               "[2]}\n"
+               "  backend.units.gemm.block: {values: [4]}\nobjectives: [{minimize: dsp}]\n");
        },
        "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
-       "edx: error: {dir}/s.yaml:5: parameters.backend.gemm_block: written twice (also on line "
+       "edx: error: {dir}/s.yaml:5: parameters.backend.units.gemm.block: written twice (also on "
+       "line "
        "4)"},
       {"c6_number_beyond_a_double",
        [](const fs::path& d) { write(d, "p.yaml", "name: p\nbackend:\n  clock_mhz: 1e400\n"); },
@@ -307,7 +311,7 @@ std::vector<BadInputCase> cases() {
        [](const fs::path& d) {
          write(d, "s.yaml",
                "base: {car}\nworkload: {speed: 3}\nparameters:\n"
-               "  backend.gemm_block: {values: [2]}\nobjectives: [{minimize: dsp}]\n");
+               "  backend.units.gemm.block: {values: [2]}\nobjectives: [{minimize: dsp}]\n");
        },
        "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db' --trace '{golden}'", 1,
        "edx: error: {dir}/s.yaml: --trace: this sweep traces its workload points (workload:), it "
@@ -332,9 +336,11 @@ std::vector<BadInputCase> cases() {
        "edx: error: {dir}/costs.yaml:3: frontend.IF: features [call, area], but this edx models "
        "[call, pixels] (re-fit: edx host-costs fit)"},
       {"c7_tilde_is_described_as_nothing",
-       [](const fs::path& d) { write(d, "p.yaml", "name: p\nbackend:\n  gemm_block: ~\n"); },
+       [](const fs::path& d) {
+         write(d, "p.yaml", "name: p\nbackend:\n  units: {gemm: {block: ~}}\n");
+       },
        "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}'", 1,
-       "edx: error: {dir}/p.yaml:3: backend.gemm_block: expected an integer in [1, 256], got "
+       "edx: error: {dir}/p.yaml:3: backend.units.gemm.block: expected an integer in [1, 256], got "
        "'nothing (~ or an empty value)'"},
       {"c7_missing_platform_file", none,
        "'{edx}' simulate --config '{dir}/none.yaml' --trace '{golden}'", 1,

@@ -74,9 +74,10 @@ TEST(BadOutput, ATraceIsNeverWrittenIntoAsAResultsDatabase) {
   EXPECT_EQ(simulate.exit_code, 1);
   EXPECT_EQ(simulate.err, "edx: error: " + trace.string() +
                               ": is an edx trace (schema version 3), not a results database\n");
-  std::ofstream(dir.path() / "s.yaml") << "base: " << config << "\ntrace: t.db\n"
-                                       << "parameters:\n  backend.gemm_block: {values: [2, 4]}\n"
-                                       << "objectives: [{minimize: dsp}]\n";
+  std::ofstream(dir.path() / "s.yaml")
+      << "base: " << config << "\ntrace: t.db\n"
+      << "parameters:\n  backend.units.gemm.block: {values: [2, 4]}\n"
+      << "objectives: [{minimize: dsp}]\n";
   const CommandResult sweep = run_command(edx() + " sweep '" + (dir.path() / "s.yaml").string() +
                                           "' --db '" + trace.string() + "'");
   EXPECT_EQ(sweep.exit_code, 1);

@@ -48,12 +48,12 @@ TEST(BadValue, ATimelinePastTheTraceAndAKeyWrittenTwiceAreErrors) {
                           "frames)\n");
   EXPECT_FALSE(fs::exists(timeline));
   const fs::path config = dir.path() / "dup.yaml";
-  std::ofstream(config) << "name: a\nbackend:\n  gemm_block: 4\n  gemm_block: 8\n";
+  std::ofstream(config) << "name: a\nbackend:\n  spm_bytes: 4\n  spm_bytes: 8\n";
   const CommandResult twice = run_command(
       fmt::format("{} simulate --config '{}' --trace '{}'", edx(), config.string(), trace));
   EXPECT_EQ(twice.exit_code, 1);
   EXPECT_EQ(twice.err, "edx: error: " + config.string() +
-                           ":4: backend.gemm_block: written twice (also on "
+                           ":4: backend.spm_bytes: written twice (also on "
                            "line 3)\n");
 }
 
@@ -89,7 +89,7 @@ TEST(BadValue, FilesThatAreNotDatabasesAreNamedAndLeftAlone) {
   std::ofstream(spec) << "base: " << EDX_SOURCE_DIR
                       << "/configs/edx_car.yaml\ntrace: " << EDX_SOURCE_DIR
                       << "/tests/data/golden/golden_mix.db\n"
-                      << "parameters:\n  backend.gemm_block: {values: [2, 4]}\n"
+                      << "parameters:\n  backend.units.gemm.block: {values: [2, 4]}\n"
                       << "objectives: [{minimize: dsp}]\n";
   const CommandResult sweep =
       run_command(fmt::format("{} sweep '{}' --db '{}'", edx(), spec.string(), junk.string()));

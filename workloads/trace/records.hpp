@@ -12,6 +12,9 @@ namespace edx::trace {
 
 /// Frontend tasks of the paper's Sec. V-B.
 enum class Task { FD, IF, FC, MO, DR, DC, LSS };
+/// Every task, in declaration order (the order of their units and reports).
+inline constexpr std::array<Task, 7> kTasks = {Task::FD, Task::IF, Task::FC, Task::MO,
+                                               Task::DR, Task::DC, Task::LSS};
 /// Which image a task ran on; MO and DR work on the stereo pair.
 enum class Image { Left, Right, Stereo };
 /// Operating scenarios of the paper's Sec. III.
@@ -20,6 +23,9 @@ enum class Scenario { IndoorUnknown, IndoorKnown, OutdoorUnknown, OutdoorKnown }
 enum class BackendMode { None, Registration, Vio, Slam };
 /// Matrix primitives inside the accelerable kernels (paper Table I).
 enum class Op { Gemm, Syrk, Potrf, Ldlt, Trsm, Trsv, Transpose, Inverse };
+/// Every op, in declaration order.
+inline constexpr std::array<Op, 8> kOps = {Op::Gemm, Op::Syrk, Op::Potrf,     Op::Ldlt,
+                                           Op::Trsm, Op::Trsv, Op::Transpose, Op::Inverse};
 
 /// Structure flags of an op, OR-ed into OpRecord::flags.
 namespace op_flags {

@@ -1,7 +1,10 @@
 #pragma once
 // Fixtures shared by the backend accelerator tests: units small enough to check by hand, and a
 // Kalman-gain kernel with the ops the VIO backend records (workloads/backend/vio/ekf_update.cpp).
+#include <fmt/format.h>
+
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -11,19 +14,47 @@
 
 namespace edx::arch::testing {
 
+/// Replaces the parameters of instance `name` of `config` by `params` (YAML of its kind's keys,
+/// e.g. "{block: 8}"; keys not given take their defaults).
+inline void set_unit(BackendConfig& config, const std::string& name, const std::string& params) {
+  for (MatrixUnitInstance& u : config.units) {
+    if (u.name != name) continue;
+    u = make_matrix_unit(u.name, u.unit->kind(), params, u.count);
+    return;
+  }
+  throw std::logic_error("no backend unit " + name);
+}
+
 /// b = 4 (2b = 8 fill and drain cycles a tile), 2 x 2 decomposition lanes, 2 inverse, transpose
-/// and substitution lanes, divider 10 and square root 5 cycles; `clock_mhz` as given.
-inline BackendConfig small_config(double clock_mhz = 150.0) {
+/// and substitution lanes, divider 10 and square root 5 cycles; `clock_mhz` as given;
+/// `overlap_tiles` on the array, `blocked` decomposition and substitution when asked.
+inline BackendConfig small_config(double clock_mhz = 150.0, bool overlap_tiles = false,
+                                  bool blocked = false) {
   BackendConfig c;
-  c.gemm_block = 4;
-  c.decomp_block = 2;
-  c.inverse_lanes = 2;
-  c.transpose_words_per_cycle = 2;
-  c.trsv_lanes = 2;
-  c.divide_latency_cycles = 10;
-  c.sqrt_latency_cycles = 5;
   c.clock_mhz = clock_mhz;
+  c.units = {
+      make_matrix_unit("gemm", "systolic_array",
+                       fmt::format("{{block: 4, overlap_tiles: {}}}", overlap_tiles)),
+      make_matrix_unit(
+          "decomposition", "decomposition",
+          fmt::format(
+              "{{block: 2, divide_latency_cycles: 10, sqrt_latency_cycles: 5, blocked: {}}}",
+              blocked)),
+      make_matrix_unit("inverse", "inverse", "{lanes: 2, divide_latency_cycles: 10}"),
+      make_matrix_unit("transpose", "transpose", "{words_per_cycle: 2}"),
+      make_matrix_unit(
+          "substitution", "substitution",
+          fmt::format("{{lanes: 2, divide_latency_cycles: 10, blocked: {}}}", blocked)),
+  };
   return c;
+}
+
+/// The index of instance `name` in `config.units`.
+inline std::size_t unit_index(const BackendConfig& config, const std::string& name) {
+  for (std::size_t i = 0; i < config.units.size(); ++i) {
+    if (config.units[i].name == name) return i;
+  }
+  throw std::logic_error("no backend unit " + name);
 }
 
 inline trace::KernelRecord kernel_of(std::string name, std::vector<trace::OpRecord> ops) {

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -44,11 +45,14 @@ TEST(BackendKernelReplay, KalmanGainIsTheSumOfItsOps) {
     EXPECT_EQ(t.start_cycle, start);
     start += t.cycles;
   }
-  EXPECT_EQ(r.busy_cycles(BackendUnit::kMultiply), 192);
-  EXPECT_EQ(r.busy_cycles(BackendUnit::kDecompose), 203);
-  EXPECT_EQ(r.busy_cycles(BackendUnit::kSubstitute), 498);
-  EXPECT_EQ(r.busy_cycles(BackendUnit::kTranspose), 40);
-  EXPECT_EQ(r.busy_cycles(BackendUnit::kInverse), 0);
+  const auto busy = [&](const std::string& unit) {
+    return r.unit_busy_cycles[testing::unit_index(c, unit)];
+  };
+  EXPECT_EQ(busy("gemm"), 192);
+  EXPECT_EQ(busy("decomposition"), 203);
+  EXPECT_EQ(busy("substitution"), 498);
+  EXPECT_EQ(busy("transpose"), 40);
+  EXPECT_EQ(busy("inverse"), 0);
   EXPECT_FALSE(r.derived_ops);
   // The largest operand set: S = H (P H^T): H 80 + P H^T 80 + sym(10) 55 doubles (P H^T
   // takes 36 + 80 + 80, potrf 55, trsm 55 + 80, transpose 160).
@@ -109,13 +113,26 @@ TEST(BackendKernelReplay, MarginalizationWithoutOpsFollowsTheSlamBackend) {
   EXPECT_EQ(accelerate_kernel(k, c).ops.size(), 1u);
 }
 
-TEST(BackendKernelReplay, PredictionFromSizesAlone) {
-  const BackendConfig c = small_config();
-  // projection of 100 map points: 300 cycles at 100 MHz = 3 µs.
-  EXPECT_DOUBLE_EQ(predict_kernel_seconds("projection", 100, 0, c), 3e-6);
-  // kalman_gain 10 x 8: the 933 cycles of the replay above.
-  EXPECT_DOUBLE_EQ(predict_kernel_seconds("kalman_gain", 10, 8, c), 933 / 100e6);
-  EXPECT_THROW(predict_kernel_seconds("pnp", 10, 8, c), std::runtime_error);
+TEST(BackendKernelReplay, UnitsOnTheirOwnClocks) {
+  // kalman_gain 10 x 8 with the substitution unit at 50 MHz: its 498 cycles take 9.96 µs, the
+  // other 435 at 100 MHz 4.35 µs.
+  BackendConfig c = small_config();
+  c.units[testing::unit_index(c, "substitution")].clock_mhz = 50;
+  const KernelAccelResult r = accelerate_kernel(kalman_gain(10, 8), c);
+  EXPECT_EQ(r.cycles, 933);
+  EXPECT_NEAR(r.seconds, 435 / 100e6 + 498 / 50e6, 1e-18);
+}
+
+TEST(BackendKernelReplay, AKernelWithAnOpNoUnitServesStaysOnTheHost) {
+  BackendConfig c = small_config();
+  c.units[testing::unit_index(c, "transpose")].count = 0;
+  const KernelAccelResult r = accelerate_kernel(kalman_gain(10, 8), c);
+  EXPECT_FALSE(r.offloadable);
+  EXPECT_TRUE(std::isinf(r.seconds));
+  EXPECT_NE(r.message.find("no backend unit serves its transpose op"), std::string::npos)
+      << r.message;
+  EXPECT_FALSE(offloadable(kalman_gain(10, 8), c));
+  EXPECT_TRUE(offloadable(kalman_gain(10, 8), small_config()));
 }
 
 TEST(BackendKernelReplay, UnknownKernelWithoutOpsThrows) {
@@ -193,25 +210,6 @@ TEST(BackendKernelReplay, SpillTimeIsTheTrafficOnTheLink) {
           accelerate_kernel(testing::kernel_of("gemm", {OpRecord{Op::Gemm, 12, 12, 12, 0, 0}}), c),
           link),
       0.0);
-}
-
-TEST(BackendKernelReplay, OffloadEstimateAddsTheTransfers) {
-  const BackendConfig c = small_config();
-  const trace::KernelRecord k = kalman_gain(10, 8);
-  const LinkSpec link = LinkSpec::pcie3_x8();
-  const FrameTransferConfig transfers;
-  const double transfer_s =
-      sim::to_seconds(kernel_transfer_time(link, kernel_transfer(k, transfers, c.matrix_format())));
-  EXPECT_GT(transfer_s, 0.0);
-  EXPECT_DOUBLE_EQ(estimate_offload_seconds(k, c, link, transfers),
-                   kernel_seconds(k, c) + transfer_s);
-  // A kernel that spills: its spill traffic too (the scheduler sees the spill's cost).
-  BackendConfig small_spm = c;
-  small_spm.spm_bytes = 1000;
-  const double spill_s = spill_seconds(accelerate_kernel(k, small_spm), link);
-  EXPECT_GT(spill_s, 0.0);
-  EXPECT_DOUBLE_EQ(estimate_offload_seconds(k, small_spm, link, transfers),
-                   kernel_seconds(k, small_spm) + transfer_s + spill_s);
 }
 
 }  // namespace

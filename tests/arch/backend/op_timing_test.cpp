@@ -1,6 +1,7 @@
 // Cycles of each backend op against hand-computed values (arch/backend/op_timing.hpp).
 #include "arch/backend/op_timing.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
@@ -23,14 +24,16 @@ OpRecord op(Op kind, std::int64_t m, std::int64_t n, std::int64_t k, std::uint32
 }
 
 TEST(BackendUnits, TableTwoMapping) {
-  EXPECT_EQ(unit_of(Op::Gemm), BackendUnit::kMultiply);
-  EXPECT_EQ(unit_of(Op::Syrk), BackendUnit::kMultiply);
-  EXPECT_EQ(unit_of(Op::Potrf), BackendUnit::kDecompose);
-  EXPECT_EQ(unit_of(Op::Ldlt), BackendUnit::kDecompose);
-  EXPECT_EQ(unit_of(Op::Inverse), BackendUnit::kInverse);
-  EXPECT_EQ(unit_of(Op::Transpose), BackendUnit::kTranspose);
-  EXPECT_EQ(unit_of(Op::Trsm), BackendUnit::kSubstitute);
-  EXPECT_EQ(unit_of(Op::Trsv), BackendUnit::kSubstitute);
+  const BackendConfig c;  // the paper's five units
+  const auto served_by = [&](Op o) { return serving_unit(o, c).name; };
+  EXPECT_EQ(served_by(Op::Gemm), "gemm");
+  EXPECT_EQ(served_by(Op::Syrk), "gemm");
+  EXPECT_EQ(served_by(Op::Potrf), "decomposition");
+  EXPECT_EQ(served_by(Op::Ldlt), "decomposition");
+  EXPECT_EQ(served_by(Op::Inverse), "inverse");
+  EXPECT_EQ(served_by(Op::Transpose), "transpose");
+  EXPECT_EQ(served_by(Op::Trsm), "substitution");
+  EXPECT_EQ(served_by(Op::Trsv), "substitution");
 }
 
 TEST(BackendOpCycles, Gemm) {
@@ -68,13 +71,13 @@ TEST(BackendOpCycles, SyrkHalvesBlocksExactly) {
       for (std::int64_t i = 0; i < tiles; ++i) {
         for (std::int64_t j = i; j < tiles; ++j) ++upper;
       }
-      EXPECT_EQ(gemm_tiles(m, m, block, true), upper) << "m " << m << " b " << block;
-      EXPECT_EQ(gemm_tiles(m, m, block, false), tiles * tiles);
       BackendConfig on = small_config(), off = small_config();
-      on.gemm_block = off.gemm_block = block;
+      testing::set_unit(on, "gemm", fmt::format("{{block: {}}}", block));
+      testing::set_unit(off, "gemm", fmt::format("{{block: {}}}", block));
       off.symmetric_optimization = false;
       const std::int64_t per_tile = 7 + 2 * block;
-      EXPECT_EQ(op_cycles(op(Op::Syrk, m, m, 7), on), upper * per_tile);
+      EXPECT_EQ(op_cycles(op(Op::Syrk, m, m, 7), on), upper * per_tile)
+          << "m " << m << " b " << block;
       EXPECT_EQ(op_cycles(op(Op::Syrk, m, m, 7), off), tiles * tiles * per_tile);
     }
   }
@@ -116,37 +119,32 @@ TEST(BackendOpCycles, Substitution) {
 }
 
 TEST(BackendOpCycles, OverlappedTilesPayFillAndDrainOnce) {
-  BackendConfig c = small_config();
-  c.gemm_overlap_tiles = true;
+  BackendConfig c = small_config(150.0, /*overlap_tiles=*/true);
   // 10x6x7: 6 tiles of max(7, 4) = 7 cycles + one fill/drain of 8.
   EXPECT_EQ(op_cycles(op(Op::Gemm, 10, 6, 7), c), 6 * 7 + 8);
   // k = 2 < b: a tile cannot drain its 4 results a column faster than 4 cycles: 3 x 4 + 8
   // (30 = 3 x (2 + 8) without the overlap).
   EXPECT_EQ(op_cycles(op(Op::Gemm, 3, 9, 2), c), 3 * 4 + 8);
   EXPECT_EQ(op_cycles(op(Op::Syrk, 9, 9, 3), c), 6 * 4 + 8);  // 6 upper tiles
-  EXPECT_EQ(array_cycles(0, 5, c), 0);
-  c.gemm_overlap_tiles = false;
-  EXPECT_EQ(op_cycles(op(Op::Gemm, 3, 9, 2), c), 30);
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 0, 9, 5), c), 0);
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 3, 9, 2), small_config()), 30);
 }
 
 TEST(BackendOpCycles, BlockedSubstitutionUpdatesOnTheArray) {
-  BackendConfig c = small_config();
-  c.blocked_solvers = true;
+  const BackendConfig c = small_config(150.0, false, /*blocked=*/true);
   // 10x10 triangle, 3 right-hand sides, b = 4: reciprocals 10 + 9 = 19; block 0 (4 rows): solve
   // 4 + ⌈3 x 4 x 5 / 2 / 2⌉ = 19; block 1: update 4x3 of k = 4 (1 tile, 4 + 8) = 12, solve 19;
   // block 2 (2 rows): update 2x3 of k = 8 (1 tile, 16), solve 2 + ⌈9 / 2⌉ = 7.
   EXPECT_EQ(op_cycles(op(Op::Trsm, 10, 3, 0, flags::kLower), c), 19 + 19 + 31 + 23);
-  EXPECT_EQ(blocked_substitution_cycles(10, 3, c), 92);
   // A triangle within one block costs what the unblocked unit takes: 10 + 3 + 4 + 15.
   EXPECT_EQ(op_cycles(op(Op::Trsm, 4, 3, 0), c), 32);
-  c.blocked_solvers = false;
-  EXPECT_EQ(op_cycles(op(Op::Trsm, 4, 3, 0), c), 32);
-  EXPECT_EQ(op_cycles(op(Op::Trsm, 10, 3, 0), c), 10 + 9 + 10 + 83);  // ⌈165 / 2⌉
+  const BackendConfig unblocked = small_config();
+  EXPECT_EQ(op_cycles(op(Op::Trsm, 4, 3, 0), unblocked), 32);
+  EXPECT_EQ(op_cycles(op(Op::Trsm, 10, 3, 0), unblocked), 10 + 9 + 10 + 83);  // ⌈165 / 2⌉
 }
 
 TEST(BackendOpCycles, BlockedFactorizationUpdatesOnTheArray) {
-  BackendConfig c = small_config();
-  c.blocked_solvers = true;
+  const BackendConfig c = small_config(150.0, false, /*blocked=*/true);
   // potrf 10, b = 4 (per column: root 5 + divide 10):
   //   block 0 (4, 6 below): diagonal ⌈16 / 4⌉ + 4 x 15 = 64; panel 4 + ⌈6 x 10 / 2⌉ = 34;
   //            syrk 6x6 of k = 4: 3 upper tiles x 12 = 36
@@ -157,28 +155,31 @@ TEST(BackendOpCycles, BlockedFactorizationUpdatesOnTheArray) {
   // LDL^T: 10 a column: diagonals 4 + 40 and 1 + 20.
   EXPECT_EQ(op_cycles(op(Op::Ldlt, 10, 10, 0, flags::kSymmetric), c),
             (44 + 34 + 36) + (44 + 14 + 12) + 21);
-  EXPECT_EQ(blocked_factorization_cycles(10, 10, c), 205);
   // Overlapped tiles: the syrks take 3 x 4 + 8 and 1 x 4 + 8.
-  c.gemm_overlap_tiles = true;
-  EXPECT_EQ(op_cycles(op(Op::Potrf, 10, 10, 0), c), (64 + 34 + 20) + (64 + 14 + 12) + 31);
+  const BackendConfig overlapped = small_config(150.0, /*overlap_tiles=*/true, /*blocked=*/true);
+  EXPECT_EQ(op_cycles(op(Op::Potrf, 10, 10, 0), overlapped), (64 + 34 + 20) + (64 + 14 + 12) + 31);
   // One block: the unblocked formula (13 + 90, Factorizations above).
   EXPECT_EQ(op_cycles(op(Op::Potrf, 4, 4, 0), c), 4 + 60);
-  c.blocked_solvers = false;
-  EXPECT_EQ(op_cycles(op(Op::Potrf, 4, 4, 0), c), 4 + 60);
+  EXPECT_EQ(op_cycles(op(Op::Potrf, 4, 4, 0), small_config()), 4 + 60);
+}
+
+/// The backend of configs/edx_car.yaml.
+BackendConfig car_backend() {
+  const std::string path = std::string(EDX_SOURCE_DIR) + "/configs/edx_car.yaml";
+  return BackendConfig::from_yaml(YAML::LoadFile(path)["backend"], path);
 }
 
 TEST(BackendOpCycles, CarKalmanGainSolveBlocked) {
-  // The Car's units (the defaults: b = 4, one substitution lane, divider 30) with overlapped
-  // tiles, on the typical Kalman gain's trsm (66-row triangle, 211 right-hand sides):
+  // The Car's units (b = 4 with overlapped tiles, one substitution lane, divider 30, blocked
+  // solvers), on the typical Kalman gain's trsm (66-row triangle, 211 right-hand sides):
   //   reciprocals 30 + 65 = 95; block 0: 4 + 211 x 10 = 2114;
   //   blocks 1..15: update 53 tiles x 4i + 8 and the solve 2114: Σ = 212 x 120 + 15 x 2122;
   //   block 16 (2 rows): update 53 x 64 + 8 = 3400, solve 2 + 211 x 3 = 635.
-  BackendConfig c;
-  c.gemm_overlap_tiles = c.blocked_solvers = true;
+  BackendConfig c = car_backend();
   EXPECT_EQ(op_cycles(op(Op::Trsm, 66, 211, 0, flags::kLower), c),
             95 + 2114 + 212 * 120 + 15 * 2122 + 3400 + 635);
   // Unblocked: 30 + 65 + 66 + 211 x 66 x 67 / 2 on one lane.
-  c.blocked_solvers = false;
+  testing::set_unit(c, "substitution", "{lanes: 1, blocked: false}");
   EXPECT_EQ(op_cycles(op(Op::Trsm, 66, 211, 0, flags::kLower), c), 161 + 466521);
 }
 
@@ -190,20 +191,19 @@ TEST(BackendOpCycles, Transpose) {
 
 TEST(BackendOpCycles, Inverse) {
   BackendConfig c = small_config();
+  const std::uint32_t structured = flags::kDiagonalBlock | flags::kBlock6x6 | flags::kSymmetric;
   // General 5x5 Gauss-Jordan: 5 pivots x 10 + ⌈125 / 2⌉.
   EXPECT_EQ(op_cycles(op(Op::Inverse, 5, 5, 0), c), 50 + 63);
   // Structured 10x10 (d = 4): reciprocals 10 + ⌈4/2⌉ = 12; 6x6 Gauss-Jordan 60 + 108 = 168;
   // products 78 x 4 + 6 x sym(4) = 312 + 60 = 372 on 2 lanes = 186.
-  const std::uint32_t structured = flags::kDiagonalBlock | flags::kBlock6x6 | flags::kSymmetric;
-  EXPECT_EQ(structured_inverse_cycles(10, c), 12 + 168 + 186);
-  EXPECT_EQ(op_cycles(op(Op::Inverse, 10, 10, 0, structured), c), 366);
+  EXPECT_EQ(op_cycles(op(Op::Inverse, 10, 10, 0, structured), c), 12 + 168 + 186);
   // Without the 6x6 flag (a 15-dimensional pose block) or with the unit off: general.
   EXPECT_EQ(op_cycles(op(Op::Inverse, 10, 10, 0, flags::kDiagonalBlock), c), 100 + 500);
-  c.structured_inverse = false;
+  testing::set_unit(c, "inverse", "{lanes: 2, divide_latency_cycles: 10, structured: false}");
   EXPECT_EQ(op_cycles(op(Op::Inverse, 10, 10, 0, structured), c), 600);
-  c.structured_inverse = true;
+  c = small_config();
   c.symmetric_optimization = false;  // the dense top-left block in full: 6 x 16 products
-  EXPECT_EQ(structured_inverse_cycles(10, c), 12 + 168 + (312 + 96) / 2);
+  EXPECT_EQ(op_cycles(op(Op::Inverse, 10, 10, 0, structured), c), 12 + 168 + (312 + 96) / 2);
 }
 
 TEST(BackendOpCycles, StructuredInverseBeatsGeneralFor100Landmarks) {
@@ -212,9 +212,8 @@ TEST(BackendOpCycles, StructuredInverseBeatsGeneralFor100Landmarks) {
   const std::uint32_t structured = flags::kDiagonalBlock | flags::kBlock6x6 | flags::kSymmetric;
   const std::int64_t fast = op_cycles(op(Op::Inverse, m, m, 0, structured), c);
   const std::int64_t general = op_cycles(op(Op::Inverse, m, m, 0, flags::kSymmetric), c);
-  EXPECT_EQ(general, general_inverse_cycles(m, c));
-  EXPECT_EQ(fast, structured_inverse_cycles(m, c));
-  EXPECT_LT(10 * fast, general);  // n^3 against ~3 n^2: more than an order of magnitude
+  EXPECT_EQ(general, m * 30 + m * m * m);  // m pivots x t_div + m^3 on one lane
+  EXPECT_LT(10 * fast, general);           // n^3 against ~3 n^2: more than an order of magnitude
 }
 
 TEST(BackendOpCycles, NegativeDimensionThrows) {
@@ -243,19 +242,28 @@ TEST(BackendOpSpm, OperandBytes) {
 
 TEST(BackendConfigYaml, ReadsFieldsAndNamesFileLineKey) {
   const BackendConfig c = BackendConfig::from_yaml(
-      YAML::Load("clock_mhz: 200\ngemm_block: 32\nsymmetric_optimization: false\n"
-                 "spm_bytes: 4194304\ngemm_overlap_tiles: true\nblocked_solvers: true\n"),
+      YAML::Load("clock_mhz: 200\nsymmetric_optimization: false\nspm_bytes: 4194304\n"
+                 "units:\n  gemm: {block: 32, overlap_tiles: true}\n  inverse: {count: 0}\n"
+                 "  substitution: {count: 0}\n"
+                 "  solver: {kind: substitution, lanes: 3, blocked: true, count: 2}\n"),
       "car.yaml");
-  EXPECT_TRUE(c.gemm_overlap_tiles);
-  EXPECT_TRUE(c.blocked_solvers);
-  EXPECT_FALSE(BackendConfig{}.gemm_overlap_tiles);
-  EXPECT_FALSE(BackendConfig{}.blocked_solvers);
   EXPECT_DOUBLE_EQ(c.clock_mhz, 200.0);
-  EXPECT_EQ(c.gemm_block, 32);
   EXPECT_FALSE(c.symmetric_optimization);
   EXPECT_EQ(c.spm_bytes, 4194304);
-  EXPECT_EQ(c.decomp_block, BackendConfig{}.decomp_block);
-  EXPECT_EQ(c.to_json()["gemm_block"], 32);
+  // The five defaults in their order (gemm overridden, its kind kept), then the new one.
+  ASSERT_EQ(c.units.size(), 6u);
+  EXPECT_EQ(c.units[0].name, "gemm");
+  EXPECT_EQ(c.units[0].unit->kind(), "systolic_array");
+  EXPECT_EQ(c.units[0].unit->tile(), 32);
+  EXPECT_EQ(c.units[5].name, "solver");
+  EXPECT_EQ(c.units[5].count, 2);
+  EXPECT_DOUBLE_EQ(c.units[5].unit->mac_lanes(), 3.0);
+  EXPECT_EQ(c.unit_for(Op::Trsm), &c.units[5]);
+  EXPECT_EQ(c.to_json()["units"]["gemm"]["block"], 32);
+  EXPECT_EQ(c.to_json()["units"]["gemm"]["overlap_tiles"], true);
+  EXPECT_EQ(c.to_json()["units"]["solver"]["kind"], "substitution");
+  EXPECT_EQ(c.unit_for(Op::Inverse), nullptr);  // no inverse unit: inverses stay on the host
+  EXPECT_EQ(BackendConfig{}.units.size(), 5u);  // without units: Table II's five
 
   const auto error_of = [](const std::string& text) {
     try {
@@ -265,19 +273,54 @@ TEST(BackendConfigYaml, ReadsFieldsAndNamesFileLineKey) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(error_of("clock_mhz: 200\ngemm_block: 0\n").find("car.yaml:2: backend.gemm_block"),
-            std::string::npos)
-      << error_of("clock_mhz: 200\ngemm_block: 0\n");
-  EXPECT_NE(error_of("trsv_lanes: 2\ngemm_blok: 4\n").find("car.yaml:2: backend.gemm_blok"),
-            std::string::npos)
-      << error_of("trsv_lanes: 2\ngemm_blok: 4\n");
+  const auto expect_error = [&](const std::string& text, const std::string& part) {
+    EXPECT_NE(error_of(text).find(part), std::string::npos) << error_of(text);
+  };
+  expect_error("clock_mhz: 200\nunits:\n  gemm: {kind: systolic_array, block: 0}\n",
+               "car.yaml:3: backend.units.gemm.block: expected an integer in [1, 256], got '0'");
+  expect_error("units:\n  gemm:\n    kind: systolic_array\n    blok: 4\n",
+               "car.yaml:4: backend.units.gemm.blok: unknown key");
+  expect_error("units:\n  gemm:\n    kind: tensor_core\n",
+               "car.yaml:3: backend.units.gemm.kind: expected one of decomposition, inverse, ");
+  expect_error("units:\n  array2: {block: 4}\n",
+               "backend.units.array2.kind: required for a unit not among the defaults");
+  expect_error("units:\n  t2: {kind: transpose}\n",
+               "car.yaml:2: backend.units.t2: expected one unit per op, but transpose serves "
+               "transpose too (count: 0 leaves a unit out)");
   // A value the reader accepts but validate() refuses still names its line.
-  EXPECT_NE(
-      error_of("clock_mhz: 100\n\nscalar_bytes: 2\n").find("car.yaml:3: backend.scalar_bytes"),
-      std::string::npos)
-      << error_of("clock_mhz: 100\n\nscalar_bytes: 2\n");
-  EXPECT_NE(error_of("structured_inverse: maybe\n").find("car.yaml:1: backend.structured_inverse"),
-            std::string::npos);
+  expect_error("clock_mhz: 100\n\nscalar_bytes: 2\n", "car.yaml:3: backend.scalar_bytes");
+  // The keys of the fixed five-unit backend name where they went.
+  expect_error("gemm_block: 4\n",
+               "car.yaml:1: backend.gemm_block: moved: now backend.units.<name>.block of a "
+               "systolic_array unit");
+}
+
+TEST(BackendConfigYaml, UnitPrecisionDefaultsToTheScalarFormat) {
+  const BackendConfig single = BackendConfig::from_yaml(
+      YAML::Load("scalar_bytes: 4\nunits: {gemm: {block: 2}, transpose: {precision: double}}\n"),
+      "x.yaml");
+  EXPECT_EQ(single.units[0].precision, "single");  // listed
+  EXPECT_EQ(single.units[1].precision, "single");  // not listed
+  EXPECT_EQ(single.units[testing::unit_index(single, "transpose")].precision, "double");
+  EXPECT_EQ(BackendConfig{}.units[0].precision, "double");
+}
+
+TEST(BackendOpCycles, CopiesShareAnOpsWork) {
+  BackendConfig c = small_config();
+  // gemm 10x6x7 on two arrays: 6 tiles dealt out, 3 each, of 15 cycles.
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 10, 6, 7), 2, c), 45);
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 10, 6, 7), 4, c), 30);  // ⌈6/4⌉ = 2 tiles
+  // potrf 6 on two decomposition units: 50 MACs on 8 lanes = 7, the column chain unchanged.
+  EXPECT_EQ(op_cycles(op(Op::Potrf, 6, 6, 0), 2, c), 7 + 90);
+  // transpose 7x5 on two: ⌈35/4⌉.
+  EXPECT_EQ(op_cycles(op(Op::Transpose, 7, 5, 0), 2, c), 9);
+  // The instance's count is what op_cycles uses by default.
+  c.units[testing::unit_index(c, "gemm")].count = 2;
+  EXPECT_EQ(op_cycles(op(Op::Gemm, 10, 6, 7), c), 45);
+  // Count 0 leaves the unit out: nobody serves gemm.
+  c.units[testing::unit_index(c, "gemm")].count = 0;
+  EXPECT_EQ(c.unit_for(Op::Gemm), nullptr);
+  EXPECT_THROW(op_cycles(op(Op::Gemm, 10, 6, 7), c), std::runtime_error);
 }
 
 }  // namespace

@@ -53,7 +53,7 @@ TEST(BackendRecordedKernel, VioKalmanGainOpsMatchTheDerivationRule) {
   EXPECT_GT(a.cycles, 0);
   // S (40 x 40 of 27) is the symmetric result: ⌈40 / 4⌉ = 10 tile rows, so the 55 tiles on and
   // above the diagonal (not all 100), each 27 + 2 x 4 cycles.
-  EXPECT_EQ(config.gemm_block, 4);
+  EXPECT_EQ(config.unit_for(trace::Op::Gemm)->unit->tile(), 4);
   EXPECT_EQ(a.ops[1].cycles, 55 * (kState + 2 * 4));
 }
 

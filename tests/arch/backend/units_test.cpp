@@ -1,31 +1,42 @@
-// The backend units' descriptors (arch/backend/units): every op has a unit, and Table II's use of
-// each building block follows from the kernels' ops.
-#include "arch/backend/units.hpp"
-
+// The backend matrix units as registered kinds (arch/backend/matrix_unit.hpp, units/): the
+// paper's five are registered, every op has one unit in the default backend, Table II's use of
+// each building block follows from the kernels' ops, and each kind owns its parameters.
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
+
+#include "arch/backend/backend_config.hpp"
+#include "arch/backend/op_timing.hpp"
+#include "tests/arch/backend/backend_test_support.hpp"
 
 namespace edx::arch {
 namespace {
 
 using trace::Op;
 
+TEST(BackendUnits, ThePapersFiveKindsAreRegistered) {
+  const auto& registry = ComponentRegistry<MatrixUnit>::instance();
+  for (const char* kind :
+       {"systolic_array", "decomposition", "inverse", "transpose", "substitution"}) {
+    const auto* entry = registry.find(kind);
+    ASSERT_NE(entry, nullptr) << kind;
+    EXPECT_FALSE(entry->doc.empty());
+    EXPECT_EQ(entry->make_default()->kind(), kind);
+    EXPECT_FALSE(entry->reference("backend.units.x").empty()) << kind;
+  }
+  EXPECT_EQ(registry.find("tensor_core"), nullptr);
+  EXPECT_THROW(registry.at("tensor_core"), std::runtime_error);
+}
+
 TEST(BackendUnits, EveryOpIsServedByExactlyOneUnit) {
-  for (Op op : {Op::Gemm, Op::Syrk, Op::Potrf, Op::Ldlt, Op::Trsm, Op::Trsv, Op::Transpose,
-                Op::Inverse}) {
+  const BackendConfig c;
+  for (Op op : trace::kOps) {
     int serving = 0;
-    for (const BackendUnitDescriptor& u : backend_units()) {
-      for (Op served : u.ops) serving += served == op ? 1 : 0;
-    }
+    for (const MatrixUnitInstance& u : c.units) serving += u.unit->serves(op) ? 1 : 0;
     EXPECT_EQ(serving, 1) << trace::to_string(op);
   }
-  EXPECT_EQ(unit_of(Op::Syrk), BackendUnit::kMultiply);
-  EXPECT_EQ(unit_of(Op::Ldlt), BackendUnit::kDecompose);
-  EXPECT_EQ(unit_of(Op::Trsv), BackendUnit::kSubstitute);
-  for (BackendUnit u : kBackendUnits) EXPECT_EQ(backend_unit(u).unit, u);
-  EXPECT_STREQ(to_string(BackendUnit::kTranspose), "transpose");
+  EXPECT_NO_THROW(c.validate());
 }
 
 TEST(BackendUnits, TableIIUseFollowsFromTheKernelsOps) {
@@ -33,24 +44,34 @@ TEST(BackendUnits, TableIIUseFollowsFromTheKernelsOps) {
   // in the Kalman gain and marginalization, the inverse in marginalization only, transpose in
   // the Kalman gain and marginalization.
   using Names = std::vector<std::string>;
-  EXPECT_EQ(kernels_using(BackendUnit::kMultiply),
-            (Names{"projection", "kalman_gain", "marginalization"}));
-  EXPECT_EQ(kernels_using(BackendUnit::kDecompose), (Names{"kalman_gain", "marginalization"}));
-  EXPECT_EQ(kernels_using(BackendUnit::kInverse), (Names{"marginalization"}));
-  EXPECT_EQ(kernels_using(BackendUnit::kTranspose), (Names{"kalman_gain", "marginalization"}));
-  EXPECT_EQ(kernels_using(BackendUnit::kSubstitute), (Names{"kalman_gain", "marginalization"}));
+  const BackendConfig c;
+  const auto using_unit = [&](const std::string& name) {
+    return kernels_using(testing::unit_index(c, name), c);
+  };
+  EXPECT_EQ(using_unit("gemm"), (Names{"projection", "kalman_gain", "marginalization"}));
+  EXPECT_EQ(using_unit("decomposition"), (Names{"kalman_gain", "marginalization"}));
+  EXPECT_EQ(using_unit("inverse"), (Names{"marginalization"}));
+  EXPECT_EQ(using_unit("transpose"), (Names{"kalman_gain", "marginalization"}));
+  EXPECT_EQ(using_unit("substitution"), (Names{"kalman_gain", "marginalization"}));
 }
 
 TEST(BackendUnits, MacLanesOfTheConfiguredSizes) {
-  BackendConfig c;
-  c.gemm_block = 4;
-  c.inverse_lanes = 2;
-  c.trsv_lanes = 3;
-  EXPECT_DOUBLE_EQ(backend_unit(BackendUnit::kMultiply).mac_lanes(c), 16.0);
-  EXPECT_DOUBLE_EQ(backend_unit(BackendUnit::kInverse).mac_lanes(c), 2.0);
-  EXPECT_DOUBLE_EQ(backend_unit(BackendUnit::kSubstitute).mac_lanes(c), 3.0);
-  EXPECT_DOUBLE_EQ(backend_unit(BackendUnit::kTranspose).mac_lanes(c), 0.0);
-  EXPECT_DOUBLE_EQ(backend_unit(BackendUnit::kDecompose).mac_lanes(c), double(c.decomp_lanes()));
+  const BackendConfig c = testing::small_config();
+  const auto lanes = [&](const std::string& name) {
+    return c.units[testing::unit_index(c, name)].unit->mac_lanes();
+  };
+  EXPECT_DOUBLE_EQ(lanes("gemm"), 16.0);
+  EXPECT_DOUBLE_EQ(lanes("decomposition"), 4.0);  // 2 x 2
+  EXPECT_DOUBLE_EQ(lanes("inverse"), 2.0);
+  EXPECT_DOUBLE_EQ(lanes("substitution"), 2.0);
+  EXPECT_DOUBLE_EQ(lanes("transpose"), 0.0);
+}
+
+TEST(BackendUnits, AUnitsResourcesFollowItsPrecision) {
+  // One 4x4 array: 16 MACs of PG060 operators, 11 + 3 DSP each in double, 3 + 2 in single.
+  const auto array = ComponentRegistry<MatrixUnit>::instance().make("systolic_array");
+  EXPECT_DOUBLE_EQ(array->resources(cost::Arithmetic::kDouble).dsp, 16 * 14.0);
+  EXPECT_DOUBLE_EQ(array->resources(cost::Arithmetic::kSingle).dsp, 16 * 5.0);
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "arch/backend/matrix_unit.hpp"
+#include "arch/cost/resource_report.hpp"
 #include "arch/cost/unit_costs.hpp"
 
 namespace edx::arch::cost {
@@ -90,15 +92,24 @@ TEST(UnitCosts, GaussianThreeByThreeOnOneLane) {
 }
 
 TEST(UnitCosts, GemmTwoByTwoDoubleByHand) {
-  BackendConfig be;
-  be.gemm_block = 2;
-  const Resources r = gemm_cost(be);
+  const MatrixUnitInstance array = make_matrix_unit("gemm", "systolic_array", "{block: 2}");
+  const Resources r = array.unit->resources(Arithmetic::kDouble);
   EXPECT_DOUBLE_EQ(r.dsp, 4 * 14);
   EXPECT_DOUBLE_EQ(r.lut, 4 * (208 + 1149) + 3 * 16);
   // MACs + operand registers 4·2·64 + input registers 2·2·64 + AGX 48.
   EXPECT_DOUBLE_EQ(r.ff, 4 * (317 + 445) + 512 + 256 + 48);
-  be.scalar_bytes = 4;  // single-precision MACs
-  EXPECT_DOUBLE_EQ(gemm_cost(be).dsp, 4 * 5);
+  // Single-precision MACs (a unit of precision single, or backend.scalar_bytes 4).
+  EXPECT_DOUBLE_EQ(array.unit->resources(Arithmetic::kSingle).dsp, 4 * 5);
+  BackendConfig be;
+  be.units = {array};
+  be.units[0].count = 2;  // two arrays: twice the unit's resources in the report
+  const ResourceReport report =
+      build_resource_report(FrontendConfig{}, be, CostConfig{}, {}, Device::by_name("xc7v690t"));
+  for (const CostEntry& e : report.entries) {
+    if (e.name == "gemm") {
+      EXPECT_DOUBLE_EQ(e.shared.dsp, 2 * 4 * 14);
+    }
+  }
 }
 
 TEST(UnitCosts, UnitsGrowWithTheirDimensions) {

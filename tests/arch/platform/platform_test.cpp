@@ -44,9 +44,9 @@ TEST(Platform, BadInputNamesFileLineAndKey) {
   EXPECT_EQ(error_of("name: car\nfrontend:\n  fd_stencil: 4\n"),
             "p.yaml:3: frontend.fd_stencil: expected an odd integer >= 3, got '4'");
   EXPECT_EQ(error_of("name: car\nhost: 3\n"), "p.yaml:2: platform.host: expected a map of keys");
-  EXPECT_EQ(error_of("name: car\nbackend:\n  gemm_block: ~\n"),
-            "p.yaml:3: backend.gemm_block: expected an integer in [1, 256], got 'nothing (~ or an "
-            "empty value)'");
+  EXPECT_EQ(error_of("name: car\nbackend:\n  units:\n    gemm: {block: ~}\n"),
+            "p.yaml:4: backend.units.gemm.block: expected an integer in [1, 256], got 'nothing (~ "
+            "or an empty value)'");
   EXPECT_EQ(error_of("name: car\nbackend_units: {}\n"),
             "p.yaml:2: platform.backend_units: unknown key");
   EXPECT_THAT(error_of("frontend: {}\n"), HasSubstr("platform.name: required"));
@@ -59,26 +59,26 @@ TEST(Platform, ReadsBackendCostPowerSchedulerAndHostBackendScale) {
   const Platform p = Platform::parse(
       "name: car\nhost:\n  frontend_suite_ms: 3\n  backend_suite_ms: 1.5\n"
       "  backend_provenance: measured\n"
-      "backend:\n  gemm_block: 8\ncost:\n  ns_modes: 2\npower:\n  host_active_w: 20\n"
+      "backend:\n  units: {gemm: {block: 8}}\ncost:\n  ns_modes: 2\npower:\n  host_active_w: 20\n"
       "scheduler:\n  policy: oracle\n  training_fraction: 0.5\n",
       "p.yaml");
   EXPECT_DOUBLE_EQ(p.host.backend_suite_ms, 1.5);
   EXPECT_EQ(p.host.backend_provenance, "measured");
-  EXPECT_EQ(p.backend.gemm_block, 8);
-  EXPECT_EQ(p.backend.decomp_block, BackendConfig{}.decomp_block);
+  EXPECT_EQ(p.backend.units[0].unit->tile(), 8);
+  EXPECT_EQ(p.backend.units[1].to_json(), BackendConfig{}.units[1].to_json());
   EXPECT_EQ(p.cost.ns_modes, 2);
   EXPECT_DOUBLE_EQ(p.power.host_active_w, 20);
   EXPECT_EQ(p.scheduler.policy, OffloadPolicy::kOracle);
   EXPECT_DOUBLE_EQ(p.scheduler.training_fraction, 0.5);
   EXPECT_EQ(p.to_json()["scheduler"]["policy"], "oracle");
-  EXPECT_EQ(p.to_json()["backend"]["gemm_block"], 8);
+  EXPECT_EQ(p.to_json()["backend"]["units"]["gemm"]["block"], 8);
 }
 
 TEST(Platform, BadKeysOfTheNewSectionsNameFileLineAndKey) {
-  EXPECT_EQ(error_of("name: car\nbackend:\n  gemm_blok: 4\n"),
-            "p.yaml:3: backend.gemm_blok: unknown key");
-  EXPECT_THAT(error_of("name: car\nbackend:\n  gemm_block: big\n"),
-              HasSubstr("p.yaml:3: backend.gemm_block: expected an integer"));
+  EXPECT_EQ(error_of("name: car\nbackend:\n  spm_byte: 4\n"),
+            "p.yaml:3: backend.spm_byte: unknown key");
+  EXPECT_THAT(error_of("name: car\nbackend:\n  units:\n    gemm:\n      block: big\n"),
+              HasSubstr("p.yaml:5: backend.units.gemm.block: expected an integer"));
   EXPECT_EQ(error_of("name: car\ncost:\n  colour: red\n"), "p.yaml:3: cost.colour: unknown key");
   EXPECT_THAT(error_of("name: car\npower:\n  host_active_w: hot\n"),
               HasSubstr("p.yaml:3: power.host_active_w: expected a number"));
@@ -108,14 +108,19 @@ TEST(Platform, ShippedConfigsLoad) {
   const Platform car = Platform::load(std::string(EDX_SOURCE_DIR) + "/configs/edx_car.yaml");
   const Platform drone = Platform::load(std::string(EDX_SOURCE_DIR) + "/configs/edx_drone.yaml");
   // The Table III DSP budget on Edx-Car; a smaller array and SPM on Edx-Drone.
-  EXPECT_EQ(car.backend.gemm_block, 4);
-  EXPECT_EQ(car.backend.decomp_lanes(), 1);
-  EXPECT_LT(drone.backend.gemm_block, car.backend.gemm_block);
+  const auto unit = [](const Platform& p, const char* name) {
+    return p.backend.to_json()["units"][name];
+  };
+  EXPECT_EQ(unit(car, "gemm")["block"], 4);
+  EXPECT_EQ(unit(car, "decomposition")["block"], 1);
+  EXPECT_LT(unit(drone, "gemm")["block"], unit(car, "gemm")["block"]);
   EXPECT_LT(drone.backend.spm_bytes, car.backend.spm_bytes);
   // The same unit design on both (Sec. VII-A: "almost the same" implementations).
   for (const Platform* p : {&car, &drone}) {
-    EXPECT_TRUE(p->backend.gemm_overlap_tiles) << p->name;
-    EXPECT_TRUE(p->backend.blocked_solvers) << p->name;
+    EXPECT_EQ(p->backend.units.size(), 5u) << p->name;
+    EXPECT_EQ(unit(*p, "gemm")["overlap_tiles"], true) << p->name;
+    EXPECT_EQ(unit(*p, "decomposition")["blocked"], true) << p->name;
+    EXPECT_EQ(unit(*p, "substitution")["blocked"], true) << p->name;
   }
   // Both hosts state suite times of this build's suite (docs/MODEL.md, Host CPU); the drone's
   // TX1 is one factor k slower than the car's Kaby Lake on both parts.

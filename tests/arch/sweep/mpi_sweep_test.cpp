@@ -58,7 +58,7 @@ struct MpiSweep : ::testing::Test {
 
 TEST_F(MpiSweep, TwoRanksGiveTheRowsOfOneProcess) {
   const std::filesystem::path s = spec("wl", "workload.features: {values: [100, 200]}",
-                                       "backend.gemm_block: {values: [1, 2, 4]}");
+                                       "backend.units.gemm.block: {values: [1, 2, 4]}");
   const std::filesystem::path store = dir.path() / "store";
   auto r = edx::testing::run_command(fmt::format("{} {} sweep {} --db {} --trace-store {} --json",
                                                  mpirun(2), kEdx, s.string(),

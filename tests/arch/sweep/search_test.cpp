@@ -30,8 +30,8 @@ std::string car_space(const std::string& sampling, const std::string& name) {
          "/configs/edx_car.yaml\nparameters:\n"
          "  frontend.fe_pixels_per_cycle: {values: [1, 2, 4, 8]}\n"
          "  frontend.dr_pixels_per_cycle: {values: [0.25, 0.5, 1, 2]}\n"
-         "  backend.gemm_block: {values: [2, 4, 8, 16]}\n"
-         "  backend.decomp_block: {values: [1, 2, 4, 8]}\n"
+         "  backend.units.gemm.block: {values: [2, 4, 8, 16]}\n"
+         "  backend.units.decomposition.block: {values: [1, 2, 4, 8]}\n"
          "  backend.clock_mhz: {values: [100, 150, 200, 250, 300]}\n"
          "  link.bandwidth_gb_per_s: {values: [1, 2, 4, 7.9]}\n"
          "sampling: " +
@@ -144,8 +144,8 @@ TEST(Search, CategoricalAndLogRangeParametersAreGenesAFixedOneIsNot) {
           "/configs/edx_car.yaml\nparameters:\n"
           "  scheduler.policy: {values: [regression, always, never]}\n"
           "  link.bandwidth_gb_per_s: {log_range: {from: 1.2, to: 7.9, points: 4}}\n"
-          "  backend.gemm_block: {values: [2, 4]}\n"
-          "  backend.decomp_block: {values: [1]}\n"  // fixed: no gene
+          "  backend.units.gemm.block: {values: [2, 4]}\n"
+          "  backend.units.decomposition.block: {values: [1]}\n"  // fixed: no gene
           "sampling: {nsga2: {generations: 2, population: 8, seed: 3}}\n"
           "objectives: [{minimize: e2e_latency_mean}, {minimize: dsp}]\n",
       "mixed.yaml", dir.path());
@@ -190,7 +190,7 @@ TEST(Search, NothingToSearchIsOneLineAndLeavesNoDatabase) {
   const testing::TempDir dir;
   const SweepSpec spec = SweepSpec::parse(
       "name: fixed\nbase: " + kSource +
-          "/configs/edx_car.yaml\nparameters:\n  backend.gemm_block: {values: [4]}\n"
+          "/configs/edx_car.yaml\nparameters:\n  backend.units.gemm.block: {values: [4]}\n"
           "sampling: {nsga2: {generations: 2, population: 8}}\n"
           "objectives: [{minimize: e2e_latency_mean}, {minimize: dsp}]\n",
       "fixed.yaml", dir.path());

@@ -24,10 +24,11 @@ TEST(SweepCommand, LimitResumeJsonAndCsv) {
   edx::testing::TempDir dir;
   write_sweep_trace(dir.path() / "t.db");
   std::ofstream(dir.path() / "base.yaml")
-      << "name: cmd\nbackend: {clock_mhz: 100, gemm_block: 2, spm_bytes: 67108864}\n"
+      << "name: cmd\nbackend: {clock_mhz: 100, spm_bytes: 67108864, units: {gemm: {block: 2}}}\n"
          "scheduler: {policy: always, training_fraction: 0}\n";
   std::ofstream(dir.path() / "s.yaml")
-      << "base: base.yaml\ntrace: t.db\nparameters:\n  backend.gemm_block: {values: [1, 2, 4]}\n"
+      << "base: base.yaml\ntrace: t.db\nparameters:\n  backend.units.gemm.block: {values: [1, 2, "
+         "4]}\n"
          "objectives: [{minimize: e2e_latency_mean}, {minimize: dsp}]\n";
   const std::string db = (dir.path() / "r.db").string();
   const std::string spec = (dir.path() / "s.yaml").string();
@@ -46,22 +47,24 @@ TEST(SweepCommand, LimitResumeJsonAndCsv) {
   r = edx::testing::run_command(
       fmt::format("{} export {} --sweep s --out {}/p.csv", kEdx, db, dir.path().string()));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_THAT(edx::testing::read_file(dir.path() / "p.csv"),
-              StartsWith("point,run_id,backend.gemm_block,dsp,e2e_latency_mean,feasible,pareto\n"));
+  EXPECT_THAT(
+      edx::testing::read_file(dir.path() / "p.csv"),
+      StartsWith("point,run_id,backend.units.gemm.block,dsp,e2e_latency_mean,feasible,pareto\n"));
 }
 
 TEST(SweepCommand, BadInputIsOneLine) {
   edx::testing::TempDir dir;
   std::ofstream(dir.path() / "base.yaml") << "name: cmd\n";
   std::ofstream(dir.path() / "s.yaml")
-      << "base: base.yaml\nparameters:\n  backend.gemm_block: {values: [0]}\n"
+      << "base: base.yaml\nparameters:\n  backend.units.gemm.block: {values: [0]}\n"
          "objectives: [{minimize: dsp}]\n";
   auto r = edx::testing::run_command(fmt::format("{} sweep {}/s.yaml --db {}/r.db", kEdx,
                                                  dir.path().string(), dir.path().string()));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, fmt::format("edx: error: {}/s.yaml:3: backend.gemm_block: expected an integer "
-                               "in [1, 256], got '0'\n",
-                               dir.path().string()));
+  EXPECT_EQ(r.err,
+            fmt::format("edx: error: {}/s.yaml:3: backend.units.gemm.block: expected an integer "
+                        "in [1, 256], got '0'\n",
+                        dir.path().string()));
   r = edx::testing::run_command(fmt::format("{} export {}/none.db --table runs --out {}/x.csv",
                                             kEdx, dir.path().string(), dir.path().string()));
   EXPECT_EQ(r.exit_code, 1);

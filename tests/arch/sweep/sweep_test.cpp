@@ -50,16 +50,17 @@ TEST(Extends, ChildOverridesParentRecursivelyByMap) {
   testing::TempDir dir;
   write(dir.path() / "base.yaml",
         "name: base\ndescription: the parent\nfrontend:\n  clock_mhz: 100\n  mo_comparators: 8\n"
-        "backend: {gemm_block: 2, clock_mhz: 120}\n");
-  write(dir.path() / "mid.yaml", "extends: base.yaml\nname: mid\nbackend: {gemm_block: 8}\n");
+        "backend: {clock_mhz: 120, units: {gemm: {block: 2}}}\n");
+  write(dir.path() / "mid.yaml",
+        "extends: base.yaml\nname: mid\nbackend: {units: {gemm: {block: 8}}}\n");
   write(dir.path() / "leaf.yaml", "extends: mid.yaml\nfrontend: {clock_mhz: 200}\n");
   const Platform p = Platform::load(dir.path() / "leaf.yaml");
-  EXPECT_EQ(p.name, "mid");                     // from mid
-  EXPECT_EQ(p.description, "the parent");       // from base
-  EXPECT_DOUBLE_EQ(p.frontend.clock_mhz, 200);  // leaf over base
-  EXPECT_EQ(p.frontend.mo_comparators, 8);      // base, beside the leaf's key in the same map
-  EXPECT_EQ(p.backend.gemm_block, 8);           // mid over base
-  EXPECT_DOUBLE_EQ(p.backend.clock_mhz, 120);   // base
+  EXPECT_EQ(p.name, "mid");                       // from mid
+  EXPECT_EQ(p.description, "the parent");         // from base
+  EXPECT_DOUBLE_EQ(p.frontend.clock_mhz, 200);    // leaf over base
+  EXPECT_EQ(p.frontend.mo_comparators, 8);        // base, beside the leaf's key in the same map
+  EXPECT_EQ(p.backend.units[0].unit->tile(), 8);  // mid over base
+  EXPECT_DOUBLE_EQ(p.backend.clock_mhz, 120);     // base
 }
 
 TEST(Extends, MissingParentAndCyclesAreFileLineErrors) {
@@ -79,12 +80,13 @@ TEST(Extends, MissingParentAndCyclesAreFileLineErrors) {
 
 TEST(Extends, ErrorsNameTheFileAndLineThatWroteTheKey) {
   testing::TempDir dir;
-  write(dir.path() / "base.yaml", "name: base\nbackend:\n  clock_mhz: 100\n  gemm_block: zero\n");
-  write(dir.path() / "ok.yaml", "extends: base.yaml\nbackend: {gemm_block: 4}\n");
-  EXPECT_EQ(Platform::load(dir.path() / "ok.yaml").backend.gemm_block, 4);  // overridden: fine
+  write(dir.path() / "base.yaml",
+        "name: base\nbackend:\n  clock_mhz: 100\n  units:\n    gemm: {block: zero}\n");
+  write(dir.path() / "ok.yaml", "extends: base.yaml\nbackend: {units: {gemm: {block: 4}}}\n");
+  EXPECT_EQ(Platform::load(dir.path() / "ok.yaml").backend.units[0].unit->tile(), 4);  // overridden
   write(dir.path() / "child.yaml", "extends: base.yaml\nfrontend:\n  clock_mhz: 10\n");
   EXPECT_THAT(error_of([&] { Platform::load(dir.path() / "child.yaml"); }),
-              StartsWith((dir.path() / "base.yaml").string() + ":4: backend.gemm_block: "));
+              StartsWith((dir.path() / "base.yaml").string() + ":5: backend.units.gemm.block: "));
   write(dir.path() / "bad.yaml", "extends: ok.yaml\n\nfrontend:\n  clock_mhz: fast\n");
   EXPECT_EQ(error_of([&] { Platform::load(dir.path() / "bad.yaml"); }),
             (dir.path() / "bad.yaml").string() +
@@ -100,7 +102,7 @@ TEST(Extends, ErrorsNameTheFileAndLineThatWroteTheKey) {
 constexpr const char* kBase =
     "name: sweep_test\n"
     "host: {name: the trace host}\n"
-    "backend: {clock_mhz: 100, gemm_block: 2, spm_bytes: 67108864}\n"
+    "backend: {clock_mhz: 100, spm_bytes: 67108864, units: {gemm: {block: 2}}}\n"
     "scheduler: {policy: oracle, training_fraction: 0}\n";
 
 SweepSpec spec_of(const testing::TempDir& dir, const std::string& body) {
@@ -112,7 +114,7 @@ TEST(SweepSpec, GridRangesAndLogRanges) {
   testing::TempDir dir;
   const SweepSpec s = spec_of(dir,
                               "parameters:\n"
-                              "  backend.gemm_block: {values: [1, 2, 4]}\n"
+                              "  backend.units.gemm.block: {values: [1, 2, 4]}\n"
                               "  backend.clock_mhz: {range: {from: 100, to: 200, step: 25}}\n"
                               "  link.bandwidth_gb_per_s: {log_range: {from: 1, to: 100, "
                               "points: 3}}\n"
@@ -128,7 +130,7 @@ TEST(SweepSpec, GridRangesAndLogRanges) {
   EXPECT_EQ(grid.at(44).choice, (std::vector<std::size_t>{2, 4, 2}));
   EXPECT_THROW(grid.at(45), std::out_of_range);
   const Platform p = sweep_platform(s, grid.at(4));
-  EXPECT_EQ(p.backend.gemm_block, 1);
+  EXPECT_EQ(p.backend.units[0].unit->tile(), 1);
   EXPECT_DOUBLE_EQ(p.backend.clock_mhz, 125);
   EXPECT_DOUBLE_EQ(p.link.link.bandwidth_gb_per_s, 10);
   EXPECT_EQ(p.backend.spm_bytes, 67108864);  // the base's other keys stay
@@ -142,7 +144,7 @@ TEST(SweepSpec, GridRangesAndLogRanges) {
 TEST(SweepSpec, RandomSamplingIsDistinctAndReproducible) {
   testing::TempDir dir;
   const std::string params =
-      "parameters:\n  backend.gemm_block: {values: [1, 2, 4, 8]}\n"
+      "parameters:\n  backend.units.gemm.block: {values: [1, 2, 4, 8]}\n"
       "  backend.clock_mhz: {range: {from: 100, to: 300, step: 10}}\n"
       "objectives: [{minimize: dsp}]\n";
   const auto choices = [&](int seed, int samples) {
@@ -187,34 +189,35 @@ TEST(SweepSpec, HugeGridsAreRefusedOrSampledWithoutEnumeratingThem) {
                 spec_of(dir, params + "sampling: {random: {samples: 99999999999999999999}}\n");
               }),
               HasSubstr("sampling.random.samples: expected an integer from 1 to 10^6"));
-  EXPECT_THAT(
-      error_of([&] {
-        spec_of(dir,
-                "parameters:\n  backend.clock_mhz: {range: {from: 1, to: 1e300, step: "
-                "1e-300}}\nobjectives: [{minimize: dsp}]\n");
-      }),
-      HasSubstr("s.yaml:3: parameters.backend.clock_mhz.range: more than 100000 values"));
+  EXPECT_THAT(error_of([&] {
+                spec_of(dir,
+                        "parameters:\n  backend.clock_mhz: {range: {from: 1, to: 1e300, step: "
+                        "1e-300}}\nobjectives: [{minimize: dsp}]\n");
+              }),
+              HasSubstr("s.yaml:3: parameters.backend.clock_mhz.range: more than 100000 values"));
 }
 
 TEST(SweepSpec, BadInputIsOneLineWithFileLineAndKey) {
   testing::TempDir dir;
   const auto err = [&](const std::string& body) { return error_of([&] { spec_of(dir, body); }); };
   const std::string obj = "objectives: [{minimize: dsp}]\n";
-  EXPECT_EQ(err("parameters:\n  backend.gemm_block: {values: []}\n" + obj),
-            "s.yaml:3: parameters.backend.gemm_block.values: expected a non-empty list");
-  EXPECT_EQ(err("parameters:\n  backend.gemm_block: {range: {from: 4, to: 1, step: 1}}\n" + obj),
-            "s.yaml:3: parameters.backend.gemm_block.range: expected step > 0 and to >= from");
-  EXPECT_EQ(err("parameters:\n  backend.gemm_block: {values: [1]}\nobjectives: [{minimize: "
+  EXPECT_EQ(err("parameters:\n  backend.units.gemm.block: {values: []}\n" + obj),
+            "s.yaml:3: parameters.backend.units.gemm.block.values: expected a non-empty list");
+  EXPECT_EQ(
+      err("parameters:\n  backend.units.gemm.block: {range: {from: 4, to: 1, step: 1}}\n" + obj),
+      "s.yaml:3: parameters.backend.units.gemm.block.range: expected step > 0 and to >= from");
+  EXPECT_EQ(err("parameters:\n  backend.units.gemm.block: {values: [1]}\nobjectives: [{minimize: "
                 "speed}]\n"),
             "s.yaml:4: objectives[0]: unknown metric 'speed' (docs/SWEEPS.md lists them)");
   EXPECT_THAT(err("paramters: {}\n" + obj), StartsWith("s.yaml:2: sweep.paramters: unknown key"));
-  EXPECT_EQ(err("parameters:\n  backend.gemm_block: {values: [1]}\n  backend.gemm_block: {values: "
+  EXPECT_EQ(err("parameters:\n  backend.units.gemm.block: {values: [1]}\n  "
+                "backend.units.gemm.block: {values: "
                 "[2]}\n" +
                 obj),
-            "s.yaml:4: parameters.backend.gemm_block: written twice (also on line 3)");
+            "s.yaml:4: parameters.backend.units.gemm.block: written twice (also on line 3)");
   // A value the platform rejects names the spec's line of that value.
-  EXPECT_EQ(err("parameters:\n  backend.gemm_block:\n    values: [2, fast]\n" + obj),
-            "s.yaml:4: backend.gemm_block: expected an integer in [1, 256], got 'fast'");
+  EXPECT_EQ(err("parameters:\n  backend.units.gemm.block:\n    values: [2, fast]\n" + obj),
+            "s.yaml:4: backend.units.gemm.block: expected an integer in [1, 256], got 'fast'");
   EXPECT_THAT(err("parameters:\n  backend.gemm_blok: {values: [2]}\n" + obj),
               AllOf(StartsWith("s.yaml"), HasSubstr("backend.gemm_blok: unknown key")));
   EXPECT_THAT(err("parameters:\n  x: {values: [1]}\n" + obj + "sampling: {random: {samples: 0}}\n"),
@@ -243,7 +246,7 @@ TEST(Sweep, RunsStoresResumesAndExports) {
   const std::filesystem::path trace = write_sweep_trace(dir.path() / "t.db");
   const SweepSpec spec = spec_of(dir,
                                  "name: blocks\ntrace: t.db\n"
-                                 "parameters:\n  backend.gemm_block: {values: [1, 2, 4, 8]}\n"
+                                 "parameters:\n  backend.units.gemm.block: {values: [1, 2, 4, 8]}\n"
                                  "objectives: [{minimize: e2e_latency_mean}, {minimize: dsp}]\n"
                                  "constraints: [{metric: dsp, max: 1e9}]\n");
   SweepOptions options;
@@ -286,7 +289,7 @@ TEST(Sweep, RunsStoresResumesAndExports) {
   // CSV of the sweep's points and of a table.
   EXPECT_EQ(export_csv(dir.path() / "r.db", "", "blocks", dir.path() / "p.csv"), 4u);
   const std::string csv = testing::read_file(dir.path() / "p.csv");
-  EXPECT_THAT(csv, StartsWith("point,run_id,backend.gemm_block,dsp,e2e_latency_mean,feasible,"
+  EXPECT_THAT(csv, StartsWith("point,run_id,backend.units.gemm.block,dsp,e2e_latency_mean,feasible,"
                               "pareto\n0," +
                               third.points[0].run_id + ",1,"));
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);
@@ -303,7 +306,7 @@ TEST(Sweep, AFailureBeforeTheFirstPointLeavesNoNewDatabase) {
   // A JSON-pointer objective that names nothing is found only on the first result.
   const SweepSpec spec =
       spec_of(dir,
-              "trace: t.db\nparameters:\n  backend.gemm_block: {values: [1, 2]}\n"
+              "trace: t.db\nparameters:\n  backend.units.gemm.block: {values: [1, 2]}\n"
               "objectives: [{minimize: /accelerated/nothing}]\n");
   SweepOptions options;
   options.db = dir.path() / "r.db";
@@ -321,7 +324,7 @@ TEST(Sweep, OneProcessRunsASweepOnADatabaseAtATime) {
   write_sweep_trace(dir.path() / "t.db");
   const SweepSpec spec = spec_of(dir,
                                  "name: blocks\ntrace: t.db\n"
-                                 "parameters:\n  backend.gemm_block: {values: [1, 2]}\n"
+                                 "parameters:\n  backend.units.gemm.block: {values: [1, 2]}\n"
                                  "objectives: [{minimize: dsp}]\n");
   SweepOptions options;
   options.db = dir.path() / "r.db";

@@ -67,13 +67,13 @@ struct WorkloadSweep : ::testing::Test {
   FakeTracer fake;
   void SetUp() override {
     std::ofstream(dir.path() / "base.yaml")
-        << "name: w\nbackend: {clock_mhz: 100, gemm_block: 2, spm_bytes: 67108864}\n"
+        << "name: w\nbackend: {clock_mhz: 100, spm_bytes: 67108864, units: {gemm: {block: 2}}}\n"
            "scheduler: {policy: always, training_fraction: 0}\n";
   }
   SweepSpec spec(const std::string& features, const std::string& extra = {}) const {
     return SweepSpec::parse(
         "base: base.yaml\nworkload: {features: 2}\nparameters:\n"
-        "  backend.gemm_block: {values: [1, 4]}\n"
+        "  backend.units.gemm.block: {values: [1, 4]}\n"
         "  workload.features: {values: [" +
             features + "]}\n" + extra + "objectives: [{minimize: e2e_latency_mean}]\n",
         "w.yaml", dir.path());
@@ -95,7 +95,7 @@ TEST_F(WorkloadSweep, WorkloadParametersComeFirstAndNeedTheSection) {
   const SweepPoints points(s);
   ASSERT_EQ(points.size(), 4u);
   EXPECT_EQ(points.at(0).workload(s), (nlohmann::json{{"features", "1"}}));
-  EXPECT_EQ(points.at(1).workload_index(s), 0u);  // gemm_block varies fastest
+  EXPECT_EQ(points.at(1).workload_index(s), 0u);  // the gemm block varies fastest
   EXPECT_EQ(points.at(2).workload_index(s), 1u);
   EXPECT_EQ(points.at(3).workload(s), (nlohmann::json{{"features", "3"}}));
 
@@ -112,13 +112,14 @@ TEST_F(WorkloadSweep, WorkloadParametersComeFirstAndNeedTheSection) {
             "w.yaml:3: parameters.workload.features: a workload parameter needs a workload: "
             "section (the sweep then traces each workload point)");
   EXPECT_THAT(error("base: base.yaml\ntrace: t.db\nworkload: {features: 1}\nparameters:\n"
-                    "  backend.gemm_block: {values: [1]}\nobjectives: [{minimize: dsp}]\n"),
+                    "  backend.units.gemm.block: {values: [1]}\nobjectives: [{minimize: dsp}]\n"),
               HasSubstr("w.yaml:3: workload: give a trace or a workload, not both"));
-  EXPECT_THAT(error("base: base.yaml\nworkload: {features: 1}\nparameters:\n"
-                    "  workload.features: {values: [1, 2]}\n  backend.gemm_block: {values: [1]}\n"
-                    "sampling: {nsga2: {generations: 1, population: 8}}\n"
-                    "objectives: [{minimize: dsp}]\n"),
-              HasSubstr("sampling.nsga2: a search varies platform parameters only"));
+  EXPECT_THAT(
+      error("base: base.yaml\nworkload: {features: 1}\nparameters:\n"
+            "  workload.features: {values: [1, 2]}\n  backend.units.gemm.block: {values: [1]}\n"
+            "sampling: {nsga2: {generations: 1, population: 8}}\n"
+            "objectives: [{minimize: dsp}]\n"),
+      HasSubstr("sampling.nsga2: a search varies platform parameters only"));
   EXPECT_EQ(error("base: base.yaml\nworkload: {}\nparameters:\n"
                   "  workload.seed: {range: {from: 1, to: 200, step: 1}}\n"
                   "  workload.features: {range: {from: 1, to: 100, step: 1}}\n"
@@ -199,9 +200,10 @@ TEST_F(WorkloadSweep, AFailedWorkloadPointIsRecordedAndTheSweepGoesOn) {
   std::getline(csv, first);
   std::getline(csv, failed);
   std::getline(csv, failed);
-  EXPECT_EQ(header,
-            "point,run_id,backend.gemm_block,workload.features,e2e_latency_mean,feasible,pareto,"
-            "workload,error");
+  EXPECT_EQ(
+      header,
+      "point,run_id,backend.units.gemm.block,workload.features,e2e_latency_mean,feasible,pareto,"
+      "workload,error");
   EXPECT_THAT(failed, ::testing::EndsWith(",0,0," + out.points[2].workload +
                                           ",features 13 cannot be traced"));
 }

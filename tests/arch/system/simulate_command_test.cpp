@@ -103,7 +103,7 @@ TEST(SimulateCommand, WritesAWholeSystemTimeline) {
   // One track per frontend unit, link direction, host thread, backend unit and queue.
   for (const char* name :
        {"FD", "IF", "FC", "MO", "DR", "DC", "LSS", "host_to_fpga", "fpga_to_host", "backend thread",
-        "multiply", "decompose", "inverse", "transpose", "substitute", "kernels", "camera queue",
+        "gemm", "decomposition", "inverse", "transpose", "substitution", "kernels", "camera queue",
         "results queue", "frames"}) {
     EXPECT_TRUE(tracks.count(name)) << "no track " << name;
   }

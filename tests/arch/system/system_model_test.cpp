@@ -27,7 +27,7 @@ Platform test_platform(const std::string& policy) {
   return Platform::parse(
       "name: test\n"
       "host: {times: measured, frontend_suite_ms: 10.0, backend_suite_ms: 8.0}\n"
-      "backend: {clock_mhz: 100, gemm_block: 2, spm_bytes: 67108864}\n"
+      "backend: {clock_mhz: 100, spm_bytes: 67108864, units: {gemm: {block: 2}}}\n"
       "link:\n  bandwidth_gb_per_s: 1.0\n  latency_ns: 100\n"
       "  dma: {setup_ns: 100, chunk_bytes: 4194304, max_outstanding: 1}\n"
       "power: {fpga_static_w: 1.0, host_active_w: 10.0, host_idle_w: 1.0, int8_op_pj: 1.0,\n"
@@ -206,13 +206,11 @@ TEST(SystemModel, EnergyByResourceAddsUpToTheStreamedRunsEnergy) {
   // Each accelerated frame's work energy, split by resource, adds up to its compute, memory
   // and link energy.
   for (const FrameResult& f : r.accelerated.frames) {
-    double parts = 0;
-    for (double j : f.part_j) parts += j;
-    EXPECT_NEAR(parts, f.energy.compute_j + f.energy.memory_j + f.energy.link_j, 1e-15);
+    EXPECT_NEAR(f.parts.total(), f.energy.compute_j + f.energy.memory_j + f.energy.link_j, 1e-15);
   }
   // Frame 0's projection on the multiply array: 800 busy cycles x 4 MACs x 10 pJ + its
   // operands' 5696 BRAM bytes x 1 pJ.
-  EXPECT_NEAR(r.accelerated.frames[0].part_j[kBackendPart + 0], 1e-12 * (32000 + 5696), 1e-18);
+  EXPECT_NEAR(r.accelerated.frames[0].parts.backend[0], 1e-12 * (32000 + 5696), 1e-18);
   const StreamSummary& st = *r.accelerated.stream;
   std::map<std::string, cost::ResourceEnergy> by_name;
   double total = 0, work = 0;
@@ -233,7 +231,7 @@ TEST(SystemModel, EnergyByResourceAddsUpToTheStreamedRunsEnergy) {
   EXPECT_NEAR(host.energy_j, 10.0 * host.busy_s + 1.0 * host.idle_s, 1e-15);
   EXPECT_NEAR(total, 1.0 * span + host.energy_j + work, 1e-12);
   // The multiply array: busy 800 + 800 000 cycles at 100 MHz (frames 0 and 1), idle the rest.
-  const cost::ResourceEnergy& mul = by_name.at("backend.multiply");
+  const cost::ResourceEnergy& mul = by_name.at("backend.gemm");
   EXPECT_NEAR(mul.busy_s, 800'800 / 100e6, 1e-9);
   EXPECT_NEAR(mul.busy_s + mul.idle_s, span, 1e-15);
   EXPECT_EQ(mul.idle_w, 0.0);

@@ -1,0 +1,51 @@
+#include "arch/backend/matrix_unit.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include "arch/common/yaml_fields.hpp"
+
+namespace edx::arch {
+
+cost::Arithmetic MatrixUnitInstance::arithmetic() const {
+  return precision == "single" ? cost::Arithmetic::kSingle : cost::Arithmetic::kDouble;
+}
+
+const FieldList<MatrixUnitInstance>& MatrixUnitInstance::fields() {
+  using C = MatrixUnitInstance;
+  static const FieldList<C> list = {
+      field("count", &C::count, "",
+            "identical copies sharing the unit's ops and their work; 0 leaves it out (its ops "
+            "stay on the host)",
+            Bounds::at_least(0).at_most(1024)),
+      field("clock_mhz", &C::clock_mhz, "MHz", "the unit's clock; 0: the backend's clock_mhz",
+            Bounds::at_least(0).at_most(1000)),
+      choice_field("precision", &C::precision, "", {"double", "single"},
+                   "its MACs' precision (cost, energy); default: backend.scalar_bytes's"),
+  };
+  return list;
+}
+
+nlohmann::json MatrixUnitInstance::to_json() const {
+  nlohmann::json j = {{"kind", std::string(unit->kind())}};
+  j.update(fields_to_json(*this, fields()));
+  j.update(unit->params_json());
+  return j;
+}
+
+MatrixUnitInstance make_matrix_unit(std::string name, std::string_view kind, int count) {
+  MatrixUnitInstance m;
+  m.name = std::move(name);
+  m.unit = ComponentRegistry<MatrixUnit>::instance().make(kind);
+  m.count = count;
+  return m;
+}
+
+MatrixUnitInstance make_matrix_unit(std::string name, std::string_view kind,
+                                    const std::string& params, int count) {
+  MatrixUnitInstance m = make_matrix_unit(name, kind, count);
+  YamlFields fields(YAML::Load(params), "code", "backend.units." + name);
+  m.unit = ComponentRegistry<MatrixUnit>::instance().at(kind).parse(fields);
+  return m;
+}
+
+}  // namespace edx::arch

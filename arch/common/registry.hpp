@@ -1,0 +1,162 @@
+#pragma once
+// Component registries in the manner of Ramulator 2 (../shared/STYLE.md; docs/MODEL.md
+// "Components"): one interface per component kind (a backend matrix unit, a frontend unit, a
+// memory, a link, a host processor, an offload accelerator), its implementations beside it, each
+// registered by name with one line in its own file:
+//
+//   class SystolicArray final : public MatrixUnit { public: struct Params {...}; ... };
+//   EDX_REGISTER_COMPONENT(MatrixUnit, SystolicArray, "systolic_array", "b x b array of MACs");
+//
+// An implementation owns its parameters: a `Params` struct that declares its keys once (a field
+// list, config_fields.hpp: key, unit, range, doc), and a constructor from it. From that one
+// declaration the registry parses an instance's YAML map (each value checked at its file:line,
+// unknown keys refused), prints its parameters as JSON (results, config hashes) and lists them
+// in `edx config --reference` (docs/CONFIG.md). A platform names the implementation with
+// `kind:`; adding a kind touches no other file.
+//
+// The implementation's Params must provide
+//   static const FieldList<Params>& fields();   every key, once
+//   void validate() const;                      rules between fields (check_fields at least)
+// and the implementation `explicit Impl(const Params&)` and `const Params& params() const`.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "arch/common/config_fields.hpp"
+#include "arch/common/yaml_fields.hpp"
+
+namespace edx::arch {
+
+/// What every component implementation answers, whatever its kind.
+class Component {
+ public:
+  virtual ~Component() = default;
+  /// The registered name of its implementation ("systolic_array").
+  virtual std::string_view kind() const = 0;
+  /// Its parameters as JSON (every key, defaults included): results and config hashes.
+  virtual nlohmann::json params_json() const = 0;
+};
+
+/// One registered implementation of an interface.
+template <class Interface>
+struct ComponentEntry {
+  std::string name;  ///< the `kind:` that selects it
+  std::string doc;   ///< one line: what it is, and its source
+  /// Reads an instance's parameters from `fields` (its YAML map, the instance keys already
+  /// taken by the caller) over the defaults and builds it; errors name file, line and key.
+  std::function<std::shared_ptr<const Interface>(YamlFields& fields)> parse;
+  /// An instance with every parameter at its default.
+  std::function<std::shared_ptr<const Interface>()> make_default;
+  /// Its parameters' reference rows under `section` ("backend.units.<name>"), in a table headed
+  /// "`section` of kind `name`: doc".
+  std::function<std::vector<ReferenceRow>(const std::string& section)> reference;
+};
+
+/// The implementations of one interface, by name.
+template <class Interface>
+class ComponentRegistry {
+ public:
+  static ComponentRegistry& instance() {
+    static ComponentRegistry registry;
+    return registry;
+  }
+
+  /// Registers `entry`; a second implementation of the same name is a programming error,
+  /// reported at start-up (std::logic_error).
+  bool add(ComponentEntry<Interface> entry) {
+    const std::string name = entry.name;
+    if (!entries_.emplace(name, std::move(entry)).second) {
+      throw std::logic_error(
+          fmt::format("{}: two implementations registered as '{}'", Interface::kKindName, name));
+    }
+    return true;
+  }
+
+  /// The implementation called `name`, nullptr when there is none.
+  const ComponentEntry<Interface>* find(std::string_view name) const {
+    const auto it = entries_.find(std::string(name));
+    return it == entries_.end() ? nullptr : &it->second;
+  }
+
+  /// The implementation called `name`; throws std::runtime_error "expected <kinds>" otherwise.
+  const ComponentEntry<Interface>& at(std::string_view name) const {
+    if (const auto* entry = find(name)) return *entry;
+    throw std::runtime_error(
+        fmt::format("expected a {} kind ({}), got '{}'", Interface::kKindName, names(), name));
+  }
+
+  /// Every implementation, by name.
+  std::vector<const ComponentEntry<Interface>*> entries() const {
+    std::vector<const ComponentEntry<Interface>*> out;
+    for (const auto& [name, entry] : entries_) out.push_back(&entry);
+    return out;
+  }
+
+  /// "a, b or c".
+  std::string names() const {
+    std::string text;
+    std::size_t i = 0;
+    for (const auto& [name, entry] : entries_) {
+      text += i == 0 ? "" : (i + 1 == entries_.size() ? " or " : ", ");
+      text += name;
+      ++i;
+    }
+    return text;
+  }
+
+  /// The default instance of `name` (code that builds a platform without YAML).
+  std::shared_ptr<const Interface> make(std::string_view name) const {
+    return at(name).make_default();
+  }
+
+ private:
+  std::map<std::string, ComponentEntry<Interface>> entries_;
+};
+
+/// The registry entry of implementation `Impl` of `Interface` (see the header comment).
+template <class Interface, class Impl>
+ComponentEntry<Interface> component_entry(std::string name, std::string doc) {
+  using Params = typename Impl::Params;
+  ComponentEntry<Interface> e;
+  e.name = std::move(name);
+  e.doc = std::move(doc);
+  e.parse = [](YamlFields& fields) -> std::shared_ptr<const Interface> {
+    Params params;
+    parse_fields(fields, params, Params::fields());
+    fields.finish();
+    validate_at(fields, [&params] { params.validate(); });
+    return std::make_shared<const Impl>(params);
+  };
+  e.make_default = []() -> std::shared_ptr<const Interface> {
+    return std::make_shared<const Impl>(Params{});
+  };
+  e.reference = [name = e.name, doc = e.doc](const std::string& section) {
+    return reference_rows(section, Params::fields(), Params{},
+                          fmt::format("`{}` of kind `{}`: {}", section, name, doc));
+  };
+  return e;
+}
+
+/// The JSON of an implementation's parameters (its params_json()).
+template <class Params>
+nlohmann::json params_to_json(const Params& params) {
+  return fields_to_json(params, Params::fields());
+}
+
+}  // namespace edx::arch
+
+/// Registers implementation `Impl` of `Interface` under `name` (a string literal) with a one-line
+/// `doc`, in the implementation's own file. The static lives in that translation unit; the
+/// library holding it is linked whole (cmake: edx_link_whole) so that the linker keeps it.
+#define EDX_REGISTER_COMPONENT(Interface, Impl, name, doc)       \
+  [[maybe_unused]] static const bool edx_registered_##Impl =     \
+      ::edx::arch::ComponentRegistry<Interface>::instance().add( \
+          ::edx::arch::component_entry<Interface, Impl>(name, doc))
