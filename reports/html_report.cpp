@@ -79,7 +79,7 @@ std::string headings(const results::TableSpec& table,
                      std::initializer_list<std::string_view> columns) {
   std::string h;
   for (std::string_view c : columns) {
-    h += "<th>" + html_escape(table.columns[table.index_of(c)].heading()) + "</th>";
+    h += fmt::format("<th>{}</th>", html_escape(table.columns[table.index_of(c)].heading()));
   }
   return h;
 }
@@ -427,11 +427,10 @@ class RunReport {
   }
 
   std::string latency_table() const {
-    std::string h =
-        "<h3>Latency statistics</h3>\n<table><tr>" +
+    std::string h = fmt::format(
+        "<h3>Latency statistics</h3>\n<table><tr>{}</tr>\n",
         headings(results::latency_table().spec, {"variant", "mode", "stage", "count", "mean", "sd",
-                                                 "rsd", "p50", "p90", "p99", "max"}) +
-        "</tr>\n";
+                                                 "rsd", "p50", "p90", "p99", "max"}));
     for (const LatencyRow& l : run_.latency) {
       h += fmt::format(
           "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
@@ -462,10 +461,10 @@ class RunReport {
   }
 
   std::string throughput_table() const {
-    std::string h = "<table><tr>" +
+    std::string h =
+        fmt::format("<table><tr>{}</tr>\n",
                     headings(results::throughput_table().spec,
-                             {"variant", "fps_without_pipelining", "fps_with_pipelining"}) +
-                    "</tr>\n";
+                             {"variant", "fps_without_pipelining", "fps_with_pipelining"}));
     for (const ThroughputRow& t : run_.throughput) {
       h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td></tr>\n", t.variant,
                        num(t.fps_without_pipelining, 1), num(t.fps_with_pipelining, 1));
@@ -474,10 +473,9 @@ class RunReport {
   }
 
   std::string energy_table() const {
-    std::string h = "<table><tr>" +
-                    headings(results::energy_table().spec,
-                             {"variant", "mode", "mean_j", "sd_j", "p99_j", "max_j"}) +
-                    "</tr>\n";
+    std::string h = fmt::format("<table><tr>{}</tr>\n",
+                                headings(results::energy_table().spec,
+                                         {"variant", "mode", "mean_j", "sd_j", "p99_j", "max_j"}));
     for (const EnergyRow& e : run_.energy) {
       h += fmt::format(
           "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
@@ -489,12 +487,12 @@ class RunReport {
   std::string schedule_table() const {
     if (run_.schedule.empty()) return "";
     const nlohmann::json derived = run_metrics(run_)["derived"];
-    std::string h =
-        "<h3>Offload scheduler (evaluation frames)</h3>\n<table><tr>" +
+    std::string h = fmt::format(
+        "<h3>Offload scheduler (evaluation frames)</h3>\n<table><tr>{}<th>kernel speedup (fitting "
+        "invocations)</th></tr>\n",
         headings(results::schedule_table().spec,
                  {"kernel", "invocations", "offloaded", "host_only_s", "always_s", "policy_s",
-                  "oracle_s", "r_squared_train", "r_squared_eval", "gap_to_oracle"}) +
-        "<th>kernel speedup (fitting invocations)</th></tr>\n";
+                  "oracle_s", "r_squared_train", "r_squared_eval", "gap_to_oracle"}));
     for (const ScheduleRow& s : run_.schedule) {
       const auto speedup = metric_at(derived, "kernels." + s.kernel + ".speedup");
       h += fmt::format(
@@ -510,11 +508,10 @@ class RunReport {
 
   std::string resources_table() const {
     if (run_.resources.empty()) return "";
-    std::string h = "<h3>FPGA resources</h3>\n<table><tr>" +
-                    headings(results::resources_table().spec,
-                             {"entry", "grp", "kind", "lut", "ff", "dsp", "bram", "ns_lut", "ns_ff",
-                              "ns_dsp", "ns_bram"}) +
-                    "</tr>\n";
+    std::string h = fmt::format("<h3>FPGA resources</h3>\n<table><tr>{}</tr>\n",
+                                headings(results::resources_table().spec,
+                                         {"entry", "grp", "kind", "lut", "ff", "dsp", "bram",
+                                          "ns_lut", "ns_ff", "ns_dsp", "ns_bram"}));
     for (const ResourceRow& r : run_.resources) {
       h += fmt::format(
           "<tr{}><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
@@ -603,10 +600,9 @@ std::string convergence_html(const SweepData& sweep, int index, const fs::path& 
     images.push_back(image);
     h += fmt::format("<img src=\"{}\" alt=\"hypervolume per generation\">\n", image);
   }
-  h += "<table><tr>" +
-       headings(results::sweep_generations_table().spec,
-                {"generation", "evaluations", "front_size", "hypervolume"}) +
-       "</tr>\n";
+  h += fmt::format("<table><tr>{}</tr>\n",
+                   headings(results::sweep_generations_table().spec,
+                            {"generation", "evaluations", "front_size", "hypervolume"}));
   for (const SweepGeneration& g : sweep.generations) {
     h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.6g}</td></tr>\n", g.generation,
                      g.evaluations, g.front_size, g.hypervolume);
@@ -762,8 +758,8 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
       h += convergence_html(sweep, index, dir, gnuplot, plot, images);
     }
     if (sweep.traces_workload) h += workload_html(data, sweep, index, dir, gnuplot, plot, images);
-    h += "<table><tr>" + headings(results::sweep_points_table().spec, {"point", "run_id"}) +
-         "<th>parameters</th>";
+    h += fmt::format("<table><tr>{}<th>parameters</th>",
+                     headings(results::sweep_points_table().spec, {"point", "run_id"}));
     std::vector<std::string> columns = metrics;
     for (const SweepPoint& p : sweep.points) {
       if (!p.metrics.is_object()) continue;
@@ -772,7 +768,8 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
       }
     }
     for (const std::string& c : columns) h += "<th>" + html_escape(c) + "</th>";
-    h += headings(results::sweep_points_table().spec, {"feasible", "pareto"}) + "</tr>\n";
+    h += headings(results::sweep_points_table().spec, {"feasible", "pareto"});
+    h += "</tr>\n";
     for (const SweepPoint& p : sweep.points) {
       const std::string params = parameters_text(p);
       h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td>", p.point, html_escape(p.run_id),
@@ -937,9 +934,9 @@ std::string folded_cell(const std::string& value) {
 /// folded under it.
 std::string runs_table_html(const ResultsData& data, const std::vector<std::size_t>& sections,
                             const std::map<std::string, std::string>& sweep_of_run) {
-  const std::string header = "<table><tr><th>run</th>" +
-                             headings(results::runs_table().spec, {"run_id", "frames", "policy"}) +
-                             "</tr>\n";
+  const std::string header =
+      fmt::format("<table><tr><th>run</th>{}</tr>\n",
+                  headings(results::runs_table().spec, {"run_id", "frames", "policy"}));
   const auto row = [&](const RunData& r, const std::string& name) {
     return fmt::format("<tr><td>{}</td><td><small>{}</small></td><td>{}</td><td>{}</td></tr>\n",
                        name, html_escape(r.run_id), r.frames, html_escape(r.policy));

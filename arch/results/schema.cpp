@@ -395,9 +395,9 @@ std::string results_reference_markdown() {
       "its header.\n",
       kSchemaVersion);
   md += "\n## Run tables\n\nEvery row carries its run's `run_id`.\n";
-  for (const TableSpec* t : tables_of(kRun)) md += "\n" + table_reference(*t);
+  for (const TableSpec* t : tables_of(kRun)) md += fmt::format("\n{}", table_reference(*t));
   md += "\n## Sweep tables\n\nWritten by `edx sweep`; every row carries its sweep's `sweep_id`.\n";
-  for (const TableSpec* t : tables_of(kSweep)) md += "\n" + table_reference(*t);
+  for (const TableSpec* t : tables_of(kSweep)) md += fmt::format("\n{}", table_reference(*t));
   return md;
 }
 

@@ -223,13 +223,16 @@ std::string csv_value(const Value& value) {
 
 std::string table_csv(const TableSpec& table, const std::vector<ValueRow>& rows) {
   std::string csv;
-  for (std::size_t i = 0; i < table.columns.size(); ++i) {
-    csv += (i ? "," : "") + csv_field(table.columns[i].name);
-  }
-  csv += "\n";
+  const auto line = [&csv](const std::vector<std::string>& fields) {
+    fmt::format_to(std::back_inserter(csv), "{}\n", fmt::join(fields, ","));
+  };
+  std::vector<std::string> fields;
+  for (const ColumnSpec& c : table.columns) fields.push_back(csv_field(c.name));
+  line(fields);
   for (const ValueRow& row : rows) {
-    for (std::size_t i = 0; i < row.size(); ++i) csv += (i ? "," : "") + csv_value(row[i]);
-    csv += "\n";
+    fields.clear();
+    for (const Value& v : row) fields.push_back(csv_value(v));
+    line(fields);
   }
   return csv;
 }

@@ -685,21 +685,26 @@ std::string sweep_points_csv(SQLite::Database& db, const std::string& db_name,
     traced = traced || !p.workload.empty();
   }
   std::string csv = "point,run_id";
-  for (const std::string& k : params) csv += "," + results::csv_field(k);
-  for (const std::string& k : metrics) csv += "," + results::csv_field(k);
+  for (const std::string& k : params)
+    fmt::format_to(std::back_inserter(csv), ",{}", results::csv_field(k));
+  for (const std::string& k : metrics)
+    fmt::format_to(std::back_inserter(csv), ",{}", results::csv_field(k));
   csv += traced ? ",feasible,pareto,workload,error\n" : ",feasible,pareto\n";
   for (const results::SweepPointRow& p : points) {
     fmt::format_to(std::back_inserter(csv), "{},{}", p.point, p.run_id);
     for (const std::string& k : params) {
-      csv += "," + results::csv_field(p.parameters.value(k, std::string()));
+      fmt::format_to(std::back_inserter(csv), ",{}",
+                     results::csv_field(p.parameters.value(k, std::string())));
     }
     for (const std::string& k : metrics) {
-      csv += "," + (p.metrics.contains(k) ? fmt::format("{}", p.metrics[k].get<double>())
-                                          : std::string());
+      fmt::format_to(std::back_inserter(csv), ",{}",
+                     p.metrics.contains(k) ? fmt::format("{}", p.metrics[k].get<double>()) : "");
     }
     fmt::format_to(std::back_inserter(csv), ",{},{}", static_cast<int>(p.feasible),
                    static_cast<int>(p.pareto));
-    if (traced) csv += "," + p.workload + "," + results::csv_field(p.error);
+    if (traced) {
+      fmt::format_to(std::back_inserter(csv), ",{},{}", p.workload, results::csv_field(p.error));
+    }
     csv += "\n";
   }
   rows = points.size();
