@@ -150,17 +150,18 @@ class RunReport {
   /// The run's whole-system timeline, written beside the report (`run<N>_timeline.json`) and
   /// linked; a line saying how to get one when the run has none.
   std::string timeline_link() const {
-    if (run_.timeline_json.empty()) {
+    if (run_.timelines.empty()) {
       return "<p class=\"cap\">No whole-system timeline stored for this run (<code>edx simulate "
              "--timeline T.json --out DB</code> keeps one).</p>\n";
     }
     const std::string file = prefix_ + "timeline.json";
-    common::write_file_atomically(dir_ / file, run_.timeline_json);
+    const results::TimelineRow& timeline = run_.timelines.front();
+    common::write_file_atomically(dir_ / file, timeline.json);
     return fmt::format(
         "<p class=\"cap\">Whole-system timeline of the accelerated streamed run, frames {}–{}: "
         "<a href=\"{}\">{}</a> (Perfetto JSON: open it in https://ui.perfetto.dev; one track per "
         "frontend unit, link direction, host core, backend unit and queue).</p>\n",
-        run_.timeline_first, run_.timeline_first + run_.timeline_frames - 1, file, file);
+        timeline.first_frame, timeline.first_frame + timeline.frames - 1, file, file);
   }
 
   RunReport(const RunData& run, std::size_t index, const fs::path& dir, const std::string& gnuplot,

@@ -37,11 +37,7 @@ void read_run(SQLite::Database& db, RunData& r) {
   r.schedule = of_run(results::schedule_table(), "kernel");
   r.resources = of_run(results::resources_table(), "rowid");
   // Databases before version 1 have no timelines table: no rows.
-  for (results::TimelineRow& t : of_run(results::timelines_table(), "rowid")) {
-    r.timeline_json = std::move(t.json);
-    r.timeline_first = t.first_frame;
-    r.timeline_frames = t.frames;
-  }
+  r.timelines = of_run(results::timelines_table(), "rowid");
 }
 
 SweepData read_sweep(SQLite::Database& db, const results::SweepRow& row) {

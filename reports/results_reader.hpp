@@ -29,20 +29,9 @@ using SweepPoint = results::SweepPointRow;
 /// One generation of a search's convergence (table sweep_generations).
 using SweepGeneration = results::SweepGenerationRow;
 
-/// A run (its row of table runs) and its rows in the other run tables.
-struct RunData : results::RunRow {
-  std::vector<FrameRow> frame_rows;
-  std::vector<LatencyRow> latency;
-  std::vector<ThroughputRow> throughput;
-  std::vector<EnergyRow> energy;
-  std::vector<OffloadRow> offload;
-  std::vector<ScheduleRow> schedule;
-  std::vector<ResourceRow> resources;
-  /// The whole-system timeline (Perfetto JSON, table timelines) when the run was simulated with
-  /// --timeline; empty otherwise. Frames [timeline_first, timeline_first + timeline_frames).
-  std::string timeline_json;
-  std::int64_t timeline_first = 0, timeline_frames = 0;
-};
+/// A run (its row of table runs) and its rows in the other run tables (timelines: the
+/// whole-system timeline when the run was simulated with --timeline, else none).
+struct RunData : results::RunRow, results::RunTableRows {};
 
 struct SweepObjectiveInfo {
   std::string metric;

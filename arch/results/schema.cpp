@@ -369,7 +369,7 @@ TableValues values_of(const Table<Row>& table, const std::vector<Row>& rows) {
 
 std::vector<TableValues> run_values(const RunRows& rows) {
   return {values_of(runs_table(), std::vector<RunRow>{rows.run}),
-          values_of(frames_table(), rows.frames),
+          values_of(frames_table(), rows.frame_rows),
           values_of(latency_table(), rows.latency),
           values_of(throughput_table(), rows.throughput),
           values_of(energy_table(), rows.energy),

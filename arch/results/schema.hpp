@@ -172,10 +172,9 @@ std::vector<const TableSpec*> tables_of(TableGroup group);
 /// The declared table named `name`, or nullptr.
 const TableSpec* find_table(std::string_view name);
 
-/// Every row of one run, table by table.
-struct RunRows {
-  RunRow run;
-  std::vector<FrameRow> frames;
+/// A run's rows in the run tables other than runs, table by table.
+struct RunTableRows {
+  std::vector<FrameRow> frame_rows;
   std::vector<LatencyRow> latency;
   std::vector<ThroughputRow> throughput;
   std::vector<EnergyRow> energy;
@@ -183,6 +182,11 @@ struct RunRows {
   std::vector<ScheduleRow> schedule;
   std::vector<ResourceRow> resources;
   std::vector<TimelineRow> timelines;  ///< none, or the run's one timeline
+};
+
+/// Every row of one run.
+struct RunRows : RunTableRows {
+  RunRow run;
 };
 
 /// Rows of one table as values.

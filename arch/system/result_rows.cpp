@@ -35,8 +35,9 @@ results::RunRows result_rows(const SystemResult& r, bool per_frame) {
   for (const VariantResult* v : {&r.baseline, &r.accelerated}) {
     for (const FrameResult& f : v->frames) {
       if (!per_frame) break;
-      rows.frames.push_back({run_id, v->variant, f.frame_id, f.mode, f.frontend_ms, f.backend_ms,
-                             f.e2e_ms, f.host_busy_ms, f.offloaded, f.energy.total_j});
+      rows.frame_rows.push_back({run_id, v->variant, f.frame_id, f.mode, f.frontend_ms,
+                                 f.backend_ms, f.e2e_ms, f.host_busy_ms, f.offloaded,
+                                 f.energy.total_j});
     }
     for (const auto& [mode, s] : v->modes) {
       rows.latency.push_back(latency_row(run_id, v->variant, mode, "frontend", s.frontend_ms));

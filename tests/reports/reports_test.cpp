@@ -339,9 +339,10 @@ TEST(Report, StoredTimelineIsWrittenBesideTheReportAndLinked) {
   arch::write_results(dir.path() / "r.db", arch::result_rows(run));
   const ResultsData data = read_results(dir.path() / "r.db");
   ASSERT_EQ(data.runs.size(), 1u);
-  EXPECT_EQ(data.runs[0].timeline_json, run.timeline_json);
-  EXPECT_EQ(data.runs[0].timeline_first, 2);
-  EXPECT_EQ(data.runs[0].timeline_frames, 3);
+  ASSERT_EQ(data.runs[0].timelines.size(), 1u);
+  EXPECT_EQ(data.runs[0].timelines[0].json, run.timeline_json);
+  EXPECT_EQ(data.runs[0].timelines[0].first_frame, 2);
+  EXPECT_EQ(data.runs[0].timelines[0].frames, 3);
   ReportOptions options;
   options.out_dir = dir.path() / "report";
   options.gnuplot = "/nonexistent/gnuplot";
@@ -352,7 +353,7 @@ TEST(Report, StoredTimelineIsWrittenBesideTheReportAndLinked) {
             run.timeline_json);
   // Writing the run again without a timeline removes the stored one.
   arch::write_results(dir.path() / "r.db", arch::result_rows(hand_made()));
-  EXPECT_TRUE(read_results(dir.path() / "r.db").runs[0].timeline_json.empty());
+  EXPECT_TRUE(read_results(dir.path() / "r.db").runs[0].timelines.empty());
 }
 
 TEST(Report, NewerResultsSchemaIsRefusedNamingTheFile) {

@@ -29,7 +29,7 @@ RunRows new_run() {
   RunRows rows;
   rows.run = {run_id_of("c2", "t2"),    "c2",           "t2", "new", "t.db", 1, "oracle",
               nlohmann::json::object(), {{"frames", 1}}};
-  rows.frames.push_back({rows.run.run_id, "accelerated", 0, "vio", 1, 2, 3, 1, 1, 0.5});
+  rows.frame_rows.push_back({rows.run.run_id, "accelerated", 0, "vio", 1, 2, 3, 1, 1, 0.5});
   rows.offload.push_back({rows.run.run_id, 0, 0, "kalman_gain", 40, 2.0, 1.5, 1.0, 0.25, false,
                           false, true, 0.25, 4096});
   rows.latency.push_back({rows.run.run_id, "accelerated", "all", "e2e", 1, 3, 0, 0, 3, 3, 3, 3});
