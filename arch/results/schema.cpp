@@ -308,8 +308,7 @@ const Table<SweepWorkloadRow>& sweep_workloads_table() {
   static const Table<R> table(
       spec("sweep_workloads", kSweep,
            "A workload sweep's traces: per workload point, its trace in the trace store or the "
-           "error "
-           "that stopped it.",
+           "error that stopped it.",
            {"sweep_id", "workload"}, 3),
       {sweep_id_column(&R::sweep_id),
        column("workload", &R::workload, "", "content hash of the workload point").not_null(),
