@@ -10,6 +10,7 @@
 
 #include "arch/platform/platform.hpp"
 #include "arch/results/results_db.hpp"
+#include "arch/system/result_rows.hpp"
 #include "arch/system/system_model.hpp"
 #include "cli/commands.hpp"
 #include "reports/metrics.hpp"
@@ -65,7 +66,7 @@ void run(const CheckArguments& args) {
         std::filesystem::temp_directory_path() / fmt::format("edx-check-{}.db", ::getpid());
     std::filesystem::remove(scratch);
     try {
-      arch::write_results(scratch, result);
+      arch::write_results(scratch, arch::result_rows(result));
       const reports::ResultsData data = reports::read_results(scratch);
       metrics = reports::run_metrics(data.runs.front());
       run_id = data.runs.front().run_id;

@@ -9,6 +9,7 @@
 #include "arch/platform/platform.hpp"
 #include "arch/results/results_db.hpp"
 #include "arch/system/frontend_study.hpp"
+#include "arch/system/result_rows.hpp"
 #include "arch/system/system_model.hpp"
 #include "cli/commands.hpp"
 #include "workloads/trace/reader.hpp"
@@ -40,7 +41,7 @@ void run(const SimulateArguments& args) {
   }
   const arch::SystemResult result =
       arch::simulate_system(platform, frames, reader.meta(), args.trace, options);
-  if (!args.out.empty()) arch::write_results(args.out, result);
+  if (!args.out.empty()) arch::write_results(args.out, arch::result_rows(result));
   if (args.json) {
     fmt::print(
         "{}\n",

@@ -14,7 +14,9 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
+#include "arch/results/schema.hpp"
 #include "common/atomic_file.hpp"
 #include "reports/metrics.hpp"
 #include "reports/paper_check.hpp"
@@ -69,6 +71,17 @@ std::string html_escape(const std::string& s) {
     }
   }
   return out;
+}
+
+/// <th> cells of `columns` of a results table, headed as its declaration says
+/// (arch/results/schema.cpp, docs/RESULTS.md).
+std::string headings(const results::TableSpec& table,
+                     std::initializer_list<std::string_view> columns) {
+  std::string h;
+  for (std::string_view c : columns) {
+    h += fmt::format("<th>{}</th>", html_escape(table.columns[table.index_of(c)].heading()));
+  }
+  return h;
 }
 
 /// A gnuplot single-quoted string ('' escapes a quote).
@@ -137,17 +150,18 @@ class RunReport {
   /// The run's whole-system timeline, written beside the report (`run<N>_timeline.json`) and
   /// linked; a line saying how to get one when the run has none.
   std::string timeline_link() const {
-    if (run_.timeline_json.empty()) {
+    if (run_.timelines.empty()) {
       return "<p class=\"cap\">No whole-system timeline stored for this run (<code>edx simulate "
              "--timeline T.json --out DB</code> keeps one).</p>\n";
     }
     const std::string file = prefix_ + "timeline.json";
-    common::write_file_atomically(dir_ / file, run_.timeline_json);
+    const results::TimelineRow& timeline = run_.timelines.front();
+    common::write_file_atomically(dir_ / file, timeline.json);
     return fmt::format(
         "<p class=\"cap\">Whole-system timeline of the accelerated streamed run, frames {}–{}: "
         "<a href=\"{}\">{}</a> (Perfetto JSON: open it in https://ui.perfetto.dev; one track per "
         "frontend unit, link direction, host core, backend unit and queue).</p>\n",
-        run_.timeline_first, run_.timeline_first + run_.timeline_frames - 1, file, file);
+        timeline.first_frame, timeline.first_frame + timeline.frames - 1, file, file);
   }
 
   RunReport(const RunData& run, std::size_t index, const fs::path& dir, const std::string& gnuplot,
@@ -414,10 +428,10 @@ class RunReport {
   }
 
   std::string latency_table() const {
-    std::string h =
-        "<h3>Latency statistics (ms)</h3>\n<table><tr><th>variant</th><th>mode</th>"
-        "<th>stage</th><th>frames</th><th>mean</th><th>SD</th><th>RSD</th><th>p50</th>"
-        "<th>p90</th><th>p99</th><th>max</th></tr>\n";
+    std::string h = fmt::format(
+        "<h3>Latency statistics</h3>\n<table><tr>{}</tr>\n",
+        headings(results::latency_table().spec, {"variant", "mode", "stage", "count", "mean", "sd",
+                                                 "rsd", "p50", "p90", "p99", "max"}));
     for (const LatencyRow& l : run_.latency) {
       h += fmt::format(
           "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
@@ -449,8 +463,9 @@ class RunReport {
 
   std::string throughput_table() const {
     std::string h =
-        "<table><tr><th>variant</th><th>FPS without FE/BE pipelining</th>"
-        "<th>FPS with FE/BE pipelining</th></tr>\n";
+        fmt::format("<table><tr>{}</tr>\n",
+                    headings(results::throughput_table().spec,
+                             {"variant", "fps_without_pipelining", "fps_with_pipelining"}));
     for (const ThroughputRow& t : run_.throughput) {
       h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td></tr>\n", t.variant,
                        num(t.fps_without_pipelining, 1), num(t.fps_with_pipelining, 1));
@@ -459,9 +474,9 @@ class RunReport {
   }
 
   std::string energy_table() const {
-    std::string h =
-        "<table><tr><th>variant</th><th>mode</th><th>mean (J)</th><th>SD (J)</th>"
-        "<th>p99 (J)</th><th>max (J)</th></tr>\n";
+    std::string h = fmt::format("<table><tr>{}</tr>\n",
+                                headings(results::energy_table().spec,
+                                         {"variant", "mode", "mean_j", "sd_j", "p99_j", "max_j"}));
     for (const EnergyRow& e : run_.energy) {
       h += fmt::format(
           "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
@@ -473,11 +488,12 @@ class RunReport {
   std::string schedule_table() const {
     if (run_.schedule.empty()) return "";
     const nlohmann::json derived = run_metrics(run_)["derived"];
-    std::string h =
-        "<h3>Offload scheduler (evaluation frames)</h3>\n<table><tr><th>kernel</th>"
-        "<th>invocations</th><th>offloaded</th><th>host only (s)</th><th>always offload (s)</th>"
-        "<th>policy (s)</th><th>oracle (s)</th><th>R² train</th><th>R² eval</th>"
-        "<th>gap to oracle</th><th>kernel speedup (fitting invocations)</th></tr>\n";
+    std::string h = fmt::format(
+        "<h3>Offload scheduler (evaluation frames)</h3>\n<table><tr>{}<th>kernel speedup (fitting "
+        "invocations)</th></tr>\n",
+        headings(results::schedule_table().spec,
+                 {"kernel", "invocations", "offloaded", "host_only_s", "always_s", "policy_s",
+                  "oracle_s", "r_squared_train", "r_squared_eval", "gap_to_oracle"}));
     for (const ScheduleRow& s : run_.schedule) {
       const auto speedup = metric_at(derived, "kernels." + s.kernel + ".speedup");
       h += fmt::format(
@@ -493,10 +509,10 @@ class RunReport {
 
   std::string resources_table() const {
     if (run_.resources.empty()) return "";
-    std::string h =
-        "<h3>FPGA resources</h3>\n<table><tr><th>entry</th><th>group</th><th>kind</th>"
-        "<th>LUT</th><th>FF</th><th>DSP</th><th>BRAM36</th><th>N.S. LUT</th><th>N.S. FF</th>"
-        "<th>N.S. DSP</th><th>N.S. BRAM36</th></tr>\n";
+    std::string h = fmt::format("<h3>FPGA resources</h3>\n<table><tr>{}</tr>\n",
+                                headings(results::resources_table().spec,
+                                         {"entry", "grp", "kind", "lut", "ff", "dsp", "bram",
+                                          "ns_lut", "ns_ff", "ns_dsp", "ns_bram"}));
     for (const ResourceRow& r : run_.resources) {
       h += fmt::format(
           "<tr{}><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
@@ -585,8 +601,9 @@ std::string convergence_html(const SweepData& sweep, int index, const fs::path& 
     images.push_back(image);
     h += fmt::format("<img src=\"{}\" alt=\"hypervolume per generation\">\n", image);
   }
-  h += "<table><tr><th>generation</th><th>designs simulated</th><th>front</th>"
-       "<th>hypervolume</th></tr>\n";
+  h += fmt::format("<table><tr>{}</tr>\n",
+                   headings(results::sweep_generations_table().spec,
+                            {"generation", "evaluations", "front_size", "hypervolume"}));
   for (const SweepGeneration& g : sweep.generations) {
     h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.6g}</td></tr>\n", g.generation,
                      g.evaluations, g.front_size, g.hypervolume);
@@ -742,7 +759,8 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
       h += convergence_html(sweep, index, dir, gnuplot, plot, images);
     }
     if (sweep.traces_workload) h += workload_html(data, sweep, index, dir, gnuplot, plot, images);
-    h += "<table><tr><th>point</th><th>run</th><th>parameters</th>";
+    h += fmt::format("<table><tr>{}<th>parameters</th>",
+                     headings(results::sweep_points_table().spec, {"point", "run_id"}));
     std::vector<std::string> columns = metrics;
     for (const SweepPoint& p : sweep.points) {
       if (!p.metrics.is_object()) continue;
@@ -751,7 +769,8 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
       }
     }
     for (const std::string& c : columns) h += "<th>" + html_escape(c) + "</th>";
-    h += "<th>feasible</th><th>Pareto</th></tr>\n";
+    h += headings(results::sweep_points_table().spec, {"feasible", "pareto"});
+    h += "</tr>\n";
     for (const SweepPoint& p : sweep.points) {
       const std::string params = parameters_text(p);
       h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td>", p.point, html_escape(p.run_id),
@@ -917,7 +936,8 @@ std::string folded_cell(const std::string& value) {
 std::string runs_table_html(const ResultsData& data, const std::vector<std::size_t>& sections,
                             const std::map<std::string, std::string>& sweep_of_run) {
   const std::string header =
-      "<table><tr><th>run</th><th>id</th><th>frames</th><th>policy</th></tr>\n";
+      fmt::format("<table><tr><th>run</th>{}</tr>\n",
+                  headings(results::runs_table().spec, {"run_id", "frames", "policy"}));
   const auto row = [&](const RunData& r, const std::string& name) {
     return fmt::format("<tr><td>{}</td><td><small>{}</small></td><td>{}</td><td>{}</td></tr>\n",
                        name, html_escape(r.run_id), r.frames, html_escape(r.policy));

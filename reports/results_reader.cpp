@@ -3,8 +3,6 @@
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <limits>
 #include <set>
 #include <stdexcept>
 
@@ -13,24 +11,6 @@
 namespace edx::reports {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-/// A REAL column, NaN for NULL (results_db writes NULL for "does not fit").
-double real(const SQLite::Statement& s, const char* column) {
-  const SQLite::Column c = s.getColumn(column);
-  return c.isNull() ? kNaN : c.getDouble();
-}
-
-std::int64_t integer(const SQLite::Statement& s, const char* column) {
-  const SQLite::Column c = s.getColumn(column);
-  return c.isNull() ? 0 : c.getInt64();
-}
-
-std::string text(const SQLite::Statement& s, const char* column) {
-  const SQLite::Column c = s.getColumn(column);
-  return c.isNull() ? std::string() : c.getString();
-}
-
 std::set<std::string> tables_of(SQLite::Database& db) {
   std::set<std::string> names;
   SQLite::Statement q(db, "SELECT name FROM sqlite_master WHERE type = 'table'");
@@ -38,93 +18,45 @@ std::set<std::string> tables_of(SQLite::Database& db) {
   return names;
 }
 
-/// Runs `sql` with run_id bound to ?1 and calls `row` for each result row.
-template <typename Row>
-void each_row(SQLite::Database& db, const std::string& sql, const std::string& run_id, Row row) {
-  SQLite::Statement q(db, sql);
-  q.bind(1, run_id);
-  while (q.executeStep()) row(q);
+/// The rows of `table` whose `key` column (run_id, sweep_id) is `id`, in `order_by`.
+template <class Row>
+std::vector<Row> rows_of(SQLite::Database& db, const results::Table<Row>& table, const char* key,
+                         const std::string& id, const char* order_by) {
+  return results::select_rows(db, table, {fmt::format("{} = ?1", key), {id}, order_by});
 }
 
 void read_run(SQLite::Database& db, RunData& r) {
-  each_row(db, "SELECT * FROM frames WHERE run_id = ?1 ORDER BY variant, frame_id", r.run_id,
-           [&](const SQLite::Statement& q) {
-             FrameRow f;
-             f.variant = text(q, "variant");
-             f.frame_id = integer(q, "frame_id");
-             f.mode = text(q, "mode");
-             f.frontend_ms = real(q, "frontend_ms");
-             f.backend_ms = real(q, "backend_ms");
-             f.e2e_ms = real(q, "e2e_ms");
-             f.host_busy_ms = real(q, "host_busy_ms");
-             f.offloaded = static_cast<int>(integer(q, "offloaded"));
-             f.energy_j = real(q, "energy_j");
-             r.frame_rows.push_back(std::move(f));
-           });
-  each_row(db, "SELECT * FROM latency WHERE run_id = ?1 ORDER BY variant, mode, stage", r.run_id,
-           [&](const SQLite::Statement& q) {
-             LatencyRow l;
-             l.variant = text(q, "variant");
-             l.mode = text(q, "mode");
-             l.stage = text(q, "stage");
-             l.count = integer(q, "count");
-             l.mean = real(q, "mean");
-             l.sd = real(q, "sd");
-             l.rsd = real(q, "rsd");
-             l.p50 = real(q, "p50");
-             l.p90 = real(q, "p90");
-             l.p99 = real(q, "p99");
-             l.max = real(q, "max");
-             r.latency.push_back(std::move(l));
-           });
-  each_row(db, "SELECT * FROM throughput WHERE run_id = ?1 ORDER BY variant DESC", r.run_id,
-           [&](const SQLite::Statement& q) {
-             r.throughput.push_back({text(q, "variant"), real(q, "fps_without_pipelining"),
-                                     real(q, "fps_with_pipelining")});
-           });
-  each_row(db, "SELECT * FROM energy WHERE run_id = ?1 ORDER BY variant, mode", r.run_id,
-           [&](const SQLite::Statement& q) {
-             r.energy.push_back({text(q, "variant"), text(q, "mode"), real(q, "mean_j"),
-                                 real(q, "sd_j"), real(q, "p99_j"), real(q, "max_j")});
-           });
-  each_row(db, "SELECT * FROM offload WHERE run_id = ?1 ORDER BY frame_id, kernel_seq", r.run_id,
-           [&](const SQLite::Statement& q) {
-             OffloadRow o;
-             o.frame_id = integer(q, "frame_id");
-             o.kernel_seq = static_cast<int>(integer(q, "kernel_seq"));
-             o.kernel = text(q, "kernel");
-             o.size = real(q, "size");
-             o.host_ms = real(q, "host_ms");
-             o.accel_ms = real(q, "accel_ms");
-             o.compute_ms = real(q, "compute_ms");
-             o.transfer_ms = real(q, "transfer_ms");
-             o.fits_spm = integer(q, "fits_spm") != 0;
-             o.training = integer(q, "training") != 0;
-             o.offloaded = integer(q, "offloaded") != 0;
-             r.offload.push_back(std::move(o));
-           });
-  each_row(db, "SELECT * FROM schedule WHERE run_id = ?1 ORDER BY kernel", r.run_id,
-           [&](const SQLite::Statement& q) {
-             ScheduleRow s;
-             s.kernel = text(q, "kernel");
-             s.invocations = integer(q, "invocations");
-             s.offloaded = integer(q, "offloaded");
-             s.host_only_s = real(q, "host_only_s");
-             s.always_s = real(q, "always_s");
-             s.policy_s = real(q, "policy_s");
-             s.oracle_s = real(q, "oracle_s");
-             s.r_squared_train = real(q, "r_squared_train");
-             s.r_squared_eval = real(q, "r_squared_eval");
-             s.gap_to_oracle = real(q, "gap_to_oracle");
-             r.schedule.push_back(std::move(s));
-           });
-  each_row(
-      db, "SELECT * FROM resources WHERE run_id = ?1 ORDER BY rowid", r.run_id,
-      [&](const SQLite::Statement& q) {
-        r.resources.push_back({text(q, "entry"), text(q, "grp"), text(q, "kind"), real(q, "lut"),
-                               real(q, "ff"), real(q, "dsp"), real(q, "bram"), real(q, "ns_lut"),
-                               real(q, "ns_ff"), real(q, "ns_dsp"), real(q, "ns_bram")});
-      });
+  const auto of_run = [&](const auto& table, const char* order_by) {
+    return rows_of(db, table, "run_id", r.run_id, order_by);
+  };
+  r.frame_rows = of_run(results::frames_table(), "variant, frame_id");
+  r.latency = of_run(results::latency_table(), "variant, mode, stage");
+  r.throughput = of_run(results::throughput_table(), "variant DESC");
+  r.energy = of_run(results::energy_table(), "variant, mode");
+  r.offload = of_run(results::offload_table(), "frame_id, kernel_seq");
+  r.schedule = of_run(results::schedule_table(), "kernel");
+  r.resources = of_run(results::resources_table(), "rowid");
+  // Databases before version 1 have no timelines table: no rows.
+  r.timelines = of_run(results::timelines_table(), "rowid");
+}
+
+SweepData read_sweep(SQLite::Database& db, const results::SweepRow& row) {
+  SweepData s;
+  s.sweep_id = row.sweep_id;
+  s.spec = row.spec;
+  const nlohmann::json& spec = row.spec_json;
+  if (spec.is_object() && spec.contains("objectives") && spec["objectives"].is_array()) {
+    for (const nlohmann::json& o : spec["objectives"]) {
+      if (!o.is_object() || o.size() != 1 || !o.begin().value().is_string()) continue;
+      s.objectives.push_back({o.begin().value().get<std::string>(), o.begin().key() == "maximize"});
+    }
+  }
+  s.traces_workload = spec.is_object() && spec.contains("workload");
+  s.points = rows_of(db, results::sweep_points_table(), "sweep_id", s.sweep_id, "point");
+  // Databases before version 2 have no sweep_generations table: no rows.
+  s.generations =
+      rows_of(db, results::sweep_generations_table(), "sweep_id", s.sweep_id, "generation");
+  return s;
 }
 
 }  // namespace
@@ -145,12 +77,13 @@ ResultsData read_results(const std::filesystem::path& path) {
   try {
     SQLite::Database db(path.string(), SQLite::OPEN_READONLY);
     const std::set<std::string> tables = tables_of(db);
-    for (const std::string_view t : results::kRequiredTables) {
-      if (!tables.contains(std::string(t))) {
+    // Every run table but those added after version 0 (timelines).
+    for (const results::TableSpec* t : results::tables_of(results::TableGroup::kRun)) {
+      if (t->since == 0 && !tables.contains(t->name)) {
         throw std::runtime_error(
             fmt::format("not an edx results database (no table '{}'; write one with edx "
                         "simulate --out)",
-                        t));
+                        t->name));
       }
     }
     const int version = db.execAndGet("PRAGMA user_version").getInt();
@@ -160,84 +93,19 @@ ResultsData read_results(const std::filesystem::path& path) {
                       "edx",
                       version, results::kSchemaVersion));
     }
-    SQLite::Statement runs(db, "SELECT * FROM runs ORDER BY run_id");
-    while (runs.executeStep()) {
-      RunData r;
-      r.run_id = text(runs, "run_id");
-      r.config_hash = text(runs, "config_hash");
-      r.trace_hash = text(runs, "trace_hash");
-      r.platform = text(runs, "platform");
-      r.trace = text(runs, "trace");
-      r.frames = integer(runs, "frames");
-      r.policy = text(runs, "policy");
-      try {
-        r.summary = nlohmann::json::parse(text(runs, "summary_json"));
-      } catch (const nlohmann::json::exception& e) {
-        throw std::runtime_error(
-            fmt::format("run {}: summary_json is not JSON ({})", r.run_id, e.what()));
-      }
-      out.runs.push_back(std::move(r));
+    for (results::RunRow& row :
+         results::select_rows(db, results::runs_table(), {"", {}, "run_id"})) {
+      RunData& r = out.runs.emplace_back();
+      static_cast<results::RunRow&>(r) = std::move(row);
     }
     if (out.runs.empty()) throw std::runtime_error("holds no runs");
-    for (RunData& r : out.runs) {
-      read_run(db, r);
-      if (tables.contains("timelines")) {
-        each_row(db, "SELECT * FROM timelines WHERE run_id = ?1", r.run_id,
-                 [&](const SQLite::Statement& q) {
-                   r.timeline_json = text(q, "json");
-                   r.timeline_first = integer(q, "first_frame");
-                   r.timeline_frames = integer(q, "frames");
-                 });
-      }
-    }
-    if (std::ranges::all_of(results::kSweepTables,
-                            [&](std::string_view t) { return tables.contains(std::string(t)); })) {
+    for (RunData& r : out.runs) read_run(db, r);
+    if (tables.contains(results::sweeps_table().spec.name) &&
+        tables.contains(results::sweep_points_table().spec.name)) {
       out.has_sweeps = true;
-      SQLite::Statement q(db, "SELECT sweep_id, spec, spec_json FROM sweeps ORDER BY sweep_id");
-      while (q.executeStep()) {
-        SweepData s;
-        s.sweep_id = text(q, "sweep_id");
-        s.spec = text(q, "spec");
-        const nlohmann::json spec = nlohmann::json::parse(text(q, "spec_json"), nullptr, false);
-        if (spec.is_object() && spec.contains("objectives") && spec["objectives"].is_array()) {
-          for (const nlohmann::json& o : spec["objectives"]) {
-            if (!o.is_object() || o.size() != 1 || !o.begin().value().is_string()) continue;
-            s.objectives.push_back(
-                {o.begin().value().get<std::string>(), o.begin().key() == "maximize"});
-          }
-        }
-        s.traces_workload = spec.is_object() && spec.contains("workload");
-        // workload and error: results schema 3 (older databases lack them).
-        std::set<std::string> point_columns;
-        SQLite::Statement info(db, "PRAGMA table_info(sweep_points)");
-        while (info.executeStep()) point_columns.insert(info.getColumn(1).getString());
-        const bool v3 = point_columns.contains("workload") && point_columns.contains("error");
-        SQLite::Statement p(db, "SELECT * FROM sweep_points WHERE sweep_id = ?1 ORDER BY point");
-        p.bind(1, s.sweep_id);
-        while (p.executeStep()) {
-          SweepPoint pt;
-          pt.point = integer(p, "point");
-          pt.run_id = text(p, "run_id");
-          pt.parameters = nlohmann::json::parse(text(p, "parameters_json"), nullptr, false);
-          pt.metrics = nlohmann::json::parse(text(p, "metrics_json"), nullptr, false);
-          pt.feasible = integer(p, "feasible") != 0;
-          pt.pareto = integer(p, "pareto") != 0;
-          if (v3) {
-            pt.workload = text(p, "workload");
-            pt.error = text(p, "error");
-          }
-          s.points.push_back(std::move(pt));
-        }
-        if (tables.contains("sweep_generations")) {
-          SQLite::Statement g(
-              db, "SELECT * FROM sweep_generations WHERE sweep_id = ?1 ORDER BY generation");
-          g.bind(1, s.sweep_id);
-          while (g.executeStep()) {
-            s.generations.push_back({integer(g, "generation"), integer(g, "evaluations"),
-                                     integer(g, "front_size"), real(g, "hypervolume")});
-          }
-        }
-        out.sweeps.push_back(std::move(s));
+      for (const results::SweepRow& row :
+           results::select_rows(db, results::sweeps_table(), {"", {}, "sweep_id"})) {
+        out.sweeps.push_back(read_sweep(db, row));
       }
     }
   } catch (const SQLite::Exception& e) {

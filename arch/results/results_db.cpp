@@ -6,191 +6,96 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 #include <system_error>
 #include <vector>
 
-#include "arch/results/schema.hpp"
 #include "common/atomic_file.hpp"
 
 namespace edx::arch {
 namespace {
 
-/// Binds a double, NULL when it is not finite (a kernel that does not fit has no accel time).
-void bind_real(SQLite::Statement& s, int index, double v) {
-  if (std::isfinite(v)) {
-    s.bind(index, v);
-  } else {
-    s.bind(index);
-  }
-}
-
-void write_run(SQLite::Database& db, const SystemResult& r, const std::string& run_id,
-               const ResultsWriteOptions& options) {
-  for (const std::string_view table : results::kRunTables) {
-    SQLite::Statement del(db, fmt::format("DELETE FROM {} WHERE run_id = ?", table));
+void delete_run(SQLite::Database& db, const std::string& run_id) {
+  for (const results::TableSpec* table : results::tables_of(results::TableGroup::kRun)) {
+    SQLite::Statement del(db, fmt::format("DELETE FROM {} WHERE run_id = ?", table->name));
     del.bind(1, run_id);
     del.exec();
   }
-  SQLite::Statement run(db, "INSERT INTO runs VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)");
-  run.bind(1, run_id);
-  run.bind(2, r.config_hash);
-  run.bind(3, r.trace_hash);
-  run.bind(4, r.platform);
-  run.bind(5, r.trace_path);
-  run.bind(6, static_cast<std::int64_t>(r.baseline.frames.size()));
-  run.bind(7, to_string(r.config.scheduler.policy));
-  run.bind(8, r.config.to_json().dump());
-  run.bind(9, r.to_json().dump());
-  run.exec();
+}
 
-  SQLite::Statement frame(db, "INSERT INTO frames VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
-  SQLite::Statement latency(db, "INSERT INTO latency VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
-  SQLite::Statement throughput(db, "INSERT INTO throughput VALUES (?, ?, ?, ?)");
-  SQLite::Statement energy(db, "INSERT INTO energy VALUES (?, ?, ?, ?, ?, ?, ?)");
-  for (const VariantResult* v : {&r.baseline, &r.accelerated}) {
-    for (const FrameResult& f : v->frames) {
-      if (!options.per_frame) break;
-      frame.bind(1, run_id);
-      frame.bind(2, v->variant);
-      frame.bind(3, static_cast<std::int64_t>(f.frame_id));
-      frame.bind(4, f.mode);
-      frame.bind(5, f.frontend_ms);
-      frame.bind(6, f.backend_ms);
-      frame.bind(7, f.e2e_ms);
-      frame.bind(8, f.host_busy_ms);
-      frame.bind(9, f.offloaded);
-      frame.bind(10, f.energy.total_j);
-      frame.exec();
-      frame.reset();
-    }
-    for (const auto& [mode, s] : v->modes) {
-      const std::pair<const char*, const Distribution*> stages[] = {
-          {"frontend", &s.frontend_ms}, {"backend", &s.backend_ms}, {"e2e", &s.e2e_ms}};
-      for (const auto& [stage, d] : stages) {
-        latency.bind(1, run_id);
-        latency.bind(2, v->variant);
-        latency.bind(3, mode);
-        latency.bind(4, stage);
-        latency.bind(5, static_cast<std::int64_t>(d->count));
-        latency.bind(6, d->mean);
-        latency.bind(7, d->sd);
-        latency.bind(8, d->rsd);
-        latency.bind(9, d->p50);
-        latency.bind(10, d->p90);
-        latency.bind(11, d->p99);
-        latency.bind(12, d->max);
-        latency.exec();
-        latency.reset();
-      }
-      energy.bind(1, run_id);
-      energy.bind(2, v->variant);
-      energy.bind(3, mode);
-      energy.bind(4, s.energy_j.mean);
-      energy.bind(5, s.energy_j.sd);
-      energy.bind(6, s.energy_j.p99);
-      energy.bind(7, s.energy_j.max);
-      energy.exec();
-      energy.reset();
-    }
-    throughput.bind(1, run_id);
-    throughput.bind(2, v->variant);
-    throughput.bind(3, v->fps_without_pipelining);
-    throughput.bind(4, v->fps_with_pipelining);
-    throughput.exec();
-    throughput.reset();
-  }
+/// A run's rows (replacing those of its run_id), runs first.
+void write_run(SQLite::Database& db, const std::string& run_id,
+               const std::vector<results::TableValues>& tables) {
+  delete_run(db, run_id);
+  for (const results::TableValues& t : tables) results::insert_values(db, *t.table, t.rows);
+}
 
-  SQLite::Statement offload(db, "INSERT INTO offload VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
-  for (const KernelDecision& d : r.decisions) {
-    if (!options.per_frame) break;
-    offload.bind(1, run_id);
-    offload.bind(2, static_cast<std::int64_t>(d.frame_id));
-    offload.bind(3, d.kernel_seq);
-    offload.bind(4, d.kernel);
-    offload.bind(5, d.size);
-    offload.bind(6, d.host_ms);
-    bind_real(offload, 7, d.accel_ms);
-    offload.bind(8, d.compute_ms);
-    offload.bind(9, d.transfer_ms);
-    offload.bind(10, d.fits_spm ? 1 : 0);
-    offload.bind(11, d.training ? 1 : 0);
-    offload.bind(12, d.offloaded ? 1 : 0);
-    offload.exec();
-    offload.reset();
-  }
-  SQLite::Statement schedule(db, "INSERT INTO schedule VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
-  for (const KernelScheduleSummary& s : r.schedule) {
-    schedule.bind(1, run_id);
-    schedule.bind(2, s.kernel);
-    schedule.bind(3, static_cast<std::int64_t>(s.invocations));
-    schedule.bind(4, static_cast<std::int64_t>(s.offloaded));
-    schedule.bind(5, s.host_only_s);
-    bind_real(schedule, 6, s.always_s);
-    schedule.bind(7, s.policy_s);
-    schedule.bind(8, s.oracle_s);
-    schedule.bind(9, s.r_squared_train);
-    schedule.bind(10, s.r_squared_eval);
-    schedule.bind(11, s.gap_to_oracle);
-    schedule.exec();
-    schedule.reset();
-  }
-  SQLite::Statement resource(db,
-                             "INSERT INTO resources VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
-  const auto put = [&](const std::string& entry, const std::string& group, const std::string& kind,
-                       const cost::Resources& shared, const cost::Resources& ns) {
-    resource.bind(1, run_id);
-    resource.bind(2, entry);
-    resource.bind(3, group);
-    resource.bind(4, kind);
-    for (int i = 0; i < 4; ++i) {
-      resource.bind(5 + i, shared[i]);
-      resource.bind(9 + i, ns[i]);
+nlohmann::json run_rows_json(const std::string& run_id,
+                             const std::vector<results::TableValues>& tables) {
+  nlohmann::json out = {{"run_id", run_id}, {"tables", nlohmann::json::object()}};
+  for (const results::TableValues& t : tables) {
+    nlohmann::json columns = nlohmann::json::array(), rows = nlohmann::json::array();
+    for (const results::ColumnSpec& c : t.table->columns) columns.push_back(c.name);
+    for (const results::ValueRow& row : t.rows) {
+      nlohmann::json values = nlohmann::json::array();
+      for (const results::Value& v : row) values.push_back(results::value_to_json(v));
+      rows.push_back(std::move(values));
     }
-    resource.exec();
-    resource.reset();
+    out["tables"][t.table->name] = {{"columns", std::move(columns)}, {"rows", std::move(rows)}};
+  }
+  return out;
+}
+
+/// The rows of one table of an exported run, as values in the declared column order.
+std::vector<results::ValueRow> table_rows_of(const results::TableSpec& table,
+                                             const nlohmann::json& exported) {
+  const auto fail = [&](const std::string& what) {
+    return std::runtime_error(fmt::format("run rows: {}: {}", table.name, what));
   };
-  for (const cost::CostEntry& e : r.resources.entries) put(e.name, e.group, e.kind, e.shared, e.ns);
-  put("total", "all", "total", r.resources.total.shared, r.resources.total.ns);
-  if (!r.timeline_json.empty()) {
-    SQLite::Statement timeline(db, "INSERT INTO timelines VALUES (?, ?, ?, ?)");
-    timeline.bind(1, run_id);
-    timeline.bind(2, static_cast<std::int64_t>(r.timeline_first));
-    timeline.bind(3, static_cast<std::int64_t>(r.timeline_frames));
-    timeline.bind(4, r.timeline_json);
-    timeline.exec();
+  if (!exported.is_object() || !exported.contains("columns") || !exported["columns"].is_array() ||
+      !exported.contains("rows") || !exported["rows"].is_array()) {
+    throw fail("expected {columns, rows}");
   }
+  std::vector<std::size_t> index;  // per exported column: its declared column
+  for (const nlohmann::json& name : exported["columns"]) {
+    if (!name.is_string()) throw fail("expected column names");
+    try {
+      index.push_back(table.index_of(name.get<std::string>()));
+    } catch (const std::logic_error&) {
+      throw fail(fmt::format("no column '{}'", name.get<std::string>()));
+    }
+  }
+  std::vector<results::ValueRow> rows;
+  for (const nlohmann::json& row : exported["rows"]) {
+    if (!row.is_array() || row.size() != index.size()) {
+      throw fail(fmt::format("expected a list of {} values", index.size()));
+    }
+    results::ValueRow values(table.columns.size());
+    for (std::size_t i = 0; i < index.size(); ++i) {
+      try {
+        values[index[i]] = results::value_from_json(row[i], table.columns[index[i]].type);
+      } catch (const std::runtime_error& e) {
+        throw fail(fmt::format("{}: {}", table.columns[index[i]].name, e.what()));
+      }
+    }
+    rows.push_back(std::move(values));
+  }
+  return rows;
 }
 
 }  // namespace
 
 nlohmann::json export_run_rows(SQLite::Database& db, const std::string& run_id) {
-  nlohmann::json rows = {{"run_id", run_id}, {"tables", nlohmann::json::object()}};
-  for (std::string_view table : results::kRunTables) {
-    if (!db.tableExists(std::string(table))) continue;
-    SQLite::Statement q(db, fmt::format("SELECT * FROM {} WHERE run_id = ?", table));
-    q.bind(1, run_id);
-    nlohmann::json list = nlohmann::json::array();
-    while (q.executeStep()) {
-      nlohmann::json row = nlohmann::json::array();
-      for (int c = 0; c < q.getColumnCount(); ++c) {
-        const SQLite::Column v = q.getColumn(c);
-        if (v.isNull()) {
-          row.push_back(nullptr);
-        } else if (v.isInteger()) {
-          row.push_back(v.getInt64());
-        } else if (v.isFloat()) {
-          row.push_back(v.getDouble());
-        } else {
-          row.push_back(v.getString());
-        }
-      }
-      list.push_back(std::move(row));
-    }
-    rows["tables"][std::string(table)] = std::move(list);
+  std::vector<results::TableValues> tables;
+  for (const results::TableSpec* table : results::tables_of(results::TableGroup::kRun)) {
+    if (!db.tableExists(table->name)) continue;
+    tables.push_back({table, results::select_values(db, *table, {"run_id = ?1", {run_id}, ""})});
   }
-  return rows;
+  return run_rows_json(run_id, tables);
+}
+
+nlohmann::json export_run_rows(const results::RunRows& rows) {
+  return run_rows_json(rows.run.run_id, results::run_values(rows));
 }
 
 void import_run_rows(SQLite::Database& db, const nlohmann::json& rows) {
@@ -198,50 +103,26 @@ void import_run_rows(SQLite::Database& db, const nlohmann::json& rows) {
       !rows.contains("tables") || !rows["tables"].is_object()) {
     throw std::runtime_error("run rows: expected {run_id, tables}");
   }
-  const std::string run_id = rows["run_id"].get<std::string>();
-  for (std::string_view table : results::kRunTables) {
-    SQLite::Statement drop(db, fmt::format("DELETE FROM {} WHERE run_id = ?", table));
-    drop.bind(1, run_id);
-    drop.exec();
-  }
-  // "runs" last in kRunTables, first here: the other rows refer to it.
-  for (auto it = results::kRunTables.rbegin(); it != results::kRunTables.rend(); ++it) {
-    const std::string table(*it);
-    if (!rows["tables"].contains(table)) continue;
-    for (const nlohmann::json& row : rows["tables"][table]) {
-      if (!row.is_array() || row.empty()) {
-        throw std::runtime_error(fmt::format("run rows: {}: expected a list of values", table));
-      }
-      std::string marks;
-      for (std::size_t i = 0; i < row.size(); ++i) marks += i ? ", ?" : "?";
-      SQLite::Statement put(db, fmt::format("INSERT INTO {} VALUES ({})", table, marks));
-      for (std::size_t i = 0; i < row.size(); ++i) {
-        const int c = static_cast<int>(i) + 1;
-        const nlohmann::json& v = row[i];
-        if (v.is_null()) {
-          put.bind(c);
-        } else if (v.is_number_integer()) {
-          put.bind(c, v.get<std::int64_t>());
-        } else if (v.is_number()) {
-          put.bind(c, v.get<double>());
-        } else if (v.is_string()) {
-          put.bind(c, v.get<std::string>());
-        } else {
-          throw std::runtime_error(
-              fmt::format("run rows: {}: unexpected value {}", table, v.dump()));
-        }
-      }
-      put.exec();
+  for (const auto& [name, table] : rows["tables"].items()) {
+    const results::TableSpec* spec = results::find_table(name);
+    if (!spec || spec->group != results::TableGroup::kRun) {
+      throw std::runtime_error(fmt::format("run rows: no run table '{}'", name));
     }
   }
+  std::vector<results::TableValues> tables;
+  for (const results::TableSpec* table : results::tables_of(results::TableGroup::kRun)) {
+    if (!rows["tables"].contains(table->name)) continue;
+    tables.push_back({table, table_rows_of(*table, rows["tables"][table->name])});
+  }
+  write_run(db, rows["run_id"].get<std::string>(), tables);
 }
 
-std::string run_id_of(const std::string& config_hash, const std::string& trace_hash) {
-  return config_hash + "-" + trace_hash;
-}
-
-void create_results_tables(SQLite::Database& db) {
-  db.exec(std::string(results::kRunTablesSql));
+void create_results_tables(SQLite::Database& db, results::TableGroup group) {
+  for (const results::TableSpec* table : results::all_tables()) {
+    if (table->group == group || db.tableExists(table->name)) {
+      results::create_or_upgrade(db, *table);
+    }
+  }
   db.exec(fmt::format("PRAGMA user_version = {}", results::kSchemaVersion));
 }
 
@@ -281,12 +162,11 @@ void require_results_database(SQLite::Database& db, const std::string& path) {
                   fmt::join(tables, ", ")));
 }
 
-void write_results(SQLite::Database& db, const SystemResult& result,
-                   const ResultsWriteOptions& options) {
-  write_run(db, result, run_id_of(result.config_hash, result.trace_hash), options);
+void write_results(SQLite::Database& db, const results::RunRows& rows) {
+  write_run(db, rows.run.run_id, results::run_values(rows));
 }
 
-void write_results(const std::filesystem::path& path, const SystemResult& result) {
+void write_results(const std::filesystem::path& path, const results::RunRows& rows) {
   if (path.empty()) throw std::runtime_error("results: expected a results database path");
   common::require_regular_output(path, "results database");
   // A new database is written beside the target and renamed into place when complete, so no
@@ -295,7 +175,6 @@ void write_results(const std::filesystem::path& path, const SystemResult& result
   const bool existed = std::filesystem::exists(path);
   std::filesystem::path target = path;
   if (!existed) target += fmt::format(".tmp-{}", ::getpid());
-  const std::string run_id = run_id_of(result.config_hash, result.trace_hash);
   const auto remove_temporary = [&] {
     if (existed) return;
     std::error_code ignored;
@@ -310,7 +189,7 @@ void write_results(const std::filesystem::path& path, const SystemResult& result
       require_results_database(db, path.string());
       SQLite::Transaction transaction(db);  // rolled back by its destructor on an exception
       create_results_tables(db);
-      write_run(db, result, run_id, {});
+      write_results(db, rows);
       transaction.commit();
     }
     if (!existed) std::filesystem::rename(target, path);

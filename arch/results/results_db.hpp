@@ -7,12 +7,13 @@
 // Everything of a run is written in one transaction: on any error the transaction is rolled
 // back and the file holds what it held before (a new file is removed).
 //
-// Tables and columns: arch/results/schema.hpp.
+// Tables and columns: arch/results/schema.hpp (docs/RESULTS.md). A simulated run's rows:
+// arch/system/result_rows.hpp.
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "arch/system/system_model.hpp"
+#include "arch/results/schema.hpp"
 
 namespace SQLite {
 class Database;
@@ -25,30 +26,28 @@ namespace edx::arch {
 /// (schema version 3), not a results database").
 void require_results_database(SQLite::Database& db, const std::string& path);
 
-/// What a run writes: per_frame = false leaves out the frames and offload rows (a sweep's
-/// points keep the summaries, latency, throughput, energy, schedule and resources).
-struct ResultsWriteOptions {
-  bool per_frame = true;
-};
-
-/// Creates the tables when needed (inside the caller's transaction, if any).
-void create_results_tables(SQLite::Database& db);
-/// Writes (or replaces) `result`'s run in an open database, inside the caller's transaction.
-void write_results(SQLite::Database& db, const SystemResult& result,
-                   const ResultsWriteOptions& options = {});
-/// The rows of run `run_id` in every run table (schema.hpp kRunTables), as
-/// {table: [[column values...], ...]} (integers, reals, text and nulls as JSON): what a sweep
-/// worker that does not own the database sends to the one that does (arch/sweep, MPI).
+/// Creates the tables of `group` when missing and brings every declared table the database has
+/// to the current schema (missing columns added), then sets its version (inside the caller's
+/// transaction, if any).
+void create_results_tables(SQLite::Database& db,
+                           results::TableGroup group = results::TableGroup::kRun);
+/// Writes (or replaces) the run of `rows` in an open database, inside the caller's transaction.
+void write_results(SQLite::Database& db, const results::RunRows& rows);
+/// The rows of run `run_id` in every run table, as {run_id, tables: {table: {columns: [names],
+/// rows: [[values...], ...]}}} (integers, reals, text and nulls as JSON): what a sweep worker
+/// that does not own the database sends to the one that does (arch/sweep, MPI).
 nlohmann::json export_run_rows(SQLite::Database& db, const std::string& run_id);
+/// The same of rows not written to a database.
+nlohmann::json export_run_rows(const results::RunRows& rows);
 /// Writes rows exported by export_run_rows (replacing the run's rows), inside the caller's
-/// transaction. Throws std::runtime_error on a malformed row set.
+/// transaction; columns are matched by name (a column the sender lacks is NULL). Throws
+/// std::runtime_error on a malformed row set.
 void import_run_rows(SQLite::Database& db, const nlohmann::json& rows);
 
-/// "<config_hash>-<trace_hash>": the key of a run.
-std::string run_id_of(const std::string& config_hash, const std::string& trace_hash);
+using results::run_id_of;
 
-/// Writes (or replaces) `result`'s run in `path`, creating the file and tables when needed.
+/// Writes (or replaces) the run of `rows` in `path`, creating the file and tables when needed.
 /// Errors: std::runtime_error naming the file.
-void write_results(const std::filesystem::path& path, const SystemResult& result);
+void write_results(const std::filesystem::path& path, const results::RunRows& rows);
 
 }  // namespace edx::arch

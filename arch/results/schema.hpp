@@ -1,116 +1,203 @@
 #pragma once
-// The results database schema (docs/MODEL.md "Results database", docs/SWEEPS.md): the one
-// definition its writers (results_db.cpp, arch/sweep/sweep_runner.cpp) and its reader
-// (reports/results_reader.cpp) share, as workloads/trace/schema.hpp is for traces. Header only:
-// reports/ includes it without linking the model.
-//
-// Every run table carries run_id = "<config_hash>-<trace_hash>":
-//   runs(run_id PK, config_hash, trace_hash, platform, trace, frames, policy, config_json,
-//        summary_json)
-//   frames(run_id, variant, frame_id, mode, frontend_ms, backend_ms, e2e_ms, host_busy_ms,
-//          offloaded, energy_j)                       variant: baseline | accelerated
-//   latency(run_id, variant, mode, stage, count, mean, sd, rsd, p50, p90, p99, max)
-//          mode: registration | vio | slam | none | all; stage: frontend | backend | e2e
-//   throughput(run_id, variant, fps_without_pipelining, fps_with_pipelining)
-//   energy(run_id, variant, mode, mean_j, sd_j, p99_j, max_j)
-//   offload(run_id, frame_id, kernel_seq, kernel, size, host_ms, accel_ms, compute_ms,
-//           transfer_ms, fits_spm, training, offloaded)     fits_spm 0: it spills (accel_ms
-//           includes its DRAM traffic; NULL in databases written before 2026-11-26)
-//   schedule(run_id, kernel, invocations, offloaded, host_only_s, always_s, policy_s, oracle_s,
-//            r_squared_train, r_squared_eval, gap_to_oracle)
-//   resources(run_id, entry, grp, kind, lut, ff, dsp, bram, ns_lut, ns_ff, ns_dsp, ns_bram)
-//            entries plus "total" (grp "all")
-//   timelines(run_id PK, first_frame, frames, json)   the whole-system Perfetto timeline of a
-//            run simulated with --timeline (optional: databases before version 1 lack it)
-// Sweep tables (edx sweep):
-//   sweeps(sweep_id PK, spec, base, trace, points, spec_json)
-//   sweep_points(sweep_id, point, run_id, parameters_json, metrics_json, feasible, pareto,
-//                workload, error)  workload: the hash of the point's workload point ('' when the
-//                sweep names a trace); error: why it has no run (run_id ''), else NULL (version 3)
-//   sweep_workloads(sweep_id, workload, workload_json, trace, trace_hash, error, seconds, host)
-//            a workload sweep's traces: per workload point its content hash, parameters, the
-//            trace file in the trace store and its trace_hash (the runs' trace_hash), or the
-//            error that stopped it; seconds and host of the tracing (version 3)
-//   sweep_locks(sweep_id PK, pid, host, started)      the process running a sweep
-//   sweep_generations(sweep_id, generation, evaluations, front_size, hypervolume)
-//            a search's convergence: per generation, the distinct designs evaluated so far and
-//            the hypervolume of their feasible front (version 2)
-#include <array>
-#include <string_view>
-#include <utility>
+// The results database schema (docs/MODEL.md "Results database", docs/SWEEPS.md): every table
+// declared once (schema.cpp, with the machinery of table.hpp), with the row struct each maps to.
+// Its writers (results_db.cpp, arch/sweep/sweep_runner.cpp), its reader
+// (reports/results_reader.cpp), the CSV export and docs/RESULTS.md (`edx export --reference`)
+// all come from these declarations. Library edx_results_schema: reports/ uses it without
+// linking the model, and it knows nothing of the model (arch/system/result_rows.hpp turns a
+// simulated run into these rows).
+#include <cstdint>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "arch/results/table.hpp"
 
 namespace edx::results {
 
 // SQLite's user_version of a results database. 0: written before versioning (same tables, no
 // timelines); 1 (2026-11-26): the timelines table; 2 (2026-11-26): sweep_generations (a
 // search's convergence); 3 (2026-11-26): sweep_points.workload and .error, sweep_workloads
-// (sweeps that trace their workload). Readers refuse newer versions.
-inline constexpr int kSchemaVersion = 3;
+// (sweeps that trace their workload); 4 (2026-11-28): offload.spill_ms and .spill_bytes. A writer
+// brings an older database to this version (missing tables created, missing columns added);
+// readers read every older version and refuse newer ones.
+inline constexpr int kSchemaVersion = 4;
 
-/// The tables of runs, created when missing (in the writer's transaction).
-inline constexpr std::string_view kRunTablesSql = R"sql(
-CREATE TABLE IF NOT EXISTS runs (run_id TEXT PRIMARY KEY, config_hash TEXT NOT NULL,
-  trace_hash TEXT NOT NULL, platform TEXT NOT NULL, trace TEXT NOT NULL, frames INTEGER NOT NULL,
-  policy TEXT NOT NULL, config_json TEXT NOT NULL, summary_json TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS frames (run_id TEXT NOT NULL, variant TEXT NOT NULL,
-  frame_id INTEGER NOT NULL, mode TEXT NOT NULL, frontend_ms REAL, backend_ms REAL, e2e_ms REAL,
-  host_busy_ms REAL, offloaded INTEGER, energy_j REAL, PRIMARY KEY (run_id, variant, frame_id));
-CREATE TABLE IF NOT EXISTS latency (run_id TEXT NOT NULL, variant TEXT NOT NULL,
-  mode TEXT NOT NULL, stage TEXT NOT NULL, count INTEGER, mean REAL, sd REAL, rsd REAL, p50 REAL,
-  p90 REAL, p99 REAL, max REAL, PRIMARY KEY (run_id, variant, mode, stage));
-CREATE TABLE IF NOT EXISTS throughput (run_id TEXT NOT NULL, variant TEXT NOT NULL,
-  fps_without_pipelining REAL, fps_with_pipelining REAL, PRIMARY KEY (run_id, variant));
-CREATE TABLE IF NOT EXISTS energy (run_id TEXT NOT NULL, variant TEXT NOT NULL,
-  mode TEXT NOT NULL, mean_j REAL, sd_j REAL, p99_j REAL, max_j REAL,
-  PRIMARY KEY (run_id, variant, mode));
-CREATE TABLE IF NOT EXISTS offload (run_id TEXT NOT NULL, frame_id INTEGER NOT NULL,
-  kernel_seq INTEGER NOT NULL, kernel TEXT NOT NULL, size REAL, host_ms REAL, accel_ms REAL,
-  compute_ms REAL, transfer_ms REAL, fits_spm INTEGER, training INTEGER, offloaded INTEGER,
-  PRIMARY KEY (run_id, frame_id, kernel_seq));
-CREATE TABLE IF NOT EXISTS schedule (run_id TEXT NOT NULL, kernel TEXT NOT NULL,
-  invocations INTEGER, offloaded INTEGER, host_only_s REAL, always_s REAL, policy_s REAL,
-  oracle_s REAL, r_squared_train REAL, r_squared_eval REAL, gap_to_oracle REAL,
-  PRIMARY KEY (run_id, kernel));
-CREATE TABLE IF NOT EXISTS resources (run_id TEXT NOT NULL, entry TEXT NOT NULL,
-  grp TEXT NOT NULL, kind TEXT NOT NULL, lut REAL, ff REAL, dsp REAL, bram REAL, ns_lut REAL,
-  ns_ff REAL, ns_dsp REAL, ns_bram REAL);
-CREATE TABLE IF NOT EXISTS timelines (run_id TEXT PRIMARY KEY, first_frame INTEGER NOT NULL,
-  frames INTEGER NOT NULL, json TEXT NOT NULL);
-)sql";
+/// "<config_hash>-<trace_hash>": the key of a run.
+std::string run_id_of(const std::string& config_hash, const std::string& trace_hash);
 
-/// The tables of sweeps, created by `edx sweep` when missing.
-inline constexpr std::string_view kSweepTablesSql = R"sql(
-CREATE TABLE IF NOT EXISTS sweeps (sweep_id TEXT PRIMARY KEY, spec TEXT NOT NULL,
-  base TEXT NOT NULL, trace TEXT NOT NULL, points INTEGER NOT NULL, spec_json TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS sweep_points (sweep_id TEXT NOT NULL, point INTEGER NOT NULL,
-  run_id TEXT NOT NULL, parameters_json TEXT NOT NULL, metrics_json TEXT NOT NULL,
-  feasible INTEGER NOT NULL, pareto INTEGER NOT NULL DEFAULT 0, workload TEXT NOT NULL DEFAULT '',
-  error TEXT, PRIMARY KEY (sweep_id, point));
-CREATE TABLE IF NOT EXISTS sweep_locks (sweep_id TEXT PRIMARY KEY, pid INTEGER NOT NULL,
-  host TEXT NOT NULL, started TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS sweep_generations (sweep_id TEXT NOT NULL, generation INTEGER NOT NULL,
-  evaluations INTEGER NOT NULL, front_size INTEGER NOT NULL, hypervolume REAL NOT NULL,
-  PRIMARY KEY (sweep_id, generation));
-CREATE TABLE IF NOT EXISTS sweep_workloads (sweep_id TEXT NOT NULL, workload TEXT NOT NULL,
-  workload_json TEXT NOT NULL, trace TEXT NOT NULL, trace_hash TEXT NOT NULL, error TEXT,
-  seconds REAL, host TEXT, PRIMARY KEY (sweep_id, workload));
-)sql";
+// ---- run tables: every row carries run_id = "<config_hash>-<trace_hash>" ----
 
-/// Columns added to sweep_points by version 3, for databases written before it.
-inline constexpr std::array<std::pair<std::string_view, std::string_view>, 2> kSweepPointColumnsV3{
-    {{"workload", "TEXT NOT NULL DEFAULT ''"}, {"error", "TEXT"}}};
+/// One simulated run (table runs).
+struct RunRow {
+  std::string run_id, config_hash, trace_hash, platform, trace;
+  std::int64_t frames = 0;
+  std::string policy;
+  nlohmann::json config;   ///< the platform, every key resolved
+  nlohmann::json summary;  ///< what `edx simulate --json` prints as "system"
+};
 
-/// Tables holding a run's rows (keyed by run_id), "runs" last: replacing a run deletes from each.
-inline constexpr std::array<std::string_view, 9> kRunTables{"frames",    "latency",   "throughput",
-                                                            "energy",    "offload",   "schedule",
-                                                            "resources", "timelines", "runs"};
+/// One frame of one variant (table frames).
+struct FrameRow {
+  std::string run_id;
+  std::string variant;  ///< baseline | accelerated
+  std::int64_t frame_id = 0;
+  std::string mode;  ///< registration | vio | slam | none
+  double frontend_ms = 0, backend_ms = 0, e2e_ms = 0, host_busy_ms = 0;
+  int offloaded = 0;
+  double energy_j = 0;
+};
 
-/// The tables every results database has (a reader refuses a file without them; timelines is
-/// optional, as databases of version 0 lack it).
-inline constexpr std::array<std::string_view, 8> kRequiredTables{
-    "runs", "frames", "latency", "throughput", "energy", "offload", "schedule", "resources"};
+/// A latency distribution of one variant, mode and stage (table latency).
+struct LatencyRow {
+  std::string run_id;
+  std::string variant, mode, stage;
+  std::int64_t count = 0;
+  double mean = 0, sd = 0, rsd = 0, p50 = 0, p90 = 0, p99 = 0, max = 0;
+};
 
-/// The sweep tables a reader needs to show sweeps (both or neither).
-inline constexpr std::array<std::string_view, 2> kSweepTables{"sweeps", "sweep_points"};
+struct ThroughputRow {
+  std::string run_id;
+  std::string variant;
+  double fps_without_pipelining = 0, fps_with_pipelining = 0;
+};
+
+struct EnergyRow {
+  std::string run_id;
+  std::string variant, mode;
+  double mean_j = 0, sd_j = 0, p99_j = 0, max_j = 0;
+};
+
+/// One accelerable kernel invocation; accel_ms is NaN when it was stored as NULL (a kernel that
+/// did not fit the SPM in databases written before spills were modelled), spill_ms NaN in
+/// databases before version 4.
+struct OffloadRow {
+  std::string run_id;
+  std::int64_t frame_id = 0;
+  int kernel_seq = 0;
+  std::string kernel;
+  double size = 0, host_ms = 0, accel_ms = 0, compute_ms = 0, transfer_ms = 0;
+  bool fits_spm = true, training = false, offloaded = false;
+  double spill_ms = 0;
+  std::int64_t spill_bytes = 0;
+};
+
+/// The scheduler's effect on one kernel; always_s is NaN when the kernel never fits the SPM.
+struct ScheduleRow {
+  std::string run_id;
+  std::string kernel;
+  std::int64_t invocations = 0, offloaded = 0;
+  double host_only_s = 0, always_s = 0, policy_s = 0, oracle_s = 0;
+  double r_squared_train = 0, r_squared_eval = 0, gap_to_oracle = 0;
+};
+
+struct ResourceRow {
+  std::string run_id;
+  std::string entry, group, kind;
+  double lut = 0, ff = 0, dsp = 0, bram = 0;
+  double ns_lut = 0, ns_ff = 0, ns_dsp = 0, ns_bram = 0;
+};
+
+/// The whole-system Perfetto timeline of a run simulated with --timeline.
+struct TimelineRow {
+  std::string run_id;
+  std::int64_t first_frame = 0, frames = 0;
+  std::string json;
+};
+
+// ---- sweep tables: every row carries sweep_id (the spec's name) ----
+
+struct SweepRow {
+  std::string sweep_id, spec, base, trace;
+  std::int64_t points = 0;
+  nlohmann::json spec_json;  ///< the spec as run (objectives, constraints, parameters)
+};
+
+/// One design point of a sweep (table sweep_points).
+struct SweepPointRow {
+  std::string sweep_id;
+  std::int64_t point = 0;
+  std::string run_id;
+  nlohmann::json parameters;  ///< {dotted platform key: value}
+  nlohmann::json metrics;     ///< {objective or constraint metric: value}
+  bool feasible = true, pareto = false;
+  std::string workload;  ///< hash of its workload point ("" when the sweep named a trace)
+  std::string error;     ///< why the point has no run (its workload failed to trace)
+};
+
+struct SweepLockRow {
+  std::string sweep_id;
+  std::int64_t pid = 0;
+  std::string host, started;
+};
+
+/// One generation of a search's convergence (table sweep_generations).
+struct SweepGenerationRow {
+  std::string sweep_id;
+  std::int64_t generation = 0, evaluations = 0, front_size = 0;
+  double hypervolume = 0;
+};
+
+/// One workload point of a workload sweep and its trace (table sweep_workloads).
+struct SweepWorkloadRow {
+  std::string sweep_id, workload;
+  nlohmann::json workload_json;  ///< its resolved parameters
+  std::string trace, trace_hash, error;
+  double seconds = std::numeric_limits<double>::quiet_NaN();  ///< NaN: not traced by this sweep
+  std::string host;                                           ///< "" : not traced by this sweep
+};
+
+// ---- the declarations ----
+
+const Table<RunRow>& runs_table();
+const Table<FrameRow>& frames_table();
+const Table<LatencyRow>& latency_table();
+const Table<ThroughputRow>& throughput_table();
+const Table<EnergyRow>& energy_table();
+const Table<OffloadRow>& offload_table();
+const Table<ScheduleRow>& schedule_table();
+const Table<ResourceRow>& resources_table();
+const Table<TimelineRow>& timelines_table();
+const Table<SweepRow>& sweeps_table();
+const Table<SweepPointRow>& sweep_points_table();
+const Table<SweepLockRow>& sweep_locks_table();
+const Table<SweepGenerationRow>& sweep_generations_table();
+const Table<SweepWorkloadRow>& sweep_workloads_table();
+
+/// Every table, run tables first (runs the first of them), in the order above.
+const std::vector<const TableSpec*>& all_tables();
+/// The tables of `group`, in the order above.
+std::vector<const TableSpec*> tables_of(TableGroup group);
+/// The declared table named `name`, or nullptr.
+const TableSpec* find_table(std::string_view name);
+
+/// A run's rows in the run tables other than runs, table by table.
+struct RunTableRows {
+  std::vector<FrameRow> frame_rows;
+  std::vector<LatencyRow> latency;
+  std::vector<ThroughputRow> throughput;
+  std::vector<EnergyRow> energy;
+  std::vector<OffloadRow> offload;
+  std::vector<ScheduleRow> schedule;
+  std::vector<ResourceRow> resources;
+  std::vector<TimelineRow> timelines;  ///< none, or the run's one timeline
+};
+
+/// Every row of one run.
+struct RunRows : RunTableRows {
+  RunRow run;
+};
+
+/// Rows of one table as values.
+struct TableValues {
+  const TableSpec* table = nullptr;
+  std::vector<ValueRow> rows;
+};
+/// `rows` as values, one entry per run table (tables_of(kRun) order).
+std::vector<TableValues> run_values(const RunRows& rows);
+
+/// docs/RESULTS.md: every table and column (`edx export --reference`).
+std::string results_reference_markdown();
 
 }  // namespace edx::results

@@ -10,7 +10,6 @@
 //   0 -> worker  {type: stop}
 // Every wait polls (MPI_Iprobe, then a sleep of 0.2 ms) instead of blocking in MPI_Recv, whose
 // busy polling would take a core from the workers of the same machine.
-#include <SQLiteCpp/SQLiteCpp.h>
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -25,6 +24,7 @@
 #include "arch/results/results_db.hpp"
 #include "arch/sweep/distributed.hpp"
 #include "arch/sweep/sweep_engine.hpp"
+#include "arch/system/result_rows.hpp"
 #include "common/atomic_file.hpp"
 
 #ifdef EDX_HAVE_MPI
@@ -267,10 +267,7 @@ void serve_sweep(const SweepSpec& spec, const SweepOptions& options) {
         }
         const Platform platform = context.platform(task.at("point").get<std::size_t>());
         const SystemResult run = context.execute_simulate(platform, w);
-        SQLite::Database memory(":memory:", SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
-        create_results_tables(memory);
-        write_results(memory, run, ResultsWriteOptions{options.per_frame});
-        nlohmann::json rows = export_run_rows(memory, run_id_of(run.config_hash, run.trace_hash));
+        nlohmann::json rows = export_run_rows(result_rows(run, options.per_frame));
         rows["summary"] = run.to_json();
         result["rows"] = std::move(rows);
         result["error"] = "";

@@ -26,6 +26,7 @@
 #include "arch/sweep/search.hpp"
 #include "arch/sweep/sweep.hpp"
 #include "arch/sweep/sweep_engine.hpp"
+#include "arch/system/result_rows.hpp"
 #include "arch/system/system_model.hpp"
 #include "common/atomic_file.hpp"
 #include "workloads/trace/reader.hpp"
@@ -50,25 +51,20 @@ bool process_running(pid_t pid) {
 void take_sweep_lock(SQLite::Database& db, const std::string& db_name,
                      const std::string& sweep_id) {
   const std::string host = sweep_engine::this_host();
-  SQLite::Statement q(db, "SELECT pid, host, started FROM sweep_locks WHERE sweep_id = ?");
-  q.bind(1, sweep_id);
-  if (q.executeStep()) {
-    const auto pid = static_cast<pid_t>(q.getColumn(0).getInt64());
-    const std::string holder = q.getColumn(1).getString();
-    const bool alive = holder != host || process_running(pid);
-    if (alive && !(holder == host && pid == ::getpid())) {
+  for (const results::SweepLockRow& lock :
+       results::select_rows(db, results::sweep_locks_table(), {"sweep_id = ?1", {sweep_id}, ""})) {
+    const auto pid = static_cast<pid_t>(lock.pid);
+    const bool alive = lock.host != host || process_running(pid);
+    if (alive && !(lock.host == host && pid == ::getpid())) {
       throw std::runtime_error(fmt::format(
           "{}: sweep '{}' is being run by process {} on {} since {} (wait for it, or delete its "
           "row from sweep_locks if that process is gone)",
-          db_name, sweep_id, pid, holder, q.getColumn(2).getString()));
+          db_name, sweep_id, pid, lock.host, lock.started));
     }
   }
-  q.reset();
-  SQLite::Statement put(db, "INSERT OR REPLACE INTO sweep_locks VALUES (?, ?, ?, datetime('now'))");
-  put.bind(1, sweep_id);
-  put.bind(2, static_cast<std::int64_t>(::getpid()));
-  put.bind(3, host);
-  put.exec();
+  const std::string now = db.execAndGet("SELECT datetime('now')").getString();
+  results::insert_rows(db, results::sweep_locks_table(),
+                       {{sweep_id, static_cast<std::int64_t>(::getpid()), host, now}}, true);
 }
 
 /// Objectives and constraint metrics of a run summary; feasibility.
@@ -87,42 +83,15 @@ void evaluate(const SweepSpec& spec, const nlohmann::json& summary, SweepPointRe
   }
 }
 
-void put_point(SQLite::Database& db, const std::string& sweep_id, const SweepPointResult& r) {
-  SQLite::Statement s(db,
-                      "INSERT OR REPLACE INTO sweep_points (sweep_id, point, run_id, "
-                      "parameters_json, metrics_json, feasible, pareto, workload, error) VALUES "
-                      "(?, ?, ?, ?, ?, ?, ?, ?, ?)");
-  s.bind(1, sweep_id);
-  s.bind(2, static_cast<std::int64_t>(r.index));
-  s.bind(3, r.run_id);
-  s.bind(4, r.parameters.dump());
-  s.bind(5, r.metrics.dump());
-  s.bind(6, r.feasible ? 1 : 0);
-  s.bind(7, r.pareto ? 1 : 0);
-  s.bind(8, r.workload);
-  if (r.error.empty()) {
-    s.bind(9);
-  } else {
-    s.bind(9, r.error);
+/// Stores (or replaces) the rows of `points` in sweep_points.
+void put_points(SQLite::Database& db, const std::string& sweep_id,
+                const std::vector<SweepPointResult>& points) {
+  std::vector<results::SweepPointRow> rows;
+  for (const SweepPointResult& r : points) {
+    rows.push_back({sweep_id, static_cast<std::int64_t>(r.index), r.run_id, r.parameters, r.metrics,
+                    r.feasible, r.pareto, r.workload, r.error});
   }
-  s.exec();
-}
-
-std::string csv_field(const std::string& v) {
-  if (v.find_first_of(",\"\n\r") == std::string::npos) return v;
-  std::string q = "\"";
-  for (char c : v) {
-    q.push_back(c);
-    if (c == '"') q.push_back('"');
-  }
-  q.push_back('"');
-  return q;
-}
-
-std::string csv_value(const SQLite::Column& c) {
-  if (c.isNull()) return "";
-  if (c.isFloat()) return fmt::format("{}", c.getDouble());
-  return csv_field(c.getString());
+  results::insert_rows(db, results::sweep_points_table(), rows, true);
 }
 
 }  // namespace
@@ -158,267 +127,311 @@ using sweep_engine::SweepContext;
 using sweep_engine::SweepTask;
 using sweep_engine::SweepTaskResult;
 
-/// Adds the columns of schema version 3 to a sweep_points table written before it.
-void migrate_sweep_points(SQLite::Database& db) {
-  std::set<std::string> columns;
-  SQLite::Statement info(db, "PRAGMA table_info(sweep_points)");
-  while (info.executeStep()) columns.insert(info.getColumn(1).getString());
-  for (const auto& [name, type] : results::kSweepPointColumnsV3) {
-    if (!columns.contains(std::string(name))) {
-      db.exec(fmt::format("ALTER TABLE sweep_points ADD COLUMN {} {}", name, type));
-    }
-  }
-}
+/// Per workload point: whether its trace is there (in the store already, or given).
+enum class TraceState { kMissing, kQueued, kReady, kFailed };
+struct WorkloadState {
+  TraceState state = TraceState::kMissing;
+  std::string trace_hash, error;
+  std::vector<std::size_t> waiting;  ///< points admitted before their trace was ready
+};
 
-/// The run of a sweep: the master's state and loop (docs/SWEEPS.md "How a sweep runs").
-SweepOutcome run_sweep_impl(const SweepSpec& spec, const SweepOptions& options,
-                            std::shared_ptr<const LoadedTrace> given) {
-  const auto start = std::chrono::steady_clock::now();
-  // Everything that can be checked is checked before the results database is touched.
-  if (options.db.empty()) throw std::runtime_error("sweep: expected a results database path");
-  SweepContext context(spec, options);  // resolves the workload points (their errors first)
-  if (spec.traces_workload() && std::filesystem::exists(context.store) &&
+/// Everything that can be checked before the results database is touched: the trace store is
+/// a folder, and a given trace has host times on the base platform (a measured host needs the
+/// trace's host speed, a modeled one costs for every row). Makes the given trace the context's.
+void prepare_context(SweepContext& context, const std::shared_ptr<const LoadedTrace>& given) {
+  if (context.spec.traces_workload() && std::filesystem::exists(context.store) &&
       !std::filesystem::is_directory(context.store)) {
     throw std::runtime_error(
         fmt::format("{}: trace store: exists and is not a folder (give --trace-store a folder)",
                     context.store.string()));
   }
-  const SweepPoints& points = context.points;
-  if (given) {
-    // Its host times on the base platform, before any work: a measured host needs the trace's
-    // host speed, a modeled one costs for every row.
-    PlatformHostTimes::of(Platform::parse(context.base).host, given->frames, given->meta,
-                          given->name);
-    context.workloads[0].trace = given->name;
-    context.set_trace(0, given);
-  }
-  SweepOutcome out;
-  out.sweep_id = spec.name;
-  // A search evaluates at most its population in each generation and the initial one.
-  out.total = spec.nsga2 ? std::min(points.size(), spec.population * (spec.generations + 1))
-                         : points.size();
+  if (!given) return;
+  PlatformHostTimes::of(Platform::parse(context.base).host, given->frames, given->meta,
+                        given->name);
+  context.workloads[0].trace = given->name;
+  context.set_trace(0, given);
+}
 
-  common::require_regular_output(options.db, "results database");
-  // A database this sweep creates is removed again if the sweep fails before its first point
-  // is stored (after that it is kept: a re-run resumes from it).
-  struct RemoveNewDatabase {
-    std::filesystem::path path;
-    bool keep = false;
-    ~RemoveNewDatabase() {
-      if (keep) return;
-      std::error_code ignored;
-      for (const char* suffix : {"", "-journal", "-wal", "-shm"}) {
-        std::filesystem::remove(path.string() + suffix, ignored);
-      }
+/// A results database this sweep creates is removed again if the sweep fails before its first
+/// point is stored (after that it is kept: a re-run resumes from it).
+struct RemoveNewDatabase {
+  std::filesystem::path path;
+  bool keep = false;
+  ~RemoveNewDatabase() {
+    if (keep) return;
+    std::error_code ignored;
+    for (const char* suffix : {"", "-journal", "-wal", "-shm"}) {
+      std::filesystem::remove(path.string() + suffix, ignored);
     }
-  } new_database{options.db, std::filesystem::exists(options.db)};
-  std::unique_ptr<SQLite::Database> db_handle;
+  }
+};
+
+std::unique_ptr<SQLite::Database> open_results_database(const std::filesystem::path& path) {
+  std::unique_ptr<SQLite::Database> db;
   try {
-    db_handle = std::make_unique<SQLite::Database>(options.db.string(),
-                                                   SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+    db = std::make_unique<SQLite::Database>(path.string(),
+                                            SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
   } catch (const std::exception& e) {
     throw std::runtime_error(
-        fmt::format("{}: cannot open the results database: {}", options.db.string(), e.what()));
+        fmt::format("{}: cannot open the results database: {}", path.string(), e.what()));
   }
-  SQLite::Database& db = *db_handle;
-  db.exec("PRAGMA busy_timeout = 5000");
-  require_results_database(db, options.db.string());
-  {
-    // IMMEDIATE: two processes starting at once are serialized here (the second waits for the
-    // first's lock row, then sees it).
-    SQLite::Transaction t(db, SQLite::TransactionBehavior::IMMEDIATE);
-    create_results_tables(db);
-    db.exec(std::string(results::kSweepTablesSql));
-    migrate_sweep_points(db);
-    take_sweep_lock(db, options.db.string(), out.sweep_id);
-    SQLite::Statement sweep(db, "INSERT OR REPLACE INTO sweeps VALUES (?, ?, ?, ?, ?, ?)");
-    sweep.bind(1, out.sweep_id);
-    sweep.bind(2, spec.file);
-    sweep.bind(3, spec.base.string());
-    sweep.bind(4, given ? given->name : context.store.string());
-    sweep.bind(5, static_cast<std::int64_t>(points.size()));
-    sweep.bind(6, spec.to_json().dump());
-    sweep.exec();
-    // Points of an earlier version of the spec under this name are no longer part of it.
-    SQLite::Statement stale(db, "DELETE FROM sweep_points WHERE sweep_id = ? AND point >= ?");
-    stale.bind(1, out.sweep_id);
-    stale.bind(2, static_cast<std::int64_t>(points.size()));
-    stale.exec();
-    t.commit();
-  }
-  // The lock row goes when this run ends, however it ends (a kill leaves it; see above).
-  struct ReleaseLock {
-    SQLite::Database& db;
-    std::string sweep_id;
-    ~ReleaseLock() {
-      try {
-        SQLite::Statement drop(db, "DELETE FROM sweep_locks WHERE sweep_id = ? AND pid = ?");
-        drop.bind(1, sweep_id);
-        drop.bind(2, static_cast<std::int64_t>(::getpid()));
-        drop.exec();
-      } catch (const SQLite::Exception&) {
-      }
-    }
-  } release_lock{db, out.sweep_id};
-  // WAL with synchronous = NORMAL: a commit is not fsynced, but survives the process being
-  // killed (only a power cut can lose the last points; the file stays consistent). Set once the
-  // sweep's lock is held, so that a refused sweep leaves the file as it was.
-  db.exec("PRAGMA journal_mode = WAL");
-  db.exec("PRAGMA synchronous = NORMAL");
+  db->exec("PRAGMA busy_timeout = 5000");
+  require_results_database(*db, path.string());
+  return db;
+}
 
-  // Per workload point: whether its trace is there (in the store already, or given).
-  enum class TraceState { kMissing, kQueued, kReady, kFailed };
-  struct WorkloadState {
-    TraceState state = TraceState::kMissing;
-    std::string trace_hash, error;
-    std::vector<std::size_t> waiting;  ///< points admitted before their trace was ready
-  };
-  std::vector<WorkloadState> states(context.workloads.size());
-  if (given) {
-    states[0] = {TraceState::kReady, given->hash, {}, {}};
-  } else {
-    for (std::size_t w = 0; w < context.workloads.size(); ++w) {
-      const std::filesystem::path& file = context.workloads[w].trace;
+/// In one IMMEDIATE transaction (two processes starting at once are serialized here: the second
+/// waits for the first's lock row, then sees it): the tables (an older database brought to the
+/// current schema), the sweep's lock, its row, and the removal of points of an earlier version
+/// of the spec under this name.
+void register_sweep(SQLite::Database& db, const SweepSpec& spec, const SweepOptions& options,
+                    const std::string& trace, std::size_t points) {
+  SQLite::Transaction t(db, SQLite::TransactionBehavior::IMMEDIATE);
+  create_results_tables(db, results::TableGroup::kRun);
+  create_results_tables(db, results::TableGroup::kSweep);
+  take_sweep_lock(db, options.db.string(), spec.name);
+  results::insert_rows(db, results::sweeps_table(),
+                       {{spec.name, spec.file, spec.base.string(), trace,
+                         static_cast<std::int64_t>(points), spec.to_json()}},
+                       true);
+  SQLite::Statement stale(db, "DELETE FROM sweep_points WHERE sweep_id = ? AND point >= ?");
+  stale.bind(1, spec.name);
+  stale.bind(2, static_cast<std::int64_t>(points));
+  stale.exec();
+  t.commit();
+}
+
+/// The sweep's lock row goes when its run ends, however it ends (a kill leaves it; see
+/// take_sweep_lock).
+struct ReleaseLock {
+  SQLite::Database& db;
+  std::string sweep_id;
+  ~ReleaseLock() {
+    try {
+      SQLite::Statement drop(db, "DELETE FROM sweep_locks WHERE sweep_id = ? AND pid = ?");
+      drop.bind(1, sweep_id);
+      drop.bind(2, static_cast<std::int64_t>(::getpid()));
+      drop.exec();
+    } catch (const SQLite::Exception&) {
+    }
+  }
+};
+
+/// Marks the Pareto front over the feasible points of a complete sweep, and stores the points'
+/// flags and the search's convergence.
+void store_front(SQLite::Database& db, const SweepSpec& spec, SweepOutcome& out) {
+  std::vector<std::size_t> feasible;
+  std::vector<std::vector<double>> values;
+  for (std::size_t i = 0; i < out.points.size(); ++i) {
+    if (!out.points[i].feasible) continue;
+    feasible.push_back(i);
+    values.push_back(out.points[i].objectives);
+  }
+  std::vector<bool> maximize;
+  for (const SweepObjective& o : spec.objectives) maximize.push_back(o.maximize);
+  for (std::size_t f : pareto_front(values, maximize)) {
+    out.front.push_back(feasible[f]);
+    out.points[feasible[f]].pareto = true;
+  }
+  SQLite::Transaction t(db);
+  put_points(db, out.sweep_id, out.points);
+  SQLite::Statement stale(db, "DELETE FROM sweep_generations WHERE sweep_id = ?");
+  stale.bind(1, out.sweep_id);
+  stale.exec();
+  std::vector<results::SweepGenerationRow> generations;
+  for (const SearchGeneration& g : out.generations) {
+    generations.push_back({out.sweep_id, static_cast<std::int64_t>(g.generation),
+                           static_cast<std::int64_t>(g.evaluations),
+                           static_cast<std::int64_t>(g.front_size), g.hypervolume});
+  }
+  results::insert_rows(db, results::sweep_generations_table(), generations);
+  t.commit();
+}
+
+/// The master's loop over the points of a sweep whose database is open and locked: traces
+/// first, then the simulations of points whose trace is ready, each finished point stored in
+/// its own transaction (docs/SWEEPS.md "How a sweep runs").
+class SweepMaster {
+ public:
+  SweepMaster(SweepContext& context, SQLite::Database& db, SweepOutcome& out,
+              RemoveNewDatabase& new_database, const std::shared_ptr<const LoadedTrace>& given)
+      : spec_(context.spec),
+        options_(context.options),
+        context_(context),
+        db_(db),
+        out_(out),
+        new_database_(new_database),
+        states_(context.workloads.size()),
+        limit_(options_.limit > 0 ? options_.limit : std::numeric_limits<std::size_t>::max()) {
+    find_traces(given);
+    executor_ = options_.distributed
+                    ? sweep_engine::make_mpi_executor(context)
+                    : std::make_unique<sweep_engine::LocalExecutor>(context, options_.jobs);
+  }
+  ~SweepMaster() { executor_->finish(); }
+
+  /// Runs every point (a grid or samples) or the search, to the end or the limit; the finished
+  /// points go to out.points in point order; returns whether the limit stopped it.
+  bool run() {
+    if (spec_.nsga2) {
+      run_search();
+    } else {
+      run_points(context_.points.size(), [](std::size_t i) { return i; });
+    }
+    executor_->finish();
+    record_store_workloads();
+    for (auto& [index, r] : finished_) out_.points.push_back(std::move(r));
+    return limit_reached_;
+  }
+
+ private:
+  /// Per workload point, whether its trace is there: given, or in the store already.
+  void find_traces(const std::shared_ptr<const LoadedTrace>& given) {
+    if (given) {
+      states_[0] = {TraceState::kReady, given->hash, {}, {}};
+      return;
+    }
+    for (std::size_t w = 0; w < context_.workloads.size(); ++w) {
+      const std::filesystem::path& file = context_.workloads[w].trace;
       if (!std::filesystem::exists(file)) continue;
       const trace::TraceReader reader(file);  // meta and frame count only
-      states[w].state = TraceState::kReady;
-      states[w].trace_hash = trace_hash(reader.frame_count(), reader.meta());
+      states_[w].state = TraceState::kReady;
+      states_[w].trace_hash = trace_hash(reader.frame_count(), reader.meta());
     }
   }
-  const auto record_workload = [&](std::size_t w, const SweepTaskResult* traced) {
-    const sweep_engine::Workload& workload = context.workloads[w];
-    SQLite::Statement s(db,
-                        "INSERT OR REPLACE INTO sweep_workloads VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
-    s.bind(1, out.sweep_id);
-    s.bind(2, workload.hash);
-    s.bind(3, workload.resolved.dump());
-    s.bind(4, workload.trace.string());
-    s.bind(5, states[w].trace_hash);
-    if (states[w].error.empty()) {
-      s.bind(6);
-    } else {
-      s.bind(6, states[w].error);
-    }
+
+  /// Stores workload point `w`'s row (traced: this run traced it, with its time and host).
+  void record_workload(std::size_t w, const SweepTaskResult* traced) {
+    const sweep_engine::Workload& workload = context_.workloads[w];
+    results::SweepWorkloadRow row;
+    row.sweep_id = out_.sweep_id;
+    row.workload = workload.hash;
+    row.workload_json = workload.resolved;
+    row.trace = workload.trace.string();
+    row.trace_hash = states_[w].trace_hash;
+    row.error = states_[w].error;
     if (traced) {
-      s.bind(7, traced->seconds);
-      s.bind(8, traced->host);
-    } else {
-      s.bind(7);
-      s.bind(8);
+      row.seconds = traced->seconds;
+      row.host = traced->host;
     }
-    s.exec();
-  };
+    results::insert_rows(db_, results::sweep_workloads_table(), {row}, true);
+  }
 
-  std::unique_ptr<sweep_engine::SweepExecutor> executor =
-      options.distributed ? sweep_engine::make_mpi_executor(context)
-                          : std::make_unique<sweep_engine::LocalExecutor>(context, options.jobs);
-  struct FinishExecutor {
-    sweep_engine::SweepExecutor& executor;
-    ~FinishExecutor() { executor.finish(); }
-  } finish_executor{*executor};
-
-  std::map<std::size_t, SweepPointResult> finished;
-  std::set<std::size_t> claimed;  // points admitted (a search may ask for one twice)
-  std::size_t simulations = 0;    // started, toward the limit
-  bool limit_reached = false;
-  const std::size_t limit =
-      options.limit > 0 ? options.limit : std::numeric_limits<std::size_t>::max();
-  // A finished point: its run (simulated here, or found in the database) and its row, in one
-  // transaction.
-  const auto finish = [&](SweepPointResult r, const std::function<void()>& write_run) {
-    SQLite::Transaction t(db);
-    if (write_run) write_run();
-    put_point(db, out.sweep_id, r);
+  /// Workloads found in the store are recorded too (a resumed sweep lists every trace it used).
+  void record_store_workloads() {
+    if (!spec_.traces_workload()) return;
+    SQLite::Transaction t(db_);
+    for (std::size_t w = 0; w < context_.workloads.size(); ++w) {
+      if (states_[w].state != TraceState::kReady) continue;
+      SQLite::Statement has(db_,
+                            "SELECT 1 FROM sweep_workloads WHERE sweep_id = ? AND workload = ?");
+      has.bind(1, out_.sweep_id);
+      has.bind(2, context_.workloads[w].hash);
+      if (!has.executeStep()) record_workload(w, nullptr);
+    }
     t.commit();
-    new_database.keep = true;
+  }
+
+  /// A finished point: its run (simulated here, or found in the database) and its row, in one
+  /// transaction.
+  void finish(SweepPointResult r, const std::function<void()>& write_run) {
+    SQLite::Transaction t(db_);
+    if (write_run) write_run();
+    put_points(db_, out_.sweep_id, {r});
+    t.commit();
+    new_database_.keep = true;
     if (!r.error.empty()) {
-      ++out.failed;
+      ++out_.failed;
     } else {
-      (r.computed ? out.computed : out.skipped) += 1;
+      (r.computed ? out_.computed : out_.skipped) += 1;
     }
-    if (options.progress) options.progress(finished.size() + 1, out.total, r);
-    finished.emplace(r.index, std::move(r));
-  };
-  std::deque<SweepTask> ready;       // simulations to start
-  std::deque<std::size_t> to_trace;  // workload points to trace
-  std::size_t in_flight = 0;
-  const auto point_result = [&](std::size_t index) {
+    if (options_.progress) options_.progress(finished_.size() + 1, out_.total, r);
+    finished_.emplace(r.index, std::move(r));
+  }
+
+  SweepPointResult point_result(std::size_t index) const {
     SweepPointResult r;
     r.index = index;
-    r.parameters = points.at(index).parameters(spec);
-    r.workload = context.workloads[context.workload_of(index)].hash;
+    r.parameters = context_.points.at(index).parameters(spec_);
+    r.workload = context_.workloads[context_.workload_of(index)].hash;
     return r;
-  };
-  // A point whose trace is ready: read back from the database, or queued for simulation.
-  const auto consider = [&](std::size_t index, std::size_t w) {
-    auto platform = std::make_shared<const Platform>(context.platform(index));
+  }
+
+  /// A point whose trace is ready: read back from the database, or queued for simulation.
+  void consider(std::size_t index, std::size_t w) {
+    auto platform = std::make_shared<const Platform>(context_.platform(index));
     SweepPointResult r = point_result(index);
-    r.run_id = run_id_of(fnv1a_hex(platform->to_json().dump()), states[w].trace_hash);
-    SQLite::Statement q(db, "SELECT summary_json FROM runs WHERE run_id = ?");
-    q.bind(1, r.run_id);
-    if (q.executeStep()) {
-      evaluate(spec, nlohmann::json::parse(q.getColumn(0).getString()), r);
-      q.reset();
+    r.run_id = run_id_of(fnv1a_hex(platform->to_json().dump()), states_[w].trace_hash);
+    const std::vector<results::RunRow> stored =
+        results::select_rows(db_, results::runs_table(), {"run_id = ?1", {r.run_id}, ""});
+    if (!stored.empty()) {
+      evaluate(spec_, stored.front().summary, r);
       finish(std::move(r), {});
-    } else if (simulations >= limit) {
-      limit_reached = true;
+    } else if (simulations_ >= limit_) {
+      limit_reached_ = true;
     } else {
-      ++simulations;
-      ready.push_back(SweepTask{SweepTask::Kind::kSimulate, w, index, std::move(platform)});
+      ++simulations_;
+      ready_.push_back(SweepTask{SweepTask::Kind::kSimulate, w, index, std::move(platform)});
     }
-  };
-  const auto fail = [&](std::size_t index, std::size_t w) {
+  }
+
+  /// A point whose workload could not be traced: stored with that error, infeasible.
+  void fail(std::size_t index, std::size_t w) {
     SweepPointResult r = point_result(index);
     r.feasible = false;
     r.metrics = nlohmann::json::object();
-    r.error = states[w].error;
+    r.error = states_[w].error;
     finish(std::move(r), {});
-  };
-  const auto admit = [&](std::size_t index) {
-    if (!claimed.insert(index).second) return;
-    const std::size_t w = context.workload_of(index);
-    switch (states[w].state) {
+  }
+
+  void admit(std::size_t index) {
+    if (!claimed_.insert(index).second) return;
+    const std::size_t w = context_.workload_of(index);
+    switch (states_[w].state) {
       case TraceState::kReady:
         return consider(index, w);
       case TraceState::kFailed:
         return fail(index, w);
       case TraceState::kMissing:
-        states[w].state = TraceState::kQueued;
-        to_trace.push_back(w);
+        states_[w].state = TraceState::kQueued;
+        to_trace_.push_back(w);
         [[fallthrough]];
       case TraceState::kQueued:
-        states[w].waiting.push_back(index);
+        states_[w].waiting.push_back(index);
     }
-  };
-  const auto handle = [&](SweepTaskResult r) {
+  }
+
+  /// A traced workload point: recorded, and its waiting points considered (or failed).
+  void handle_trace(SweepTaskResult& r) {
     const std::size_t w = r.task.workload;
-    if (r.task.kind == SweepTask::Kind::kTrace) {
-      if (options.trace_progress) {
-        options.trace_progress(w, context.workloads[w].resolved, &r.error);
-      }
-      if (r.error.empty()) {
-        const trace::TraceReader reader(context.workloads[w].trace);
-        states[w].state = TraceState::kReady;
-        states[w].trace_hash = trace_hash(reader.frame_count(), reader.meta());
-        ++out.traced;
-      } else {
-        states[w].state = TraceState::kFailed;
-        states[w].error = r.error;
-      }
-      {
-        SQLite::Transaction t(db);
-        record_workload(w, &r);
-        t.commit();
-      }
-      for (std::size_t index : std::exchange(states[w].waiting, {})) {
-        if (r.error.empty()) {
-          consider(index, w);
-        } else {
-          fail(index, w);
-        }
-      }
-      return;
+    if (options_.trace_progress) {
+      options_.trace_progress(w, context_.workloads[w].resolved, &r.error);
     }
+    if (r.error.empty()) {
+      const trace::TraceReader reader(context_.workloads[w].trace);
+      states_[w].state = TraceState::kReady;
+      states_[w].trace_hash = trace_hash(reader.frame_count(), reader.meta());
+      ++out_.traced;
+    } else {
+      states_[w].state = TraceState::kFailed;
+      states_[w].error = r.error;
+    }
+    {
+      SQLite::Transaction t(db_);
+      record_workload(w, &r);
+      t.commit();
+    }
+    for (std::size_t index : std::exchange(states_[w].waiting, {})) {
+      if (r.error.empty()) {
+        consider(index, w);
+      } else {
+        fail(index, w);
+      }
+    }
+  }
+
+  /// A simulated point: its run's rows (local: the result; remote: rows exported) and its row.
+  void handle_simulation(SweepTaskResult& r) {
     if (!r.error.empty()) {
       throw std::runtime_error(fmt::format("point {}: {}", r.task.point, r.error));
     }
@@ -426,128 +439,138 @@ SweepOutcome run_sweep_impl(const SweepSpec& spec, const SweepOptions& options,
     p.computed = true;
     if (r.result) {
       p.run_id = run_id_of(r.result->config_hash, r.result->trace_hash);
-      evaluate(spec, r.result->to_json(), p);
-      finish(std::move(p),
-             [&] { write_results(db, *r.result, ResultsWriteOptions{options.per_frame}); });
+      evaluate(spec_, r.result->to_json(), p);
+      finish(std::move(p), [&] { write_results(db_, result_rows(*r.result, options_.per_frame)); });
     } else {
       p.run_id = r.rows.at("run_id").get<std::string>();
-      evaluate(spec, r.rows.at("summary"), p);
-      finish(std::move(p), [&] { import_run_rows(db, r.rows); });
+      evaluate(spec_, r.rows.at("summary"), p);
+      finish(std::move(p), [&] { import_run_rows(db_, r.rows); });
     }
-  };
-  // Runs points (indices in the order given) to the end or the limit: traces first, then the
-  // simulations of points whose trace is ready; points are admitted lazily, as workers free up,
-  // so memory grows with the points finished, not with the grid.
-  const auto run_points = [&](std::size_t count,
-                              const std::function<std::size_t(std::size_t)>& index_at) {
+  }
+
+  /// Starts tasks while a worker is idle (traces first, then ready simulations, then admitting
+  /// the next point at `cursor`, whose task, if any, starts next).
+  void start_tasks(std::size_t count, const std::function<std::size_t(std::size_t)>& index_at,
+                   std::size_t& cursor) {
+    while (executor_->has_idle_worker()) {
+      if (!to_trace_.empty()) {
+        executor_->start(SweepTask{SweepTask::Kind::kTrace, to_trace_.front(), 0, nullptr});
+        to_trace_.pop_front();
+      } else if (!ready_.empty()) {
+        executor_->start(std::move(ready_.front()));
+        ready_.pop_front();
+      } else if (cursor < count && !limit_reached_) {
+        admit(index_at(cursor++));
+        continue;
+      } else {
+        return;
+      }
+      ++in_flight_;
+    }
+  }
+
+  /// Runs points (indices in the order given) to the end or the limit; points are admitted
+  /// lazily, as workers free up, so memory grows with the points finished, not with the grid.
+  void run_points(std::size_t count, const std::function<std::size_t(std::size_t)>& index_at) {
     // Every workload point the points need is queued for tracing up front.
-    for (std::size_t i = 0; spec.traces_workload() && i < count; ++i) {
-      const std::size_t w = context.workload_of(index_at(i));
-      if (states[w].state == TraceState::kMissing) {
-        states[w].state = TraceState::kQueued;
-        to_trace.push_back(w);
+    for (std::size_t i = 0; spec_.traces_workload() && i < count; ++i) {
+      const std::size_t w = context_.workload_of(index_at(i));
+      if (states_[w].state == TraceState::kMissing) {
+        states_[w].state = TraceState::kQueued;
+        to_trace_.push_back(w);
       }
     }
     std::size_t cursor = 0;
     for (;;) {
-      while (executor->has_idle_worker()) {
-        if (!to_trace.empty()) {
-          executor->start(SweepTask{SweepTask::Kind::kTrace, to_trace.front(), 0, nullptr});
-          to_trace.pop_front();
-        } else if (!ready.empty()) {
-          executor->start(std::move(ready.front()));
-          ready.pop_front();
-        } else if (cursor < count && !limit_reached) {
-          admit(index_at(cursor++));
-          continue;
-        } else {
-          break;
-        }
-        ++in_flight;
-      }
-      if (in_flight == 0) {
-        if (cursor < count && !limit_reached) continue;
+      start_tasks(count, index_at, cursor);
+      if (in_flight_ == 0) {
+        if (cursor < count && !limit_reached_) continue;
         break;
       }
-      SweepTaskResult r = executor->wait();
-      --in_flight;
-      handle(std::move(r));
-    }
-  };
-  if (spec.nsga2) {
-    // The search asks for a generation at a time; a design it asked for before is read from
-    // `finished`. The limit stops it (a re-run replays the same generations from the database).
-    struct LimitReached {};
-    try {
-      out.generations = run_nsga2(spec, points, [&](const std::vector<std::size_t>& indices) {
-        run_points(indices.size(), [&](std::size_t i) { return indices[i]; });
-        if (limit_reached) throw LimitReached{};
-        std::vector<DesignFitness> fitness;
-        for (std::size_t index : indices) {
-          const SweepPointResult& r = finished.at(index);
-          DesignFitness f{r.objectives, {}, r.feasible};
-          for (const SweepConstraint& c : spec.constraints) {
-            f.constraints.push_back(r.metrics.at(c.metric).get<double>());
-          }
-          fitness.push_back(std::move(f));
-        }
-        return fitness;
-      });
-    } catch (const LimitReached&) {
-    }
-  } else {
-    run_points(points.size(), [](std::size_t i) { return i; });
-  }
-  executor->finish();
-  // Workloads found in the store are recorded too (a resumed sweep lists every trace it used).
-  {
-    SQLite::Transaction t(db);
-    for (std::size_t w = 0; spec.traces_workload() && w < context.workloads.size(); ++w) {
-      if (states[w].state == TraceState::kReady) {
-        SQLite::Statement has(db,
-                              "SELECT 1 FROM sweep_workloads WHERE sweep_id = ? AND workload = ?");
-        has.bind(1, out.sweep_id);
-        has.bind(2, context.workloads[w].hash);
-        if (!has.executeStep()) record_workload(w, nullptr);
+      SweepTaskResult r = executor_->wait();
+      --in_flight_;
+      if (r.task.kind == SweepTask::Kind::kTrace) {
+        handle_trace(r);
+      } else {
+        handle_simulation(r);
       }
     }
-    t.commit();
   }
 
-  for (auto& [index, r] : finished) out.points.push_back(std::move(r));
-  out.complete = spec.nsga2 ? !limit_reached : out.points.size() == points.size();
-  if (out.complete) {
-    // The front over the feasible points.
-    std::vector<std::size_t> feasible;
-    std::vector<std::vector<double>> values;
-    for (std::size_t i = 0; i < out.points.size(); ++i) {
-      if (!out.points[i].feasible) continue;
-      feasible.push_back(i);
-      values.push_back(out.points[i].objectives);
+  /// The search asks for a generation at a time; a design it asked for before is read from
+  /// finished_. The limit stops it (a re-run replays the same generations from the database).
+  void run_search() {
+    struct LimitReached {};
+    try {
+      out_.generations =
+          run_nsga2(spec_, context_.points, [&](const std::vector<std::size_t>& indices) {
+            run_points(indices.size(), [&](std::size_t i) { return indices[i]; });
+            if (limit_reached_) throw LimitReached{};
+            std::vector<DesignFitness> fitness;
+            for (std::size_t index : indices) {
+              const SweepPointResult& r = finished_.at(index);
+              DesignFitness f{r.objectives, {}, r.feasible};
+              for (const SweepConstraint& c : spec_.constraints) {
+                f.constraints.push_back(r.metrics.at(c.metric).get<double>());
+              }
+              fitness.push_back(std::move(f));
+            }
+            return fitness;
+          });
+    } catch (const LimitReached&) {
     }
-    std::vector<bool> maximize;
-    for (const SweepObjective& o : spec.objectives) maximize.push_back(o.maximize);
-    for (std::size_t f : pareto_front(values, maximize)) {
-      out.front.push_back(feasible[f]);
-      out.points[feasible[f]].pareto = true;
-    }
-    SQLite::Transaction t(db);
-    for (const SweepPointResult& r : out.points) put_point(db, out.sweep_id, r);
-    SQLite::Statement stale(db, "DELETE FROM sweep_generations WHERE sweep_id = ?");
-    stale.bind(1, out.sweep_id);
-    stale.exec();
-    SQLite::Statement g(db, "INSERT INTO sweep_generations VALUES (?, ?, ?, ?, ?)");
-    for (const SearchGeneration& row : out.generations) {
-      g.bind(1, out.sweep_id);
-      g.bind(2, static_cast<std::int64_t>(row.generation));
-      g.bind(3, static_cast<std::int64_t>(row.evaluations));
-      g.bind(4, static_cast<std::int64_t>(row.front_size));
-      g.bind(5, row.hypervolume);
-      g.exec();
-      g.reset();
-    }
-    t.commit();
   }
+
+  const SweepSpec& spec_;
+  const SweepOptions& options_;
+  SweepContext& context_;
+  SQLite::Database& db_;
+  SweepOutcome& out_;
+  RemoveNewDatabase& new_database_;
+  std::vector<WorkloadState> states_;
+  std::unique_ptr<sweep_engine::SweepExecutor> executor_;
+  std::map<std::size_t, SweepPointResult> finished_;
+  std::set<std::size_t> claimed_;  // points admitted (a search may ask for one twice)
+  std::size_t simulations_ = 0;    // started, toward the limit
+  const std::size_t limit_;
+  bool limit_reached_ = false;
+  std::deque<SweepTask> ready_;       // simulations to start
+  std::deque<std::size_t> to_trace_;  // workload points to trace
+  std::size_t in_flight_ = 0;
+};
+
+/// The run of a sweep (docs/SWEEPS.md "How a sweep runs"): checks, the database opened and
+/// locked, the master's loop, the Pareto front of a complete sweep.
+SweepOutcome run_sweep_impl(const SweepSpec& spec, const SweepOptions& options,
+                            std::shared_ptr<const LoadedTrace> given) {
+  const auto start = std::chrono::steady_clock::now();
+  if (options.db.empty()) throw std::runtime_error("sweep: expected a results database path");
+  SweepContext context(spec, options);  // resolves the workload points (their errors first)
+  prepare_context(context, given);
+  SweepOutcome out;
+  out.sweep_id = spec.name;
+  // A search evaluates at most its population in each generation and the initial one.
+  const std::size_t points = context.points.size();
+  out.total = spec.nsga2 ? std::min(points, spec.population * (spec.generations + 1)) : points;
+
+  common::require_regular_output(options.db, "results database");
+  RemoveNewDatabase new_database{options.db, std::filesystem::exists(options.db)};
+  const std::unique_ptr<SQLite::Database> db = open_results_database(options.db);
+  register_sweep(*db, spec, options, given ? given->name : context.store.string(), points);
+  const ReleaseLock release_lock{*db, out.sweep_id};
+  // WAL with synchronous = NORMAL: a commit is not fsynced, but survives the process being
+  // killed (only a power cut can lose the last points; the file stays consistent). Set once the
+  // sweep's lock is held, so that a refused sweep leaves the file as it was.
+  db->exec("PRAGMA journal_mode = WAL");
+  db->exec("PRAGMA synchronous = NORMAL");
+
+  bool limit_reached = false;
+  {
+    SweepMaster master(context, *db, out, new_database, given);
+    limit_reached = master.run();
+  }
+  out.complete = spec.nsga2 ? !limit_reached : out.points.size() == points;
+  if (out.complete) store_front(*db, spec, out);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
@@ -637,100 +660,85 @@ std::string format_sweep(const SweepSpec& spec, const SweepOutcome& o) {
 
 namespace {
 
+/// A sweep's points as CSV: point, run_id, a column per parameter and per metric (the union over
+/// the points, in first-seen order), feasible, pareto, and for a workload sweep workload, error.
+std::string sweep_points_csv(SQLite::Database& db, const std::string& db_name,
+                             const std::string& sweep, std::size_t& rows) {
+  if (!db.tableExists(results::sweep_points_table().spec.name)) {
+    throw std::runtime_error(fmt::format("{}: no sweeps in this database", db_name));
+  }
+  const std::vector<results::SweepPointRow> points =
+      results::select_rows(db, results::sweep_points_table(), {"sweep_id = ?1", {sweep}, "point"});
+  if (points.empty()) {
+    throw std::runtime_error(fmt::format("{}: no sweep named '{}'", db_name, sweep));
+  }
+  std::vector<std::string> params, metrics;
+  const auto add_keys = [](std::vector<std::string>& keys, const nlohmann::json& j) {
+    for (const auto& [k, v] : j.items()) {
+      if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+    }
+  };
+  bool traced = false;  // a workload sweep: its points' workload and error are columns too
+  for (const results::SweepPointRow& p : points) {
+    add_keys(params, p.parameters);
+    add_keys(metrics, p.metrics);
+    traced = traced || !p.workload.empty();
+  }
+  std::string csv = "point,run_id";
+  for (const std::string& k : params)
+    fmt::format_to(std::back_inserter(csv), ",{}", results::csv_field(k));
+  for (const std::string& k : metrics)
+    fmt::format_to(std::back_inserter(csv), ",{}", results::csv_field(k));
+  csv += traced ? ",feasible,pareto,workload,error\n" : ",feasible,pareto\n";
+  for (const results::SweepPointRow& p : points) {
+    fmt::format_to(std::back_inserter(csv), "{},{}", p.point, p.run_id);
+    for (const std::string& k : params) {
+      fmt::format_to(std::back_inserter(csv), ",{}",
+                     results::csv_field(p.parameters.value(k, std::string())));
+    }
+    for (const std::string& k : metrics) {
+      fmt::format_to(std::back_inserter(csv), ",{}",
+                     p.metrics.contains(k) ? fmt::format("{}", p.metrics[k].get<double>()) : "");
+    }
+    fmt::format_to(std::back_inserter(csv), ",{},{}", static_cast<int>(p.feasible),
+                   static_cast<int>(p.pareto));
+    if (traced) {
+      fmt::format_to(std::back_inserter(csv), ",{},{}", p.workload, results::csv_field(p.error));
+    }
+    csv += "\n";
+  }
+  rows = points.size();
+  return csv;
+}
+
+/// A declared table of the database as CSV (its declared columns; those it lacks are empty).
+std::string table_csv(SQLite::Database& db, const std::string& db_name, const std::string& table,
+                      std::size_t& rows) {
+  std::set<std::string> tables;
+  SQLite::Statement t(db, "SELECT name FROM sqlite_master WHERE type = 'table' ORDER BY name");
+  while (t.executeStep()) tables.insert(t.getColumn(0).getString());
+  if (!tables.contains(table)) {
+    throw std::runtime_error(fmt::format("{}: --table: no table '{}' (tables: {})", db_name, table,
+                                         fmt::join(tables, ", ")));
+  }
+  const results::TableSpec* spec = results::find_table(table);
+  if (!spec) {
+    std::vector<std::string> declared;
+    for (const results::TableSpec* d : results::all_tables()) declared.push_back(d->name);
+    throw std::runtime_error(fmt::format("{}: --table: '{}' is not a results table ({})", db_name,
+                                         table, fmt::join(declared, ", ")));
+  }
+  const std::vector<results::ValueRow> values = results::select_values(db, *spec);
+  rows = values.size();
+  return results::table_csv(*spec, values);
+}
+
 std::size_t export_csv_from(const std::filesystem::path& db_path, const std::string& table,
                             const std::string& sweep, const std::filesystem::path& out) {
   SQLite::Database db(db_path.string(), SQLite::OPEN_READONLY);
-  std::string csv;
   std::size_t rows = 0;
-  if (!sweep.empty()) {
-    if (!db.tableExists("sweep_points")) {
-      throw std::runtime_error(fmt::format("{}: no sweeps in this database", db_path.string()));
-    }
-    // workload and error: results schema 3 (a version-2 database has neither).
-    std::set<std::string> columns;
-    SQLite::Statement info(db, "PRAGMA table_info(sweep_points)");
-    while (info.executeStep()) columns.insert(info.getColumn(1).getString());
-    const bool v3 = columns.contains("workload") && columns.contains("error");
-    SQLite::Statement q(db, fmt::format("SELECT point, run_id, parameters_json, metrics_json, "
-                                        "feasible, pareto{} FROM sweep_points WHERE sweep_id = ? "
-                                        "ORDER BY point",
-                                        v3 ? ", workload, error" : ""));
-    q.bind(1, sweep);
-    struct Row {
-      std::int64_t point;
-      std::string run_id, workload, error;
-      nlohmann::json parameters, metrics;
-      int feasible, pareto;
-    };
-    std::vector<Row> points;
-    std::vector<std::string> params, metrics;  // the union over the points, in first-seen order
-    const auto add_keys = [](std::vector<std::string>& keys, const nlohmann::json& j) {
-      for (const auto& [k, v] : j.items()) {
-        if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
-      }
-    };
-    bool traced = false;  // a workload sweep: its points' workload and error are columns too
-    while (q.executeStep()) {
-      Row r{q.getColumn(0).getInt64(),
-            q.getColumn(1).getString(),
-            v3 ? q.getColumn(6).getString() : std::string(),
-            v3 && !q.getColumn(7).isNull() ? q.getColumn(7).getString() : std::string(),
-            nlohmann::json::parse(q.getColumn(2).getString()),
-            nlohmann::json::parse(q.getColumn(3).getString()),
-            q.getColumn(4).getInt(),
-            q.getColumn(5).getInt()};
-      add_keys(params, r.parameters);
-      add_keys(metrics, r.metrics);
-      traced = traced || !r.workload.empty();
-      points.push_back(std::move(r));
-    }
-    if (points.empty()) {
-      throw std::runtime_error(fmt::format("{}: no sweep named '{}'", db_path.string(), sweep));
-    }
-    csv = "point,run_id";
-    for (const std::string& k : params)
-      fmt::format_to(std::back_inserter(csv), ",{}", csv_field(k));
-    for (const std::string& k : metrics)
-      fmt::format_to(std::back_inserter(csv), ",{}", csv_field(k));
-    csv += traced ? ",feasible,pareto,workload,error\n" : ",feasible,pareto\n";
-    for (const Row& r : points) {
-      fmt::format_to(std::back_inserter(csv), "{},{}", r.point, r.run_id);
-      for (const std::string& k : params) {
-        fmt::format_to(std::back_inserter(csv), ",{}",
-                       csv_field(r.parameters.value(k, std::string())));
-      }
-      for (const std::string& k : metrics) {
-        fmt::format_to(
-            std::back_inserter(csv), ",{}",
-            r.metrics.contains(k) ? fmt::format("{}", r.metrics[k].get<double>()) : std::string());
-      }
-      fmt::format_to(std::back_inserter(csv), ",{},{}", r.feasible, r.pareto);
-      if (traced) {
-        fmt::format_to(std::back_inserter(csv), ",{},{}", r.workload, csv_field(r.error));
-      }
-      csv += "\n";
-    }
-    rows = points.size();
-  } else {
-    std::set<std::string> tables;
-    SQLite::Statement t(db, "SELECT name FROM sqlite_master WHERE type = 'table' ORDER BY name");
-    while (t.executeStep()) tables.insert(t.getColumn(0).getString());
-    if (!tables.contains(table)) {
-      throw std::runtime_error(fmt::format("{}: --table: no table '{}' (tables: {})",
-                                           db_path.string(), table, fmt::join(tables, ", ")));
-    }
-    SQLite::Statement q(db, fmt::format("SELECT * FROM \"{}\"", table));
-    for (int c = 0; c < q.getColumnCount(); ++c) {
-      fmt::format_to(std::back_inserter(csv), "{}{}", c ? "," : "", csv_field(q.getColumnName(c)));
-    }
-    csv += "\n";
-    while (q.executeStep()) {
-      for (int c = 0; c < q.getColumnCount(); ++c)
-        fmt::format_to(std::back_inserter(csv), "{}{}", c ? "," : "", csv_value(q.getColumn(c)));
-      csv += "\n";
-      ++rows;
-    }
-  }
+  const std::string csv = sweep.empty() ? table_csv(db, db_path.string(), table, rows)
+                                        : sweep_points_csv(db, db_path.string(), sweep, rows);
   common::write_file_atomically(out, csv);
   return rows;
 }

@@ -10,6 +10,7 @@
 #include "arch/platform/platform.hpp"
 #include "arch/results/results_db.hpp"
 #include "arch/results/schema.hpp"
+#include "arch/system/result_rows.hpp"
 #include "arch/system/system_model.hpp"
 #include "reports/html_report.hpp"
 #include "reports/metrics.hpp"
@@ -114,7 +115,7 @@ std::filesystem::path write_targets(const std::filesystem::path& dir, const std:
 
 TEST(ResultsReader, ReadsTheRunWrittenByTheWriter) {
   TempDir dir;
-  arch::write_results(dir.path() / "r.db", hand_made());
+  arch::write_results(dir.path() / "r.db", arch::result_rows(hand_made()));
   const ResultsData data = read_results(dir.path() / "r.db");
   ASSERT_EQ(data.runs.size(), 1u);
   const RunData& run = data.runs[0];
@@ -143,7 +144,7 @@ TEST(ResultsReader, ReadsTheRunWrittenByTheWriter) {
 
 TEST(PaperCheck, VerdictsOnKnownValues) {
   TempDir dir;
-  arch::write_results(dir.path() / "r.db", hand_made());
+  arch::write_results(dir.path() / "r.db", arch::result_rows(hand_made()));
   const std::filesystem::path yaml = write_targets(dir.path(), R"(tolerance: 0.10
 targets:
   - {name: speedup near, metric: system.comparison.all.e2e_speedup, paper: 2.1}
@@ -174,7 +175,7 @@ targets:
 
 TEST(PaperCheck, CommandExitCodes) {
   TempDir dir;
-  arch::write_results(dir.path() / "r.db", hand_made());
+  arch::write_results(dir.path() / "r.db", arch::result_rows(hand_made()));
   const std::string edx = edx::testing::built_binary("edx");
   const std::string db = (dir.path() / "r.db").string();
   const std::filesystem::path pass = write_targets(
@@ -242,7 +243,7 @@ TEST(PaperCheck, BadYamlNamesFileLineAndKey) {
 
 TEST(Report, WritesIndexAndPlots) {
   TempDir dir;
-  arch::write_results(dir.path() / "r.db", hand_made());
+  arch::write_results(dir.path() / "r.db", arch::result_rows(hand_made()));
   const ResultsData data = read_results(dir.path() / "r.db");
   ReportOptions options;
   options.out_dir = dir.path() / "report";
@@ -277,11 +278,11 @@ TEST(Report, AWorkloadSweepGetsItsFrameRateAndEnergyPerWorkloadPoint) {
   TempDir dir;
   const std::filesystem::path db = dir.path() / "r.db";
   const arch::SystemResult run = hand_made();
-  arch::write_results(db, run);
+  arch::write_results(db, arch::result_rows(run));
   {
     // Two points of a workload sweep: one simulated on its trace, one whose trace failed.
     SQLite::Database d(db.string(), SQLite::OPEN_READWRITE);
-    d.exec(std::string(results::kSweepTablesSql));
+    arch::create_results_tables(d, results::TableGroup::kSweep);
     d.exec(
         "INSERT INTO sweeps VALUES ('study', 'study.yaml', 'car.yaml', 'study.traces', 2, "
         "'{\"objectives\": [{\"maximize\": \"fps\"}], \"workload\": {\"mix\": \"paper\"}}')");
@@ -335,12 +336,13 @@ TEST(Report, StoredTimelineIsWrittenBesideTheReportAndLinked) {
   run.timeline_json = R"({"traceEvents":[{"name":"f2","ph":"X","ts":0,"dur":5}]})";
   run.timeline_first = 2;
   run.timeline_frames = 3;
-  arch::write_results(dir.path() / "r.db", run);
+  arch::write_results(dir.path() / "r.db", arch::result_rows(run));
   const ResultsData data = read_results(dir.path() / "r.db");
   ASSERT_EQ(data.runs.size(), 1u);
-  EXPECT_EQ(data.runs[0].timeline_json, run.timeline_json);
-  EXPECT_EQ(data.runs[0].timeline_first, 2);
-  EXPECT_EQ(data.runs[0].timeline_frames, 3);
+  ASSERT_EQ(data.runs[0].timelines.size(), 1u);
+  EXPECT_EQ(data.runs[0].timelines[0].json, run.timeline_json);
+  EXPECT_EQ(data.runs[0].timelines[0].first_frame, 2);
+  EXPECT_EQ(data.runs[0].timelines[0].frames, 3);
   ReportOptions options;
   options.out_dir = dir.path() / "report";
   options.gnuplot = "/nonexistent/gnuplot";
@@ -350,14 +352,14 @@ TEST(Report, StoredTimelineIsWrittenBesideTheReportAndLinked) {
   EXPECT_EQ(edx::testing::read_file(dir.path() / "report" / "run1_timeline.json"),
             run.timeline_json);
   // Writing the run again without a timeline removes the stored one.
-  arch::write_results(dir.path() / "r.db", hand_made());
-  EXPECT_TRUE(read_results(dir.path() / "r.db").runs[0].timeline_json.empty());
+  arch::write_results(dir.path() / "r.db", arch::result_rows(hand_made()));
+  EXPECT_TRUE(read_results(dir.path() / "r.db").runs[0].timelines.empty());
 }
 
 TEST(Report, NewerResultsSchemaIsRefusedNamingTheFile) {
   TempDir dir;
   const std::filesystem::path db = dir.path() / "r.db";
-  arch::write_results(db, hand_made());
+  arch::write_results(db, arch::result_rows(hand_made()));
   {
     SQLite::Database raw(db.string(), SQLite::OPEN_READWRITE);
     raw.exec(fmt::format("PRAGMA user_version = {}", results::kSchemaVersion + 1));
@@ -372,7 +374,7 @@ TEST(Report, NewerResultsSchemaIsRefusedNamingTheFile) {
                           db.string(), results::kSchemaVersion + 1, results::kSchemaVersion));
   }
   try {
-    arch::write_results(db, hand_made());
+    arch::write_results(db, arch::result_rows(hand_made()));
     FAIL() << "no error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("is newer than this edx writes"), std::string::npos)

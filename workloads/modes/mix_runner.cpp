@@ -7,7 +7,6 @@
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <opencv2/core/version.hpp>
 #include <stdexcept>
 
 #include "workloads/backend/registration/bow/training.hpp"
@@ -16,10 +15,8 @@
 #include "workloads/backend/vio/vio_backend.hpp"
 #include "workloads/frontend/stereo_frontend.hpp"
 #include "workloads/frontend/task_timer.hpp"
-#include "workloads/frontend/trace_meta.hpp"
-#include "workloads/modes/host_speed_meter.hpp"
 #include "workloads/modes/pipeline.hpp"
-#include "workloads/trace/host_clock.hpp"
+#include "workloads/modes/trace_session.hpp"
 #include "workloads/trace/writer.hpp"
 
 namespace edx::modes {
@@ -33,7 +30,7 @@ constexpr BackendMode kModes[] = {BackendMode::Registration, BackendMode::Vio, B
 /// Per-frame series of one mode.
 struct ModeSeries {
   std::vector<double> frontend_ms, backend_ms;
-  std::map<std::string, std::vector<double>> kernel_ms;  // 0 on frames where it did not run
+  KernelSeries kernel_ms;  // 0 on frames where it did not run
   std::size_t estimated = 0;
   double squared_error_sum = 0;  // sum over segments of pairs * rmse^2
   std::size_t pairs = 0;
@@ -95,6 +92,247 @@ std::string world_key(const MixPlan& plan, const MixSegment& segment) {
                      plan.seed);
 }
 
+/// The datasets of the plan's segments, in order.
+std::vector<std::unique_ptr<datasets::Dataset>> open_segments(const MixRunOptions& options) {
+  std::vector<std::unique_ptr<datasets::Dataset>> datasets;
+  for (const MixSegment& s : options.plan.segments) {
+    const fs::path mav0 = segment_mav0(options.plan, s, options.data_dir);
+    datasets.push_back(datasets::open_dataset(mav0.parent_path(), datasets::DatasetFormat::kEuroc));
+  }
+  return datasets;
+}
+
+/// The mixed trace's meta: every segment's camera and data, the options of the mode switch and
+/// of the backends.
+TraceRunMeta mix_meta(const MixRunOptions& options,
+                      const std::vector<std::unique_ptr<datasets::Dataset>>& datasets) {
+  const MixPlan& plan = options.plan;
+  nlohmann::json cameras = nlohmann::json::array();
+  nlohmann::json segments = nlohmann::json::array();
+  for (std::size_t si = 0; si < plan.segments.size(); ++si) {
+    const MixSegment& s = plan.segments[si];
+    const datasets::StereoCalibration& calibration = datasets[si]->calibration();
+    const datasets::CameraIntrinsics& k = calibration.rectified;
+    cameras.push_back(
+        fmt::format("{}: pinhole-rectified fx={:.4f} fy={:.4f} cx={:.4f} cy={:.4f} b={:.6f}m",
+                    s.name, k.fx, k.fy, k.cx, k.cy, calibration.baseline_m));
+    segments.push_back({{"name", s.name},
+                        {"scenario", trace::to_string(s.scenario)},
+                        {"frames", s.frames},
+                        {"data", segment_mav0(plan, s, options.data_dir).string()}});
+  }
+  TraceRunMeta meta;
+  meta.dataset = fmt::format("synthetic mix {}", plan.name);
+  meta.sequence = fmt::format("mix:{}", plan.name);
+  meta.resolution = fmt::format("{}x{}", plan.resolution.width, plan.resolution.height);
+  meta.camera_model = cameras.dump();
+  meta.pipeline_params = {
+      {"backend_mode", "mixed"},      {"mix", plan.name},
+      {"segments", segments},         {"mode_switch", options.mode_switch.to_string()},
+      {"vio", options.vio.to_json()}, {"slam", options.slam.to_json()}};
+  meta.frames = static_cast<std::size_t>(plan.total_frames());
+  return meta;
+}
+
+/// The mixed run's segments one after another into one trace, and the per-mode series they
+/// add to.
+class MixRun {
+ public:
+  MixRun(const MixRunOptions& options, std::shared_ptr<const bow::Vocabulary> vocabulary,
+         TraceSession& session, const MixProgress& progress)
+      : options_(options),
+        vocabulary_(std::move(vocabulary)),
+        session_(session),
+        progress_(progress) {}
+
+  /// Traces the segment's frames with a fresh frontend and mode switch, then measures each
+  /// mode's accuracy on it and keeps (and saves) its SLAM map for the world.
+  SegmentRunSummary run_segment(const MixSegment& segment, const datasets::Dataset& dataset);
+  std::size_t frames() const { return static_cast<std::size_t>(frame_id_); }
+  /// Latency and accuracy per mode that ran (registration, vio, slam).
+  std::vector<ModeRunSummary> mode_summaries() const;
+
+ private:
+  /// What one segment's frames share: a fresh frontend (the images jump at a segment boundary),
+  /// a mode switch for its world and the backends it chose.
+  struct Segment {
+    /// `maps`: the worlds' maps so far (the mode switch probes this world's map when there is one).
+    Segment(const MixSegment& spec, const datasets::Dataset& dataset, const MixRunOptions& options,
+            const std::map<std::string, std::shared_ptr<const backend::slam::Map>>& maps)
+        : spec(spec),
+          dataset(dataset),
+          world(world_key(options.plan, spec)),
+          sequence(fmt::format("synthetic:{}:{}", world, spec.run.empty() ? "run" : spec.run)),
+          frontend(options.frontend,
+                   {dataset.calibration().rectified.fx, dataset.calibration().baseline_m}),
+          mode_switch(options.mode_switch, maps.count(world) > 0) {
+      summary.name = spec.name;
+      summary.scenario = trace::to_string(spec.scenario);
+    }
+
+    const MixSegment& spec;  ///< the plan's segment
+    const datasets::Dataset& dataset;
+    std::string world;     ///< world_key: its map's key
+    std::string sequence;  ///< the frames' sequence
+    frontend::StereoFrontend frontend;
+    ModeSwitch mode_switch;
+    std::map<BackendMode, std::unique_ptr<backend::Backend>> backends;  ///< made on first use
+    std::map<BackendMode, PosePairs> poses;  ///< of the frames with an estimate and ground truth
+    SegmentRunSummary summary;
+    std::int64_t previous_t_ns = std::numeric_limits<std::int64_t>::min();
+  };
+
+  /// The backend of `mode` for the segment (registration against its world's map).
+  std::unique_ptr<backend::Backend> make_backend(BackendMode mode, const Segment& segment) const;
+  /// Frame i of the segment through the frontend, the mode switch and the chosen backend, into
+  /// the trace and the mode's series.
+  void trace_frame(Segment& segment, std::size_t i);
+  /// Each mode's ATE on the segment (aligned on its own) into its pooled squared error.
+  void add_accuracy(Segment& segment);
+  /// The segment's SLAM map, for later segments in its world (saved when save_maps).
+  void keep_map(Segment& segment);
+
+  const MixRunOptions& options_;
+  std::shared_ptr<const bow::Vocabulary> vocabulary_;
+  TraceSession& session_;
+  const MixProgress& progress_;
+  std::map<BackendMode, ModeSeries> series_;
+  std::map<std::string, std::shared_ptr<const backend::slam::Map>> maps_;  // by world
+  std::int64_t frame_id_ = 0;
+};
+
+SegmentRunSummary MixRun::run_segment(const MixSegment& segment, const datasets::Dataset& dataset) {
+  Segment s(segment, dataset, options_, maps_);
+  const std::size_t frames =
+      std::min<std::size_t>(dataset.frame_count(), static_cast<std::size_t>(segment.frames));
+  for (std::size_t i = 0; i < frames; ++i) {
+    trace_frame(s, i);
+    if (progress_) progress_(segment.name, i + 1, frames);
+  }
+  s.summary.frames = frames;
+  add_accuracy(s);
+  keep_map(s);
+  return std::move(s.summary);
+}
+
+std::unique_ptr<backend::Backend> MixRun::make_backend(BackendMode mode, const Segment& s) const {
+  switch (mode) {
+    case BackendMode::Vio:
+      return backend::vio::make_vio_backend(s.dataset, options_.vio);
+    case BackendMode::Slam:
+      return backend::slam::make_slam_backend(s.dataset, options_.slam);
+    case BackendMode::Registration:
+      return backend::registration::make_registration_backend(
+          s.dataset, backend::registration::RegistrationOptions{}, maps_.at(s.world), vocabulary_);
+    case BackendMode::None:
+      break;
+  }
+  return nullptr;
+}
+
+void MixRun::trace_frame(Segment& s, std::size_t i) {
+  const datasets::Dataset& dataset = s.dataset;
+  const datasets::StereoFrame images = dataset.load_frame(i);
+  frontend::FrontendFrame result = s.frontend.process(images.left, images.right);
+  const ModeDecision decision = s.mode_switch.decide(
+      images.t_ns, between(dataset.gps(), std::numeric_limits<std::int64_t>::min(), images.t_ns));
+  std::unique_ptr<backend::Backend>& backend = s.backends[decision.mode];
+  if (!backend) backend = make_backend(decision.mode, s);
+
+  trace::FrameTrace record;
+  record.frame.frame_id = frame_id_++;
+  record.frame.timestamp_ns = images.t_ns;
+  record.frame.sequence = s.sequence;
+  record.frame.scenario = s.spec.scenario;
+  record.frame.mode = decision.mode;
+  record.frame.gps_available = gps_near(dataset.gps(), images.t_ns);
+  record.frame.map_available = decision.map != MapUse::kNone;
+  record.frame.frontend_host_ns = result.host_ns;
+  record.tasks = result.tasks;
+  const std::optional<Eigen::Isometry3d> truth = ground_truth_at(dataset, images.t_ns);
+  if (truth) record.frame.ground_truth_pose = to_pose_array(*truth);
+
+  backend::BackendOutput output =
+      run_backend_on_frame(*backend, dataset, images, result, s.previous_t_ns, record.frame);
+  if (decision.mode == BackendMode::Registration) {
+    s.mode_switch.report_registration(output.T_world_body.has_value());
+    if (!output.T_world_body) ++s.summary.registration_failures;
+  }
+
+  ModeSeries& series = series_[decision.mode];
+  add_kernel_times(series.kernel_ms, series.backend_ms.size(), output.kernels);
+  series.frontend_ms.push_back(static_cast<double>(result.host_ns) * 1e-6);
+  series.backend_ms.push_back(static_cast<double>(record.frame.backend_host_ns) * 1e-6);
+  if (output.T_world_body) {
+    ++series.estimated;
+    record.frame.estimated_pose = to_pose_array(*output.T_world_body);
+    if (truth) {
+      PosePairs& p = s.poses[decision.mode];
+      p.truth.poses.push_back(stamped(images.t_ns, record.frame.frame_id, *truth));
+      p.estimate.poses.push_back(stamped(images.t_ns, record.frame.frame_id, *output.T_world_body));
+    }
+  }
+  record.kernels = std::move(output.kernels);
+  session_.append(record);
+  ++s.summary.frames_by_mode[trace::to_string(decision.mode)];
+  s.previous_t_ns = images.t_ns;
+}
+
+void MixRun::add_accuracy(Segment& s) {
+  for (auto& [mode, p] : s.poses) {
+    eval::EvalOptions eval_options;
+    eval_options.alignment =
+        s.dataset.imu().empty() ? eval::AlignmentMethod::kSe3 : eval::AlignmentMethod::kPosYaw;
+    eval_options.t_max_diff_s = 1e-3;
+    if (p.estimate.poses.size() < eval::min_pairs_for(eval_options.alignment)) continue;
+    p.truth.stamp_kind = p.estimate.stamp_kind = eval::StampKind::kSeconds;
+    p.truth.source = s.spec.name + " ground truth";
+    p.estimate.source = s.spec.name + " estimate";
+    const eval::EvalResult r = eval::evaluate(p.truth, p.estimate, eval_options);
+    series_[mode].squared_error_sum += static_cast<double>(r.pairs) * r.ate_m.rmse * r.ate_m.rmse;
+    series_[mode].pairs += r.pairs;
+  }
+}
+
+void MixRun::keep_map(Segment& s) {
+  const auto it = s.backends.find(BackendMode::Slam);
+  if (it == s.backends.end()) return;
+  const auto& slam = dynamic_cast<const backend::slam::SlamBackend&>(*it->second);
+  auto map = std::make_shared<const backend::slam::Map>(slam.map());
+  if (options_.save_maps) {
+    const fs::path file = options_.data_dir / fmt::format("{}-map.json", s.world);
+    backend::slam::save_map(*map, file);
+    s.summary.map_saved = file;
+  }
+  maps_[s.world] = std::move(map);
+}
+
+std::vector<ModeRunSummary> MixRun::mode_summaries() const {
+  std::vector<ModeRunSummary> modes;
+  for (BackendMode mode : kModes) {
+    const auto it = series_.find(mode);
+    if (it == series_.end()) continue;
+    const ModeSeries& s = it->second;
+    ModeRunSummary m;
+    m.mode = trace::to_string(mode);
+    m.frames = s.backend_ms.size();
+    m.estimated_frames = s.estimated;
+    m.frontend_ms = frontend::summarize(s.frontend_ms);
+    m.backend_ms = frontend::summarize(s.backend_ms);
+    for (const auto& [name, values] : s.kernel_ms) {
+      std::vector<double> padded = values;
+      padded.resize(s.backend_ms.size(), 0.0);
+      m.kernel_ms.emplace_back(name, frontend::summarize(padded));
+    }
+    if (s.pairs > 0) {
+      m.ate_rmse_m = std::sqrt(s.squared_error_sum / static_cast<double>(s.pairs));
+      m.ate_pairs = s.pairs;
+    }
+    modes.push_back(std::move(m));
+  }
+  return modes;
+}
+
 }  // namespace
 
 void prepare_mix_data(const MixRunOptions& options, const MixProgress& progress) {
@@ -124,205 +362,16 @@ MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress)
   MixRunSummary summary;
   summary.out = options.out;
   summary.plan = plan.to_string();
-
-  trace::TraceMeta meta = frontend::host_and_build_meta();
-  meta["dataset"] = fmt::format("synthetic mix {}", plan.name);
-  meta["sequence"] = fmt::format("mix:{}", plan.name);
-  meta["resolution"] = fmt::format("{}x{}", plan.resolution.width, plan.resolution.height);
-  nlohmann::json cameras = nlohmann::json::array();
-  nlohmann::json segments_json = nlohmann::json::array();
-  std::vector<std::unique_ptr<datasets::Dataset>> datasets_by_segment;
-  for (const MixSegment& s : plan.segments) {
-    const fs::path mav0 = segment_mav0(plan, s, options.data_dir);
-    datasets_by_segment.push_back(
-        datasets::open_dataset(mav0.parent_path(), datasets::DatasetFormat::kEuroc));
-    const datasets::CameraIntrinsics& k = datasets_by_segment.back()->calibration().rectified;
-    cameras.push_back(fmt::format(
-        "{}: pinhole-rectified fx={:.4f} fy={:.4f} cx={:.4f} cy={:.4f} "
-        "b={:.6f}m",
-        s.name, k.fx, k.fy, k.cx, k.cy, datasets_by_segment.back()->calibration().baseline_m));
-    segments_json.push_back({{"name", s.name},
-                             {"scenario", trace::to_string(s.scenario)},
-                             {"frames", s.frames},
-                             {"data", mav0.string()}});
-  }
-  meta["camera_model"] = cameras.dump();
-  meta["pipeline_params"] = nlohmann::json{
-      {"frontend", frontend::to_json(options.frontend)},
-      {"backend_mode", "mixed"},
-      {"mix", plan.name},
-      {"segments", segments_json},
-      {"mode_switch", options.mode_switch.to_string()},
-      {"vio", options.vio.to_json()},
-      {"slam",
-       options.slam.to_json()}}.dump();
-  meta["frames"] = std::to_string(plan.total_frames());
-  meta["opencv_version"] = CV_VERSION;
-
-  // How fast this machine is, sampled over the whole run (host_speed_meter.hpp).
-  HostSpeedMeterOptions host_speed_options = options.host_speed;
-  host_speed_options.parallel_images = options.frontend.parallel_images;
-  HostSpeedMeter host_speed(host_speed_options);
-  host_speed.start();
-  meta["host_speed"] = trace::to_meta_value(host_speed.result());
-
-  trace::TraceWriterOptions writer_options;
-  writer_options.overwrite = options.overwrite;
-  trace::TraceWriter writer(options.out, meta, writer_options);
-
-  std::map<BackendMode, ModeSeries> series;
-  std::map<std::string, std::shared_ptr<const backend::slam::Map>> maps;  // by world
-  std::int64_t frame_id = 0;
+  const std::vector<std::unique_ptr<datasets::Dataset>> datasets = open_segments(options);
+  TraceSession session(mix_meta(options, datasets),
+                       {options.out, options.overwrite, options.frontend, options.host_speed});
+  MixRun run(options, std::move(vocabulary), session, progress);
   for (std::size_t si = 0; si < plan.segments.size(); ++si) {
-    const MixSegment& segment = plan.segments[si];
-    const datasets::Dataset& dataset = *datasets_by_segment[si];
-    const std::string world = world_key(plan, segment);
-    const datasets::StereoCalibration& calibration = dataset.calibration();
-    frontend::StereoFrontend frontend(options.frontend,
-                                      {calibration.rectified.fx, calibration.baseline_m});
-    ModeSwitch mode_switch(options.mode_switch, maps.count(world) > 0);
-    std::map<BackendMode, std::unique_ptr<backend::Backend>> backends;
-    std::map<BackendMode, PosePairs> poses;
-    SegmentRunSummary segment_summary;
-    segment_summary.name = segment.name;
-    segment_summary.scenario = trace::to_string(segment.scenario);
-    const std::string sequence =
-        fmt::format("synthetic:{}:{}", world, segment.run.empty() ? "run" : segment.run);
-
-    const std::size_t frames =
-        std::min<std::size_t>(dataset.frame_count(), static_cast<std::size_t>(segment.frames));
-    std::int64_t previous_t_ns = std::numeric_limits<std::int64_t>::min();
-    for (std::size_t i = 0; i < frames; ++i) {
-      const datasets::StereoFrame images = dataset.load_frame(i);
-      frontend::FrontendFrame result = frontend.process(images.left, images.right);
-      const ModeDecision decision = mode_switch.decide(
-          images.t_ns,
-          between(dataset.gps(), std::numeric_limits<std::int64_t>::min(), images.t_ns));
-      std::unique_ptr<backend::Backend>& backend = backends[decision.mode];
-      if (!backend) {
-        switch (decision.mode) {
-          case BackendMode::Vio:
-            backend = backend::vio::make_vio_backend(dataset, options.vio);
-            break;
-          case BackendMode::Slam:
-            backend = backend::slam::make_slam_backend(dataset, options.slam);
-            break;
-          case BackendMode::Registration:
-            backend = backend::registration::make_registration_backend(
-                dataset, backend::registration::RegistrationOptions{}, maps.at(world), vocabulary);
-            break;
-          case BackendMode::None:
-            break;
-        }
-      }
-
-      trace::FrameTrace record;
-      record.frame.frame_id = frame_id++;
-      record.frame.timestamp_ns = images.t_ns;
-      record.frame.sequence = sequence;
-      record.frame.scenario = segment.scenario;
-      record.frame.mode = decision.mode;
-      record.frame.gps_available = gps_near(dataset.gps(), images.t_ns);
-      record.frame.map_available = decision.map != MapUse::kNone;
-      record.frame.frontend_host_ns = result.host_ns;
-      record.tasks = result.tasks;
-      const std::optional<Eigen::Isometry3d> truth = ground_truth_at(dataset, images.t_ns);
-      if (truth) record.frame.ground_truth_pose = to_pose_array(*truth);
-
-      backend::BackendInput input;
-      input.t_ns = images.t_ns;
-      input.frontend = &result;
-      input.left_image = &images.left;
-      input.imu = between(dataset.imu(), previous_t_ns, images.t_ns);
-      input.gps = between(dataset.gps(), previous_t_ns, images.t_ns);
-      auto [output, backend_ns] = run_backend_timed(*backend, input);
-      record.frame.backend_host_ns = backend_ns;
-      record.frame.backend_status = output.status;
-      if (decision.mode == BackendMode::Registration) {
-        mode_switch.report_registration(output.T_world_body.has_value());
-        if (!output.T_world_body) ++segment_summary.registration_failures;
-      }
-
-      ModeSeries& s = series[decision.mode];
-      for (auto& [name, values] : s.kernel_ms) values.push_back(0.0);
-      for (const trace::KernelRecord& kernel : output.kernels) {
-        auto& values = s.kernel_ms[kernel.kernel];
-        values.resize(s.backend_ms.size() + 1, 0.0);
-        values.back() += static_cast<double>(kernel.host_ns) * 1e-6;
-      }
-      s.frontend_ms.push_back(static_cast<double>(result.host_ns) * 1e-6);
-      s.backend_ms.push_back(static_cast<double>(record.frame.backend_host_ns) * 1e-6);
-      if (output.T_world_body) {
-        ++s.estimated;
-        record.frame.estimated_pose = to_pose_array(*output.T_world_body);
-        if (truth) {
-          PosePairs& p = poses[decision.mode];
-          p.truth.poses.push_back(stamped(images.t_ns, record.frame.frame_id, *truth));
-          p.estimate.poses.push_back(
-              stamped(images.t_ns, record.frame.frame_id, *output.T_world_body));
-        }
-      }
-      record.kernels = std::move(output.kernels);
-      writer.append(record);
-      host_speed.after_frame(record.frame.frontend_host_ns + record.frame.backend_host_ns);
-      ++segment_summary.frames_by_mode[trace::to_string(decision.mode)];
-      previous_t_ns = images.t_ns;
-      if (progress) progress(segment.name, i + 1, frames);
-    }
-    segment_summary.frames = frames;
-
-    // Accuracy of each mode on this segment, aligned on its own.
-    for (auto& [mode, p] : poses) {
-      eval::EvalOptions eval_options;
-      eval_options.alignment =
-          dataset.imu().empty() ? eval::AlignmentMethod::kSe3 : eval::AlignmentMethod::kPosYaw;
-      eval_options.t_max_diff_s = 1e-3;
-      if (p.estimate.poses.size() < eval::min_pairs_for(eval_options.alignment)) continue;
-      p.truth.stamp_kind = p.estimate.stamp_kind = eval::StampKind::kSeconds;
-      p.truth.source = segment.name + " ground truth";
-      p.estimate.source = segment.name + " estimate";
-      const eval::EvalResult r = eval::evaluate(p.truth, p.estimate, eval_options);
-      series[mode].squared_error_sum += static_cast<double>(r.pairs) * r.ate_m.rmse * r.ate_m.rmse;
-      series[mode].pairs += r.pairs;
-    }
-    // The SLAM map of this world, for later segments in it.
-    if (const auto it = backends.find(BackendMode::Slam); it != backends.end()) {
-      const auto& slam = dynamic_cast<const backend::slam::SlamBackend&>(*it->second);
-      auto map = std::make_shared<const backend::slam::Map>(slam.map());
-      if (options.save_maps) {
-        const fs::path file = options.data_dir / fmt::format("{}-map.json", world);
-        backend::slam::save_map(*map, file);
-        segment_summary.map_saved = file;
-      }
-      maps[world] = std::move(map);
-    }
-    summary.segments.push_back(std::move(segment_summary));
+    summary.segments.push_back(run.run_segment(plan.segments[si], *datasets[si]));
   }
-  host_speed.finish_into(writer);
-  writer.finish();
-
-  summary.frames = static_cast<std::size_t>(frame_id);
-  for (BackendMode mode : kModes) {
-    const auto it = series.find(mode);
-    if (it == series.end()) continue;
-    const ModeSeries& s = it->second;
-    ModeRunSummary m;
-    m.mode = trace::to_string(mode);
-    m.frames = s.backend_ms.size();
-    m.estimated_frames = s.estimated;
-    m.frontend_ms = frontend::summarize(s.frontend_ms);
-    m.backend_ms = frontend::summarize(s.backend_ms);
-    for (const auto& [name, values] : s.kernel_ms) {
-      std::vector<double> padded = values;
-      padded.resize(s.backend_ms.size(), 0.0);
-      m.kernel_ms.emplace_back(name, frontend::summarize(padded));
-    }
-    if (s.pairs > 0) {
-      m.ate_rmse_m = std::sqrt(s.squared_error_sum / static_cast<double>(s.pairs));
-      m.ate_pairs = s.pairs;
-    }
-    summary.modes.push_back(std::move(m));
-  }
+  session.finish();
+  summary.frames = run.frames();
+  summary.modes = run.mode_summaries();
   summary.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
   return summary;

@@ -52,4 +52,31 @@ std::pair<backend::BackendOutput, std::int64_t> run_backend_timed(
   return {std::move(output), trace::thread_cpu_ns() - start_ns};
 }
 
+backend::BackendOutput run_backend_on_frame(backend::Backend& backend,
+                                            const datasets::Dataset& dataset,
+                                            const datasets::StereoFrame& images,
+                                            const frontend::FrontendFrame& frontend,
+                                            std::int64_t previous_t_ns, trace::FrameRecord& frame) {
+  backend::BackendInput input;
+  input.t_ns = images.t_ns;
+  input.frontend = &frontend;
+  input.left_image = &images.left;
+  input.imu = between(dataset.imu(), previous_t_ns, images.t_ns);
+  input.gps = between(dataset.gps(), previous_t_ns, images.t_ns);
+  auto [output, backend_ns] = run_backend_timed(backend, input);
+  frame.backend_host_ns = backend_ns;
+  frame.backend_status = output.status;
+  return std::move(output);
+}
+
+void add_kernel_times(KernelSeries& series, std::size_t frame,
+                      const std::vector<trace::KernelRecord>& kernels) {
+  for (auto& [name, values] : series) values.push_back(0.0);
+  for (const trace::KernelRecord& kernel : kernels) {
+    std::vector<double>& values = series[kernel.kernel];
+    values.resize(frame + 1, 0.0);
+    values.back() += static_cast<double>(kernel.host_ns) * 1e-6;
+  }
+}
+
 }  // namespace edx::modes

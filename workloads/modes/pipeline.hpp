@@ -1,16 +1,21 @@
 #pragma once
 // Pieces of the per-frame pipeline shared by the single-dataset runner (trace_runner) and the
-// mixed-sequence runner (mix_runner): pose conversions, stream slicing, ground truth lookup.
+// mixed-sequence runner (mix_runner): the backend's run on a frame and its kernels' host times,
+// pose conversions, stream slicing, ground truth lookup.
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "workloads/backend/backend.hpp"
 #include "workloads/datasets/dataset.hpp"
 #include "workloads/eval/trajectory.hpp"
+#include "workloads/frontend/stereo_frontend.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::modes {
@@ -20,6 +25,23 @@ namespace edx::modes {
 /// so that neither the pool's idle threads nor their waiting count (docs/TRACE.md, Host times).
 std::pair<backend::BackendOutput, std::int64_t> run_backend_timed(
     backend::Backend& backend, const backend::BackendInput& input);
+
+/// Runs `backend` on the frame at images.t_ns with the IMU samples and GPS fixes since
+/// previous_t_ns, and records its host time and status in `frame`.
+backend::BackendOutput run_backend_on_frame(backend::Backend& backend,
+                                            const datasets::Dataset& dataset,
+                                            const datasets::StereoFrame& images,
+                                            const frontend::FrontendFrame& frontend,
+                                            std::int64_t previous_t_ns, trace::FrameRecord& frame);
+
+/// Per-kernel host time series, ms per frame by kernel name (0 on frames where it did not run).
+using KernelSeries = std::map<std::string, std::vector<double>>;
+
+/// Adds frame number `frame` (0-based, the frames before it already in `series`): every known
+/// kernel's series gets a 0, then each kernel's host time is added to its series (a new kernel's
+/// series padded with 0 for the frames before).
+void add_kernel_times(KernelSeries& series, std::size_t frame,
+                      const std::vector<trace::KernelRecord>& kernels);
 
 /// Ground truth is interpolated between samples at most this far apart.
 inline constexpr std::int64_t kMaxGroundTruthGapNs = 250'000'000;

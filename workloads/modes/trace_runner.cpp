@@ -3,21 +3,19 @@
 #include <fmt/core.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <limits>
-#include <map>
-#include <span>
+#include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "workloads/backend/slam/slam_backend.hpp"
 #include "workloads/eval/trajectory.hpp"
 #include "workloads/frontend/stereo_frontend.hpp"
 #include "workloads/frontend/task_timer.hpp"
-#include "workloads/frontend/trace_meta.hpp"
-#include "workloads/modes/host_speed_meter.hpp"
 #include "workloads/modes/pipeline.hpp"
-#include "workloads/trace/host_clock.hpp"
+#include "workloads/modes/trace_session.hpp"
 #include "workloads/trace/writer.hpp"
 
 namespace edx::modes {
@@ -38,6 +36,198 @@ nlohmann::json stats_json(const SampleStats& s) {
           {"p50", s.p50},   {"p99", s.p99}, {"max", s.max}};
 }
 
+/// The default scenario: outdoor for KITTI and for EuRoC-layout data with GPS, indoor otherwise;
+/// the known variant when the frames have a map.
+trace::Scenario default_scenario(const TraceRunOptions& options, const datasets::Dataset& dataset,
+                                 bool map_available) {
+  const bool outdoor = options.format == datasets::DatasetFormat::kKitti || !dataset.gps().empty();
+  return outdoor ? (map_available ? trace::Scenario::OutdoorKnown : trace::Scenario::OutdoorUnknown)
+                 : (map_available ? trace::Scenario::IndoorKnown : trace::Scenario::IndoorUnknown);
+}
+
+/// One `edx trace` run: the dataset, its frontend and backend, the frames' records and the
+/// per-frame series the summary is made of.
+class TraceRun {
+ public:
+  /// Opens the dataset and builds the backend. Throws when there are no frames, or when a map
+  /// is to be saved without the SLAM backend.
+  explicit TraceRun(const TraceRunOptions& options);
+
+  std::size_t frames() const { return frames_; }
+  /// The trace's meta for this run.
+  TraceRunMeta meta() const;
+  /// Frame i through the frontend and the backend: its trace record.
+  trace::FrameTrace trace_frame(std::size_t i);
+  /// Saves the map (map_out), and the summary of the frames traced, with the accuracy of the
+  /// estimate (wall_seconds left to the caller).
+  TraceRunSummary finish();
+
+ private:
+  void add_frontend_series(const FrontendFrame& result);
+  std::optional<eval::EvalResult> accuracy() const;
+
+  const TraceRunOptions& options_;
+  std::unique_ptr<datasets::Dataset> dataset_;
+  std::size_t frames_;
+  std::unique_ptr<backend::Backend> backend_;
+  /// Registration localizes in a prebuilt map: the frames have a map (the known scenarios).
+  bool map_available_ = false;
+  trace::Scenario scenario_ = trace::Scenario::IndoorUnknown;
+  const backend::slam::SlamBackend* map_builder_ = nullptr;  ///< the backend when it is SLAM's
+  TraceRunSummary summary_;
+  /// Made last, so that the dataset's and the backend's errors come first.
+  std::optional<StereoFrontend> frontend_;
+  std::int64_t previous_t_ns_ = std::numeric_limits<std::int64_t>::min();
+
+  // Per-frame series.
+  std::vector<std::vector<double>> task_ms_;
+  std::vector<std::pair<trace::Task, trace::Image>> task_kinds_;
+  std::vector<double> frontend_ms_, left_, right_, tracked_, added_, stereo_, backend_ms_;
+  KernelSeries kernel_ms_;
+  eval::Trajectory truth_poses_, estimated_poses_;
+};
+
+TraceRun::TraceRun(const TraceRunOptions& options)
+    : options_(options),
+      dataset_(datasets::open_dataset(options.dataset_path, options.format, options.dataset)),
+      frames_(std::min(dataset_->frame_count(),
+                       options.max_frames.value_or(std::numeric_limits<std::size_t>::max()))) {
+  if (frames_ == 0) {
+    throw std::runtime_error(fmt::format("{}: no stereo frames to process", dataset_->name()));
+  }
+  if (options.make_backend) backend_ = options.make_backend(*dataset_);
+  map_available_ = backend_ && backend_->mode() == trace::BackendMode::Registration;
+  scenario_ = options.scenario.value_or(default_scenario(options, *dataset_, map_available_));
+  const datasets::CameraIntrinsics& k = dataset_->calibration().rectified;
+  summary_.out = options.out;
+  summary_.dataset = dataset_->name();
+  summary_.sequence = sequence_name(options.dataset_path, options.format, options.dataset);
+  summary_.resolution = fmt::format("{}x{}", k.width, k.height);
+  summary_.scenario = trace::to_string(scenario_);
+  summary_.backend_mode = trace::to_string(backend_ ? backend_->mode() : trace::BackendMode::None);
+  map_builder_ = dynamic_cast<const backend::slam::SlamBackend*>(backend_.get());
+  if (options.map_out && !map_builder_) {
+    throw std::runtime_error(fmt::format("{}: saving a map needs the slam backend (got {})",
+                                         options.map_out->string(), summary_.backend_mode));
+  }
+  truth_poses_.source = dataset_->name() + " ground truth";
+  estimated_poses_.source = "the estimate of " + dataset_->name();
+  truth_poses_.stamp_kind = estimated_poses_.stamp_kind = eval::StampKind::kSeconds;
+  frontend_.emplace(options.frontend,
+                    frontend::StereoCamera{k.fx, dataset_->calibration().baseline_m});
+}
+
+TraceRunMeta TraceRun::meta() const {
+  const datasets::StereoCalibration& calibration = dataset_->calibration();
+  const datasets::CameraIntrinsics& k = calibration.rectified;
+  TraceRunMeta meta;
+  meta.dataset = summary_.dataset;
+  meta.sequence = summary_.sequence;
+  meta.resolution = summary_.resolution;
+  meta.camera_model =
+      fmt::format("pinhole-rectified fx={:.4f} fy={:.4f} cx={:.4f} cy={:.4f} b={:.6f}m", k.fx, k.fy,
+                  k.cx, k.cy, calibration.baseline_m);
+  meta.pipeline_params = {{"backend_mode", summary_.backend_mode}};
+  meta.frames = frames_;
+  return meta;
+}
+
+trace::FrameTrace TraceRun::trace_frame(std::size_t i) {
+  const datasets::StereoFrame images = dataset_->load_frame(i);
+  FrontendFrame result;
+  try {
+    result = frontend_->process(images.left, images.right);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(fmt::format("{}: {}", dataset_->name(), e.what()));
+  }
+
+  const auto frame_id = static_cast<std::int64_t>(i);
+  trace::FrameTrace record;
+  record.frame.frame_id = frame_id;
+  record.frame.timestamp_ns = images.t_ns;
+  record.frame.sequence = summary_.sequence;
+  record.frame.scenario = scenario_;
+  record.frame.mode = backend_ ? backend_->mode() : trace::BackendMode::None;
+  record.frame.gps_available = gps_near(dataset_->gps(), images.t_ns);
+  record.frame.map_available = map_available_;
+  if (const std::optional<Eigen::Isometry3d> truth = ground_truth_at(*dataset_, images.t_ns)) {
+    record.frame.ground_truth_pose = to_pose_array(*truth);
+    truth_poses_.poses.push_back(stamped(images.t_ns, frame_id, *truth));
+    ++summary_.ground_truth_frames;
+  }
+  record.frame.frontend_host_ns = result.host_ns;
+  record.tasks = result.tasks;
+  if (backend_) {
+    backend::BackendOutput output =
+        run_backend_on_frame(*backend_, *dataset_, images, result, previous_t_ns_, record.frame);
+    if (output.T_world_body) {
+      record.frame.estimated_pose = to_pose_array(*output.T_world_body);
+      estimated_poses_.poses.push_back(stamped(images.t_ns, frame_id, *output.T_world_body));
+    }
+    add_kernel_times(kernel_ms_, backend_ms_.size(), output.kernels);
+    backend_ms_.push_back(static_cast<double>(record.frame.backend_host_ns) * 1e-6);
+    record.kernels = std::move(output.kernels);
+  }
+  previous_t_ns_ = images.t_ns;
+  add_frontend_series(result);
+  return record;
+}
+
+void TraceRun::add_frontend_series(const FrontendFrame& result) {
+  if (task_ms_.empty()) {
+    task_ms_.resize(result.tasks.size());
+    for (const trace::TaskRecord& t : result.tasks) task_kinds_.emplace_back(t.task, t.image);
+  }
+  for (std::size_t t = 0; t < result.tasks.size() && t < task_ms_.size(); ++t) {
+    task_ms_[t].push_back(static_cast<double>(result.tasks[t].host_ns) * 1e-6);
+  }
+  frontend_ms_.push_back(static_cast<double>(result.host_ns) * 1e-6);
+  left_.push_back(result.stats.left_keypoints);
+  right_.push_back(result.stats.right_keypoints);
+  tracked_.push_back(result.stats.tracked);
+  added_.push_back(result.stats.new_features);
+  stereo_.push_back(result.stats.stereo_matches);
+}
+
+TraceRunSummary TraceRun::finish() {
+  TraceRunSummary summary = std::move(summary_);
+  if (options_.map_out) {
+    const backend::slam::Map map = map_builder_->map();
+    backend::slam::save_map(map, *options_.map_out);
+    summary.map_out = options_.map_out;
+    summary.map_keyframes = map.keyframes.size();
+    summary.map_landmarks = map.landmarks.size();
+  }
+  summary.frames = frames_;
+  for (std::size_t t = 0; t < task_ms_.size(); ++t) {
+    summary.tasks.push_back({task_kinds_[t].first, task_kinds_[t].second, summarize(task_ms_[t])});
+  }
+  summary.frontend_ms = summarize(frontend_ms_);
+  summary.left_keypoints = summarize(left_);
+  summary.right_keypoints = summarize(right_);
+  summary.tracked = summarize(tracked_);
+  summary.new_features = summarize(added_);
+  summary.stereo_matches = summarize(stereo_);
+  summary.backend_ms = summarize(backend_ms_);
+  summary.estimated_frames = estimated_poses_.poses.size();
+  for (const auto& [name, series] : kernel_ms_)
+    summary.kernel_ms.emplace_back(name, summarize(series));
+  summary.accuracy = accuracy();
+  return summary;
+}
+
+std::optional<eval::EvalResult> TraceRun::accuracy() const {
+  if (!backend_) return std::nullopt;
+  eval::EvalOptions eval_options;
+  eval_options.alignment = options_.alignment.value_or(
+      dataset_->imu().empty() ? eval::AlignmentMethod::kSe3 : eval::AlignmentMethod::kPosYaw);
+  eval_options.t_max_diff_s = 1e-3;  // both sides are stamped with the frame times
+  if (estimated_poses_.poses.size() < eval::min_pairs_for(eval_options.alignment) ||
+      truth_poses_.poses.empty()) {
+    return std::nullopt;
+  }
+  return eval::evaluate(truth_poses_, estimated_poses_, eval_options);
+}
 }  // namespace
 
 std::string sequence_name(const fs::path& dataset_path, datasets::DatasetFormat format,
@@ -59,175 +249,15 @@ TraceRunSummary run_trace(const TraceRunOptions& options, const TraceProgress& p
   const frontend::TracingThreads threads(options.frontend.parallel_images);
   options.frontend.validate();
   trace::TraceWriter::check_output(options.out, options.overwrite);  // before any work
-  const std::unique_ptr<datasets::Dataset> dataset =
-      datasets::open_dataset(options.dataset_path, options.format, options.dataset);
-  std::size_t frames = dataset->frame_count();
-  if (options.max_frames) frames = std::min(frames, *options.max_frames);
-  if (frames == 0) {
-    throw std::runtime_error(fmt::format("{}: no stereo frames to process", dataset->name()));
+  TraceRun run(options);
+  TraceSession session(run.meta(),
+                       {options.out, options.overwrite, options.frontend, options.host_speed});
+  for (std::size_t i = 0; i < run.frames(); ++i) {
+    session.append(run.trace_frame(i));
+    if (progress) progress(i + 1, run.frames());
   }
-  const datasets::StereoCalibration& calibration = dataset->calibration();
-  const datasets::CameraIntrinsics& k = calibration.rectified;
-  std::unique_ptr<backend::Backend> backend;
-  if (options.make_backend) backend = options.make_backend(*dataset);
-  // Registration localizes in a prebuilt map: the frames have a map (the known scenarios).
-  const bool map_available = backend && backend->mode() == trace::BackendMode::Registration;
-  const bool outdoor = options.format == datasets::DatasetFormat::kKitti || !dataset->gps().empty();
-  const trace::Scenario scenario = options.scenario.value_or(
-      outdoor ? (map_available ? trace::Scenario::OutdoorKnown : trace::Scenario::OutdoorUnknown)
-              : (map_available ? trace::Scenario::IndoorKnown : trace::Scenario::IndoorUnknown));
-
-  TraceRunSummary summary;
-  summary.out = options.out;
-  summary.dataset = dataset->name();
-  summary.sequence = sequence_name(options.dataset_path, options.format, options.dataset);
-  summary.resolution = fmt::format("{}x{}", k.width, k.height);
-  summary.scenario = trace::to_string(scenario);
-
-  trace::TraceMeta meta = frontend::host_and_build_meta();
-  meta["dataset"] = summary.dataset;
-  meta["sequence"] = summary.sequence;
-  meta["resolution"] = summary.resolution;
-  meta["camera_model"] =
-      fmt::format("pinhole-rectified fx={:.4f} fy={:.4f} cx={:.4f} cy={:.4f} b={:.6f}m", k.fx, k.fy,
-                  k.cx, k.cy, calibration.baseline_m);
-  summary.backend_mode = trace::to_string(backend ? backend->mode() : trace::BackendMode::None);
-  const auto* map_builder = dynamic_cast<const backend::slam::SlamBackend*>(backend.get());
-  if (options.map_out && !map_builder) {
-    throw std::runtime_error(fmt::format("{}: saving a map needs the slam backend (got {})",
-                                         options.map_out->string(), summary.backend_mode));
-  }
-  meta["pipeline_params"] = nlohmann::json{
-      {"frontend", frontend::to_json(options.frontend)},
-      {"backend_mode",
-       summary.backend_mode}}.dump();
-  meta["frames"] = std::to_string(frames);
-  meta["opencv_version"] = CV_VERSION;
-
-  // How fast this machine is, sampled over the whole run (host_speed_meter.hpp).
-  HostSpeedMeterOptions host_speed_options = options.host_speed;
-  host_speed_options.parallel_images = options.frontend.parallel_images;
-  HostSpeedMeter host_speed(host_speed_options);
-  host_speed.start();
-  meta["host_speed"] = trace::to_meta_value(host_speed.result());
-
-  trace::TraceWriterOptions writer_options;
-  writer_options.overwrite = options.overwrite;
-  trace::TraceWriter writer(options.out, meta, writer_options);
-  StereoFrontend frontend(options.frontend, {k.fx, calibration.baseline_m});
-
-  std::vector<std::vector<double>> task_ms;
-  std::vector<std::pair<trace::Task, trace::Image>> task_kinds;
-  std::vector<double> frontend_ms, left, right, tracked, added, stereo, backend_ms;
-  std::map<std::string, std::vector<double>> kernel_ms;  // name -> ms per frame (0 when absent)
-  eval::Trajectory truth_poses, estimated_poses;
-  truth_poses.source = dataset->name() + " ground truth";
-  estimated_poses.source = "the estimate of " + dataset->name();
-  truth_poses.stamp_kind = estimated_poses.stamp_kind = eval::StampKind::kSeconds;
-  std::int64_t previous_t_ns = std::numeric_limits<std::int64_t>::min();
-  for (std::size_t i = 0; i < frames; ++i) {
-    const datasets::StereoFrame images = dataset->load_frame(i);
-    FrontendFrame result;
-    try {
-      result = frontend.process(images.left, images.right);
-    } catch (const std::runtime_error& e) {
-      throw std::runtime_error(fmt::format("{}: {}", dataset->name(), e.what()));
-    }
-
-    trace::FrameTrace record;
-    record.frame.frame_id = static_cast<std::int64_t>(i);
-    record.frame.timestamp_ns = images.t_ns;
-    record.frame.sequence = summary.sequence;
-    record.frame.scenario = scenario;
-    record.frame.mode = backend ? backend->mode() : trace::BackendMode::None;
-    record.frame.gps_available = gps_near(dataset->gps(), images.t_ns);
-    record.frame.map_available = map_available;
-    if (const auto truth = datasets::interpolate_ground_truth(dataset->ground_truth(), images.t_ns,
-                                                              kMaxGroundTruthGapNs)) {
-      record.frame.ground_truth_pose = to_pose_array(truth->T_world_body);
-      truth_poses.poses.push_back(
-          stamped(images.t_ns, static_cast<std::int64_t>(i), truth->T_world_body));
-      ++summary.ground_truth_frames;
-    }
-    record.frame.frontend_host_ns = result.host_ns;
-    record.tasks = result.tasks;
-    if (backend) {
-      backend::BackendInput input;
-      input.t_ns = images.t_ns;
-      input.frontend = &result;
-      input.left_image = &images.left;
-      input.imu = between(dataset->imu(), previous_t_ns, images.t_ns);
-      input.gps = between(dataset->gps(), previous_t_ns, images.t_ns);
-      auto [output, backend_ns] = run_backend_timed(*backend, input);
-      record.frame.backend_host_ns = backend_ns;
-      record.frame.backend_status = output.status;
-      if (output.T_world_body) {
-        record.frame.estimated_pose = to_pose_array(*output.T_world_body);
-        estimated_poses.poses.push_back(
-            stamped(images.t_ns, static_cast<std::int64_t>(i), *output.T_world_body));
-      }
-      for (auto& [name, series] : kernel_ms) series.push_back(0.0);
-      for (const trace::KernelRecord& kernel : output.kernels) {
-        auto& series = kernel_ms[kernel.kernel];
-        series.resize(backend_ms.size() + 1, 0.0);
-        series.back() += static_cast<double>(kernel.host_ns) * 1e-6;
-      }
-      backend_ms.push_back(static_cast<double>(record.frame.backend_host_ns) * 1e-6);
-      record.kernels = std::move(output.kernels);
-    }
-    previous_t_ns = images.t_ns;
-    writer.append(record);
-    host_speed.after_frame(record.frame.frontend_host_ns + record.frame.backend_host_ns);
-
-    if (task_ms.empty()) {
-      task_ms.resize(result.tasks.size());
-      for (const trace::TaskRecord& t : result.tasks) task_kinds.emplace_back(t.task, t.image);
-    }
-    for (std::size_t t = 0; t < result.tasks.size() && t < task_ms.size(); ++t) {
-      task_ms[t].push_back(static_cast<double>(result.tasks[t].host_ns) * 1e-6);
-    }
-    frontend_ms.push_back(static_cast<double>(result.host_ns) * 1e-6);
-    left.push_back(result.stats.left_keypoints);
-    right.push_back(result.stats.right_keypoints);
-    tracked.push_back(result.stats.tracked);
-    added.push_back(result.stats.new_features);
-    stereo.push_back(result.stats.stereo_matches);
-    if (progress) progress(i + 1, frames);
-  }
-  host_speed.finish_into(writer);
-  writer.finish();
-  if (options.map_out) {
-    const backend::slam::Map map = map_builder->map();
-    backend::slam::save_map(map, *options.map_out);
-    summary.map_out = options.map_out;
-    summary.map_keyframes = map.keyframes.size();
-    summary.map_landmarks = map.landmarks.size();
-  }
-
-  summary.frames = frames;
-  for (std::size_t t = 0; t < task_ms.size(); ++t) {
-    summary.tasks.push_back({task_kinds[t].first, task_kinds[t].second, summarize(task_ms[t])});
-  }
-  summary.frontend_ms = summarize(frontend_ms);
-  summary.left_keypoints = summarize(left);
-  summary.right_keypoints = summarize(right);
-  summary.tracked = summarize(tracked);
-  summary.new_features = summarize(added);
-  summary.stereo_matches = summarize(stereo);
-  summary.backend_ms = summarize(backend_ms);
-  summary.estimated_frames = estimated_poses.poses.size();
-  for (const auto& [name, series] : kernel_ms)
-    summary.kernel_ms.emplace_back(name, summarize(series));
-  if (backend) {
-    eval::EvalOptions eval_options;
-    eval_options.alignment = options.alignment.value_or(
-        dataset->imu().empty() ? eval::AlignmentMethod::kSe3 : eval::AlignmentMethod::kPosYaw);
-    eval_options.t_max_diff_s = 1e-3;  // both sides are stamped with the frame times
-    if (estimated_poses.poses.size() >= eval::min_pairs_for(eval_options.alignment) &&
-        !truth_poses.poses.empty()) {
-      summary.accuracy = eval::evaluate(truth_poses, estimated_poses, eval_options);
-    }
-  }
+  session.finish();
+  TraceRunSummary summary = run.finish();
   summary.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
   return summary;

@@ -263,8 +263,8 @@ TEST(RunRows, ExportedRowsImportToTheSameTables) {
   const SweepOutcome out = run_sweep(s, o);
   SQLite::Database a(o.db.string());
   const nlohmann::json rows = export_run_rows(a, out.points.at(0).run_id);
-  EXPECT_EQ(rows["tables"]["runs"].size(), 1u);
-  EXPECT_EQ(rows["tables"]["frames"].size(), 8u);  // 4 frames, baseline and accelerated
+  EXPECT_EQ(rows["tables"]["runs"]["rows"].size(), 1u);
+  EXPECT_EQ(rows["tables"]["frames"]["rows"].size(), 8u);  // 4 frames, baseline and accelerated
   SQLite::Database b(":memory:", SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
   create_results_tables(b);
   import_run_rows(b, rows);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "arch/results/results_db.hpp"
+#include "arch/system/result_rows.hpp"
 #include "tests/arch/system/hand_tasks.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -330,10 +331,10 @@ TEST(ResultsDatabase, HoldsEveryTableAndReplacesARerun) {
   testing::TempDir dir;
   const auto path = dir.path() / "results.db";
   const SystemResult r = simulate_system(test_platform("oracle"), three_frames(), kMeta, "t.db");
-  write_results(path, r);
-  write_results(path, r);  // same config and trace: replaced, not duplicated
+  write_results(path, result_rows(r));
+  write_results(path, result_rows(r));  // same config and trace: replaced, not duplicated
   Platform other = test_platform("never");
-  write_results(path, simulate_system(other, three_frames(), kMeta, "t.db"));
+  write_results(path, result_rows(simulate_system(other, three_frames(), kMeta, "t.db")));
 
   SQLite::Database db(path.string());
   EXPECT_EQ(db.execAndGet("SELECT COUNT(*) FROM runs").getInt(), 2);
@@ -350,6 +351,8 @@ TEST(ResultsDatabase, HoldsEveryTableAndReplacesARerun) {
               43.0, 1e-9);
   EXPECT_EQ(count("SELECT offloaded FROM offload WHERE run_id = ? AND frame_id = 0"), 1);
   EXPECT_EQ(count("SELECT COUNT(*) FROM offload WHERE run_id = ?"), 2);
+  // Spill time and bytes are stored for every invocation (0 when it fits the SPM).
+  EXPECT_EQ(count("SELECT COUNT(spill_ms) + COUNT(spill_bytes) FROM offload WHERE run_id = ?"), 4);
   // 3 modes (registration, slam, all) x 3 stages x 2 variants.
   EXPECT_EQ(count("SELECT COUNT(*) FROM latency WHERE run_id = ?"), 18);
   EXPECT_NEAR(count("SELECT mean FROM latency WHERE run_id = ? AND variant = 'baseline' AND "
@@ -373,7 +376,7 @@ TEST(ResultsDatabase, FailedWriteLeavesNothing) {
     db.exec("CREATE TABLE frames (run_id TEXT, x INTEGER)");
   }
   const SystemResult r = simulate_system(test_platform("oracle"), three_frames(), kMeta, "t.db");
-  EXPECT_THROW(write_results(path, r), std::runtime_error);
+  EXPECT_THROW(write_results(path, result_rows(r)), std::runtime_error);
   SQLite::Database db(path.string());
   EXPECT_FALSE(db.tableExists("runs"));  // the whole transaction was rolled back
 }

@@ -1,9 +1,9 @@
 #include "workloads/backend/registration/pose_solver.hpp"
 
 #include <cmath>
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core/eigen.hpp>
+#include <optional>
 
+#include "workloads/backend/pnp_ransac.hpp"
 #include "workloads/backend/so3.hpp"
 
 namespace edx::backend::registration {
@@ -24,36 +24,26 @@ PnpResult solve_pnp_ransac(const BackendCamera& camera,
                            const RegistrationOptions& options) {
   PnpResult result;
   if (correspondences.size() < 4) return result;
-  std::vector<cv::Point3d> object;
-  std::vector<cv::Point2d> image;
-  object.reserve(correspondences.size());
-  image.reserve(correspondences.size());
+  std::vector<Eigen::Vector3d> world;
+  std::vector<Eigen::Vector2d> pixels;
+  world.reserve(correspondences.size());
+  pixels.reserve(correspondences.size());
   for (const Correspondence& c : correspondences) {
-    object.emplace_back(c.world.x(), c.world.y(), c.world.z());
-    image.emplace_back(c.pixel.x(), c.pixel.y());
+    world.push_back(c.world);
+    pixels.push_back(c.pixel);
   }
-  const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
-  cv::Mat rvec, tvec;
-  std::vector<int> inliers;
-  bool ok = false;
-  try {
-    ok = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false,
-                            options.pnp_iterations, static_cast<float>(options.pnp_reprojection_px),
-                            options.pnp_confidence, inliers, cv::SOLVEPNP_EPNP);
-  } catch (const cv::Exception&) {
-    ok = false;  // degenerate configurations (e.g. collinear points)
+  const std::optional<PnpSolution> solution =
+      pnp_ransac(world, pixels, {camera.fx, camera.fy, camera.cx, camera.cy},
+                 {.iterations = options.pnp_iterations,
+                  .reprojection_threshold = options.pnp_reprojection_px,
+                  .confidence = options.pnp_confidence,
+                  .method = PnpMethod::kEpnp});
+  if (!solution || static_cast<int>(solution->inliers.size()) < options.pnp_min_inliers) {
+    return result;
   }
-  if (!ok || static_cast<int>(inliers.size()) < options.pnp_min_inliers) return result;
-  cv::Matx33d R;
-  cv::Rodrigues(rvec, R);
-  Eigen::Matrix3d Re;
-  Eigen::Vector3d te;
-  cv::cv2eigen(R, Re);
-  cv::cv2eigen(tvec, te);
-  if (!Re.allFinite() || !te.allFinite()) return result;
-  result.T_cam_world.linear() = Re;
-  result.T_cam_world.translation() = te;
-  result.inliers.assign(inliers.begin(), inliers.end());
+  if (!solution->T_cam_object.matrix().allFinite()) return result;
+  result.T_cam_world = solution->T_cam_object;
+  result.inliers.assign(solution->inliers.begin(), solution->inliers.end());
   result.ok = true;
   return result;
 }

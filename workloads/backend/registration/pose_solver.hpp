@@ -38,9 +38,10 @@ struct PnpResult {
   std::vector<std::size_t> inliers;  ///< indices into the correspondences
 };
 
-/// cv::solvePnPRansac (EPnP on minimal sets, OpenCV's fixed RNG seed: deterministic) on the
-/// correspondences; ok when at least options.pnp_min_inliers agree within
-/// options.pnp_reprojection_px. Fewer than 4 correspondences: not ok.
+/// RANSAC PnP (pnp_ransac.hpp: EPnP on minimal sets, options.pnp_iterations and
+/// pnp_confidence) on the correspondences; ok when at least options.pnp_min_inliers agree within
+/// options.pnp_reprojection_px and the pose is finite. Fewer than 4 correspondences or a solver
+/// failure: not ok.
 PnpResult solve_pnp_ransac(const BackendCamera& camera,
                            const std::vector<Correspondence>& correspondences,
                            const RegistrationOptions& options);

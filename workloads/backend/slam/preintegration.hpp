@@ -15,14 +15,10 @@
 #include <span>
 #include <vector>
 
+#include "workloads/backend/imu_noise.hpp"
 #include "workloads/datasets/dataset.hpp"
 
 namespace edx::backend::slam {
-
-/// Continuous-time IMU noise (densities and random walks, Kalibr units).
-struct ImuNoiseDensities {
-  double gyro_noise = 0, accel_noise = 0, gyro_walk = 0, accel_walk = 0;
-};
 
 class Preintegration {
  public:

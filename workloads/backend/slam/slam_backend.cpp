@@ -324,8 +324,7 @@ std::unique_ptr<Backend> make_slam_backend(const datasets::Dataset& dataset,
                                            const SlamOptions& options) {
   std::optional<ImuNoiseDensities> imu;
   if (const auto noise = dataset.imu_noise(); noise && !dataset.imu().empty()) {
-    imu = ImuNoiseDensities{noise->gyro_noise_density, noise->accel_noise_density,
-                            noise->gyro_random_walk, noise->accel_random_walk};
+    imu = ImuNoiseDensities::from(*noise);
   }
   return std::make_unique<SlamBackend>(BackendCamera::from(dataset.calibration()), imu, options,
                                        dataset.name());

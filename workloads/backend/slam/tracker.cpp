@@ -2,8 +2,9 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
-#include <opencv2/calib3d.hpp>
+#include <optional>
 
+#include "workloads/backend/pnp_ransac.hpp"
 #include "workloads/backend/slam/factors.hpp"
 #include "workloads/backend/so3.hpp"
 
@@ -121,31 +122,22 @@ TrackingResult track_frame(const Window& window, const std::vector<frontend::Fea
   classify();
   const int predicted_inliers = result.inliers;
   {
-    std::vector<cv::Point3d> object;
-    std::vector<cv::Point2d> image;
+    std::vector<Eigen::Vector3d> world;
+    std::vector<Eigen::Vector2d> left;
     for (const Match& m : matches) {
-      object.emplace_back(m.X.x(), m.X.y(), m.X.z());
-      image.emplace_back(m.left.x(), m.left.y());
+      world.push_back(m.X);
+      left.push_back(m.left);
     }
-    const cv::Matx33d K(cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
-    cv::Mat rvec, tvec;
-    std::vector<int> inliers;
-    const bool solved = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, 100,
-                                           static_cast<float>(options.outlier_px), 0.99, inliers,
-                                           cv::SOLVEPNP_EPNP);
-    if (solved && static_cast<int>(inliers.size()) > predicted_inliers) {
-      cv::Matx33d R_cw;
-      cv::Rodrigues(rvec, R_cw);
-      Eigen::Matrix3d R_cam_world;
-      for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) R_cam_world(r, c) = R_cw(r, c);
-      }
-      const Eigen::Vector3d t_cam_world(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+    const std::optional<PnpSolution> solution =
+        pnp_ransac(world, left, {cam.fx, cam.fy, cam.cx, cam.cy},
+                   {.iterations = 100,
+                    .reprojection_threshold = options.outlier_px,
+                    .confidence = 0.99,
+                    .method = PnpMethod::kEpnp});
+    if (solution && static_cast<int>(solution->inliers.size()) > predicted_inliers) {
       // T_world_body = T_world_cam T_cam_body = (T_cam_world)^-1 T_body_left^-1.
-      Eigen::Isometry3d T_cam_world = Eigen::Isometry3d::Identity();
-      T_cam_world.linear() = R_cam_world;
-      T_cam_world.translation() = t_cam_world;
-      const Eigen::Isometry3d T_world_body = T_cam_world.inverse() * cam.T_body_left.inverse();
+      const Eigen::Isometry3d T_world_body =
+          solution->T_cam_object.inverse() * cam.T_body_left.inverse();
       R = T_world_body.linear();
       p = T_world_body.translation();
       result.used_ransac = true;

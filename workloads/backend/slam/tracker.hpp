@@ -6,8 +6,8 @@
 //   dP_c/dp = -R_bc^T R^T,  dP_c/dtheta = R_bc^T [P_b]x,   (H + 1e-6 I) dx = -J^T W r,
 // then matches off by more than outlier_px are dropped and the pose refined once more. The
 // starting pose is the better (more inliers) of the prediction and a RANSAC PnP on the left
-// image (cv::solvePnPRansac: EPnP on minimal sets, fixed RNG seed, so deterministic), which
-// rejects the wrong LK tracks that would otherwise pull a non-redescending loss.
+// image (pnp_ransac.hpp: EPnP on minimal sets, 100 iterations, outlier_px, confidence 0.99),
+// which rejects the wrong LK tracks that would otherwise pull a non-redescending loss.
 #include <Eigen/Geometry>
 #include <vector>
 

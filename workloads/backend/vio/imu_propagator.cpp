@@ -87,7 +87,8 @@ int ImuPropagator::propagate(VioState& state, std::int64_t t_ns) {
     Phi.block<3, 3>(kVel, kTheta) = -A * dt;
     Phi.block<3, 3>(kVel, kAccelBias) = -R * dt;
     Mat15 Q = Mat15::Zero();
-    const double sg2 = noise_.gyro * noise_.gyro, sa2 = noise_.accel * noise_.accel;
+    const double sg2 = noise_.gyro_noise * noise_.gyro_noise,
+                 sa2 = noise_.accel_noise * noise_.accel_noise;
     Q.block<3, 3>(kTheta, kTheta) = sg2 * dt * I3;
     Q.block<3, 3>(kVel, kVel) = sa2 * dt * I3;
     Q.block<3, 3>(kPos, kPos) = sa2 * dt * dt * dt / 3.0 * I3;

@@ -16,14 +16,11 @@
 #include <optional>
 #include <span>
 
+#include "workloads/backend/imu_noise.hpp"
 #include "workloads/backend/vio/vio_state.hpp"
 #include "workloads/datasets/dataset.hpp"
 
 namespace edx::backend::vio {
-
-struct ImuNoiseDensities {
-  double gyro = 0, accel = 0, gyro_walk = 0, accel_walk = 0;
-};
 
 class ImuPropagator {
  public:

@@ -4,9 +4,8 @@
 
 #include <Eigen/QR>
 #include <map>
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core/eigen.hpp>
 
+#include "workloads/backend/pnp_ransac.hpp"
 #include "workloads/backend/vio/vio_state.hpp"
 
 namespace edx::backend::vio {
@@ -98,6 +97,53 @@ std::optional<InitialState> Initializer::try_static() {
   return state;
 }
 
+std::optional<std::vector<Eigen::Isometry3d>> Initializer::chained_pnp_poses() {
+  const Eigen::Isometry3d T_IC = T_body_left_;
+  // Each step uses the nearest, freshest stereo points. PnP of every frame against frame 0's
+  // points alone would reference all of them to one set of stereo depths: on a street with a
+  // 0.11 m baseline their depth errors (a few % at 10-30 m, the points changing as the car closes
+  // in on them) gave position errors of up to 0.24 m within 1 s, hence gravity 0.8 m/s^2
+  // (0.08 rad) and velocity 0.6-0.9 m/s off (6-9 sigma of the prior, docs/VIO.md).
+  const int n = static_cast<int>(frames_.size()) - 1;
+  std::vector<Eigen::Isometry3d> T_I0_I(frames_.size(), Eigen::Isometry3d::Identity());
+  Eigen::Isometry3d T_Ck_C0 = Eigen::Isometry3d::Identity();
+  for (int k = 1; k <= n; ++k) {
+    // Stereo points of frame k-1 in its left camera.
+    std::map<std::int64_t, Eigen::Vector3d> points;
+    for (const FrameFeature& f : frames_[static_cast<std::size_t>(k - 1)].features) {
+      if (f.depth_m <= 0) continue;
+      points[f.id] = f.depth_m * Eigen::Vector3d(f.observation.left.x(), f.observation.left.y(), 1);
+    }
+    std::vector<Eigen::Vector3d> object;
+    std::vector<Eigen::Vector2d> image;
+    for (const FrameFeature& f : frames_[static_cast<std::size_t>(k)].features) {
+      const auto it = points.find(f.id);
+      if (it == points.end()) continue;
+      object.push_back(it->second);
+      image.push_back(f.observation.left);
+    }
+    if (object.size() < 12) {
+      reason_ = fmt::format("only {} stereo points of frame {} tracked into frame {}",
+                            object.size(), k - 1, k);
+      return std::nullopt;
+    }
+    // Normalized image coordinates (K = I): the 2 px threshold over the focal length.
+    const std::optional<PnpSolution> step = pnp_ransac(object, image, PnpIntrinsics{},
+                                                       {.iterations = 200,
+                                                        .reprojection_threshold = 2.0 / focal_px_,
+                                                        .confidence = 0.99,
+                                                        .method = PnpMethod::kIterative});
+    if (!step || step->inliers.size() < 10) {
+      reason_ = "PnP failed on the initialization frames";
+      return std::nullopt;
+    }
+    const Eigen::Isometry3d& T_step = step->T_cam_object;  // C_k <- C_k-1
+    T_Ck_C0 = T_step * T_Ck_C0;
+    T_I0_I[static_cast<std::size_t>(k)] = T_IC * T_Ck_C0.inverse() * T_IC.inverse();
+  }
+  return T_I0_I;
+}
+
 std::optional<InitialState> Initializer::try_moving() {
   const std::int64_t t0 = frames_.front().t_ns;
   // Preintegrates the IMU with gyro bias b at every frame time (empty when the samples do not
@@ -127,57 +173,10 @@ std::optional<InitialState> Initializer::try_moving() {
     if (frame < frames_.size()) at_frame.clear();
     return at_frame;
   };
-  const Eigen::Isometry3d T_IC = T_body_left_;
-  // Camera poses by chaining frame-to-frame PnP: frame k against the stereo points of frame k-1,
-  // T_CkC0 = T_CkCk-1 T_Ck-1C0. PnP against frame 0's points only (as before) referenced every
-  // frame to one set of stereo depths: on a street with a 0.11 m baseline their depth errors (a
-  // few % at 10-30 m, the points changing as the car closes in on them) gave position errors of
-  // up to 0.24 m within 1 s, hence gravity 0.8 m/s^2 (0.08 rad) and velocity 0.6-0.9 m/s off
-  // (6-9 sigma of the prior, docs/VIO.md). Each step uses the nearest, freshest points.
+  const std::optional<std::vector<Eigen::Isometry3d>> visual = chained_pnp_poses();
+  if (!visual) return std::nullopt;
+  const std::vector<Eigen::Isometry3d>& T_I0_I = *visual;
   const int n = static_cast<int>(frames_.size()) - 1;
-  std::vector<Eigen::Isometry3d> T_I0_I(frames_.size(), Eigen::Isometry3d::Identity());
-  Eigen::Isometry3d T_Ck_C0 = Eigen::Isometry3d::Identity();
-  for (int k = 1; k <= n; ++k) {
-    // Stereo points of frame k-1 in its left camera.
-    std::map<std::int64_t, Eigen::Vector3d> points;
-    for (const FrameFeature& f : frames_[static_cast<std::size_t>(k - 1)].features) {
-      if (f.depth_m <= 0) continue;
-      points[f.id] = f.depth_m * Eigen::Vector3d(f.observation.left.x(), f.observation.left.y(), 1);
-    }
-    std::vector<cv::Point3d> object;
-    std::vector<cv::Point2d> image;
-    for (const FrameFeature& f : frames_[static_cast<std::size_t>(k)].features) {
-      const auto it = points.find(f.id);
-      if (it == points.end()) continue;
-      object.emplace_back(it->second.x(), it->second.y(), it->second.z());
-      image.emplace_back(f.observation.left.x(), f.observation.left.y());
-    }
-    if (object.size() < 12) {
-      reason_ = fmt::format("only {} stereo points of frame {} tracked into frame {}",
-                            object.size(), k - 1, k);
-      return std::nullopt;
-    }
-    cv::Mat rvec, tvec;
-    std::vector<int> inliers;
-    const bool ok =
-        cv::solvePnPRansac(object, image, cv::Mat::eye(3, 3, CV_64F), cv::Mat(), rvec, tvec, false,
-                           200, 2.0 / focal_px_, 0.99, inliers, cv::SOLVEPNP_ITERATIVE);
-    if (!ok || inliers.size() < 10) {
-      reason_ = "PnP failed on the initialization frames";
-      return std::nullopt;
-    }
-    cv::Mat R_cv;
-    cv::Rodrigues(rvec, R_cv);
-    Eigen::Matrix3d R_step;
-    Eigen::Vector3d t_step;
-    cv::cv2eigen(R_cv, R_step);
-    cv::cv2eigen(tvec, t_step);
-    Eigen::Isometry3d T_step = Eigen::Isometry3d::Identity();  // C_k <- C_k-1
-    T_step.linear() = R_step;
-    T_step.translation() = t_step;
-    T_Ck_C0 = T_step * T_Ck_C0;
-    T_I0_I[static_cast<std::size_t>(k)] = T_IC * T_Ck_C0.inverse() * T_IC.inverse();
-  }
   // Gyro bias from the visual rotations (VINS-Mono's gyroscope bias calibration, Qin, Li & Shen,
   // T-RO 2018, Sec. V-B): R_0k(b) = R_0k(0) Exp(D_k b) should equal the PnP rotation R_0k^vis,
   // so b = argmin sum_k |Log(R_0k(b)^T R_0k^vis) - D_k db|^2, two Gauss-Newton steps. At rest or

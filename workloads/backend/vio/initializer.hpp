@@ -62,6 +62,10 @@ class Initializer {
   };
   std::optional<InitialState> try_static();
   std::optional<InitialState> try_moving();
+  /// Body poses T_I0_Ik of frames k relative to frame 0 by chaining frame-to-frame PnP, frame k
+  /// against the stereo points of frame k-1: T_CkC0 = T_CkCk-1 T_Ck-1C0, T_I0_Ik = T_IC T_C0Ck
+  /// T_IC^-1. std::nullopt (and the reason) when a step has too few points or inliers.
+  std::optional<std::vector<Eigen::Isometry3d>> chained_pnp_poses();
 
   VioOptions options_;
   Eigen::Isometry3d T_body_left_;

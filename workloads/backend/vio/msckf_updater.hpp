@@ -39,6 +39,9 @@ struct UpdateReport {
   bool updated = false;
 };
 
+/// A track's observations in the window and its rows during one update (msckf_updater.cpp).
+struct FeatureRows;
+
 class MsckfUpdater {
  public:
   /// baseline_m: stereo baseline; focal_px: to turn the pixel sigma into normalized units.
@@ -51,13 +54,45 @@ class MsckfUpdater {
   double sigma_normalized() const { return sigma_; }
 
  private:
+  /// The accepted features' rows stacked (H, r), and the rows of each feature in H's order.
+  struct StackedRows {
+    Eigen::MatrixXd H;
+    Eigen::VectorXd r;
+    std::vector<Eigen::Index> feature_rows;
+  };
+
   double chi2_threshold(int dof);
+  /// Kernel "triangulation": the tracks with at least min_track_length observations in the
+  /// window whose point triangulates from the clone cameras.
+  std::vector<FeatureRows> triangulate_tracks(const VioState& state,
+                                              const std::vector<const FeatureTrack*>& tracks,
+                                              KernelRecorder& recorder) const;
+  /// Kernel "jacobians": every feature's H_x, H_f and r (whitened with kRandomWalk).
+  void measurement_jacobians(const VioState& state, std::vector<FeatureRows>& features,
+                             KernelRecorder& recorder) const;
+  /// Kernel "nullspace_projection": the point projected out of every feature's rows, the
+  /// chi-square gate, the accepted rows stacked (gate figures into `report`).
+  StackedRows project_out_points(const VioState& state, std::vector<FeatureRows>& features,
+                                 UpdateReport& report, KernelRecorder& recorder);
+  /// Kernel "compression" when the rows outnumber the state columns H touches: H <- T,
+  /// r <- Q1^T r (thin QR on those columns). False (rows unchanged, no kernel) otherwise.
+  bool compress(StackedRows& rows, int state_dim, KernelRecorder& recorder) const;
+  /// Kernels "kalman_gain" and "covariance_update" per group of rows, all at the state's
+  /// linearization point; the state corrected when at least one gain applied.
+  void sequential_update(VioState& state, const StackedRows& rows,
+                         const std::vector<Eigen::Index>& group_rows, UpdateReport& report,
+                         KernelRecorder& recorder) const;
 
   VioOptions options_;
   double baseline_m_;
   double focal_px_;
   double sigma_;       ///< the update's measurement sigma (effective_pixel_sigma), normalized units
   double gate_sigma_;  ///< the chi-square gate's white sigma (pixel_sigma), normalized units
+  /// kRandomWalk: rows whitened by the track's covariance, so unit variance at the gate and the
+  /// inflation (1 + rho) / (1 - rho) in the update (sigma_^2 / gate_sigma_^2).
+  bool whiten_;
+  double update_variance_;  ///< per row in the EKF update
+  double gate_variance_;    ///< per row at the chi-square gate
   std::vector<double> chi2_table_;
 };
 

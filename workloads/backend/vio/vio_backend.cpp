@@ -10,11 +10,6 @@
 namespace edx::backend::vio {
 namespace {
 
-ImuNoiseDensities densities(const datasets::ImuNoise& noise, double scale) {
-  return {noise.gyro_noise_density * scale, noise.accel_noise_density * scale,
-          noise.gyro_random_walk * scale, noise.accel_random_walk * scale};
-}
-
 const BackendCamera& checked(const BackendCamera& camera) {
   if (!(camera.fx > 0 && camera.fy > 0 && camera.baseline_m > 0)) {
     throw std::runtime_error(fmt::format(
@@ -35,7 +30,8 @@ VioBackend::VioBackend(const BackendCamera& camera, const datasets::ImuNoise& im
                        const VioOptions& options)
     : camera_(checked(camera)),
       options_(validated(options)),
-      propagator_(densities(imu_noise, options.imu_noise_scale), options.gravity_m_s2),
+      propagator_(ImuNoiseDensities::from(imu_noise, options.imu_noise_scale),
+                  options.gravity_m_s2),
       initializer_(options, camera.T_body_left, camera.fx),
       updater_(options, camera.baseline_m, camera.fx),
       gps_(options),
