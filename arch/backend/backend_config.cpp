@@ -15,44 +15,21 @@ namespace {
 /// Keys of `backend:` before the units were instances (2026-11-28): where each went.
 const std::map<std::string, std::string>& moved_keys() {
   static const std::map<std::string, std::string> moved = {
-      {"gemm_block", "units.<name>.block of a systolic_array unit"},
-      {"gemm_overlap_tiles", "units.<name>.overlap_tiles of a systolic_array unit"},
-      {"decomp_block", "units.<name>.block of a decomposition unit"},
-      {"inverse_lanes", "units.<name>.lanes of an inverse unit"},
-      {"structured_inverse", "units.<name>.structured of an inverse unit"},
-      {"transpose_words_per_cycle", "units.<name>.words_per_cycle of a transpose unit"},
-      {"trsv_lanes", "units.<name>.lanes of a substitution unit"},
-      {"blocked_solvers", "units.<name>.blocked of the decomposition and substitution units"},
+      {"gemm_block", "backend.units.<name>.block of a systolic_array unit"},
+      {"gemm_overlap_tiles", "backend.units.<name>.overlap_tiles of a systolic_array unit"},
+      {"decomp_block", "backend.units.<name>.block of a decomposition unit"},
+      {"inverse_lanes", "backend.units.<name>.lanes of an inverse unit"},
+      {"structured_inverse", "backend.units.<name>.structured of an inverse unit"},
+      {"transpose_words_per_cycle", "backend.units.<name>.words_per_cycle of a transpose unit"},
+      {"trsv_lanes", "backend.units.<name>.lanes of a substitution unit"},
+      {"blocked_solvers",
+       "backend.units.<name>.blocked of the decomposition and substitution units"},
       {"divide_latency_cycles",
-       "units.<name>.divide_latency_cycles of the decomposition, inverse and substitution units"},
-      {"sqrt_latency_cycles", "units.<name>.sqrt_latency_cycles of a decomposition unit"},
+       "backend.units.<name>.divide_latency_cycles of the decomposition, inverse and substitution "
+       "units"},
+      {"sqrt_latency_cycles", "backend.units.<name>.sqrt_latency_cycles of a decomposition unit"},
   };
   return moved;
-}
-
-/// One `backend.units.<name>` map: its kind (`default_kind` when it names a default unit and
-/// gives none), the instance keys, then the kind's own keys over their defaults.
-MatrixUnitInstance parse_unit(const std::string& name, const YAML::Node& node,
-                              const std::string& where, const std::string& prefix, int scalar_bytes,
-                              std::string_view default_kind) {
-  YamlFields fields(node, where, prefix + "." + name);
-  const YAML::Node kind = fields.take("kind");
-  const auto& registry = ComponentRegistry<MatrixUnit>::instance();
-  if ((!kind && default_kind.empty()) || (kind && !kind.IsScalar())) {
-    fields.fail("kind", fmt::format("required for a unit not among the defaults: one of {}",
-                                    registry.names()));
-  }
-  const std::string kind_name = kind ? kind.Scalar() : std::string(default_kind);
-  const ComponentEntry<MatrixUnit>* entry = registry.find(kind_name);
-  if (entry == nullptr) {
-    fields.fail("kind", fmt::format("expected one of {}, got '{}'", registry.names(), kind_name));
-  }
-  MatrixUnitInstance unit;
-  unit.name = name;
-  unit.precision = scalar_bytes == 4 ? "single" : "double";
-  parse_fields(fields, unit, MatrixUnitInstance::fields());
-  unit.unit = entry->parse(fields);  // the kind's keys; unknown keys refused there
-  return unit;
 }
 
 }  // namespace
@@ -134,11 +111,7 @@ BackendConfig BackendConfig::from_yaml(const YAML::Node& node, const std::string
                                        const std::string& prefix) {
   BackendConfig config;
   YamlFields yaml(node, where, prefix);
-  for (const auto& [key, now] : moved_keys()) {
-    if (node && node.IsMap() && node[key]) {
-      yaml.fail(key, fmt::format("moved: now {}.{} (docs/CONFIG.md)", prefix, now));
-    }
-  }
+  yaml.refuse_moved(moved_keys());
   parse_fields(yaml, config, fields());
   const YAML::Node units = yaml.take("units");
   yaml.finish();
@@ -147,22 +120,10 @@ BackendConfig BackendConfig::from_yaml(const YAML::Node& node, const std::string
   }
   if (units) {
     if (!units.IsMap()) yaml.fail("units", "expected a map of named units");
-    // The default units are the implicit parent: a listed name among them overrides it (its
-    // kind kept unless given), a new name adds a unit, count: 0 leaves one out.
-    for (const auto& item : units) {
-      const std::string name = item.first.Scalar();
-      const auto it = std::find_if(config.units.begin(), config.units.end(),
-                                   [&](const MatrixUnitInstance& u) { return u.name == name; });
-      const std::string_view default_kind =
-          it != config.units.end() ? it->unit->kind() : std::string_view();
-      MatrixUnitInstance unit = parse_unit(name, item.second, where, prefix + ".units",
-                                           config.scalar_bytes, default_kind);
-      if (it != config.units.end()) {
-        *it = std::move(unit);
-      } else {
-        config.units.push_back(std::move(unit));
-      }
-    }
+    parse_instances<MatrixUnit>(units, where, prefix + ".units", config.units,
+                                [&](MatrixUnitInstance& unit) {
+                                  unit.precision = config.scalar_bytes == 4 ? "single" : "double";
+                                });
   }
   validate_at(yaml, [&config] { config.validate(); });
   return config;
@@ -173,25 +134,10 @@ std::vector<ReferenceRow> BackendConfig::reference() {
   rows.push_back(reference_row("backend", "units", FieldKind::kText, "",
                                std::string("the five units of Table II"), {}, {},
                                "the matrix units, a map of named instances (below)"));
-  rows.push_back(reference_row(
-      "backend.units.<name>", "kind", FieldKind::kText, "", std::string(), {},
-      [] {
-        std::vector<std::string> kinds;
-        for (const auto* e : ComponentRegistry<MatrixUnit>::instance().entries()) {
-          kinds.push_back(e->name);
-        }
-        return kinds;
-      }(),
-      "the unit's kind: required for a unit not among the defaults, which keep "
-      "theirs (gemm: systolic_array, decomposition, inverse, transpose, "
-      "substitution); its own keys follow"));
-  for (const ReferenceRow& row :
-       reference_rows("backend.units.<name>", MatrixUnitInstance::fields())) {
-    rows.push_back(row);
-  }
-  for (const auto* entry : ComponentRegistry<MatrixUnit>::instance().entries()) {
-    for (ReferenceRow row : entry->reference("backend.units.<name>"))
-      rows.push_back(std::move(row));
+  for (ReferenceRow& row : instance_reference<MatrixUnit, MatrixUnitInstance>(
+           "backend.units", "<name>",
+           "gemm: systolic_array, decomposition, inverse, transpose, substitution")) {
+    rows.push_back(std::move(row));
   }
   return rows;
 }

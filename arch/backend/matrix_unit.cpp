@@ -25,12 +25,7 @@ const FieldList<MatrixUnitInstance>& MatrixUnitInstance::fields() {
   return list;
 }
 
-nlohmann::json MatrixUnitInstance::to_json() const {
-  nlohmann::json j = {{"kind", std::string(unit->kind())}};
-  j.update(fields_to_json(*this, fields()));
-  j.update(unit->params_json());
-  return j;
-}
+nlohmann::json MatrixUnitInstance::to_json() const { return instance_json(*this); }
 
 MatrixUnitInstance make_matrix_unit(std::string name, std::string_view kind, int count) {
   MatrixUnitInstance m;

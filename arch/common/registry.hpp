@@ -28,6 +28,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "arch/common/config_fields.hpp"
@@ -143,6 +144,78 @@ ComponentEntry<Interface> component_entry(std::string name, std::string doc) {
                           fmt::format("`{}` of kind `{}`: {}", section, name, doc));
   };
   return e;
+}
+
+/// Instances of a component kind, as a platform section lists them: a map of named instances,
+/// each `{kind: K, <instance keys>, <K's own keys>}`, over a list of defaults. A listed name among
+/// the defaults overrides that instance (its kind kept unless given, every key over its default);
+/// a new name adds an instance, its kind required. `Instance` has `name`, `unit` (a
+/// std::shared_ptr<const Interface>) and a field list of its instance keys (`fields()`).
+/// `prepare(instance)` sets the defaults of the instance keys before they are read (e.g. a
+/// precision that follows the section's scalar format). Errors name file, line and key.
+template <class Interface, class Instance>
+void parse_instances(const YAML::Node& map, const std::string& where, const std::string& prefix,
+                     std::vector<Instance>& instances,
+                     const std::function<void(std::type_identity_t<Instance>&)>& prepare = {}) {
+  const auto& registry = ComponentRegistry<Interface>::instance();
+  for (const auto& item : map) {
+    const std::string name = item.first.Scalar();
+    const auto it = std::find_if(instances.begin(), instances.end(),
+                                 [&](const Instance& i) { return i.name == name; });
+    YamlFields fields(item.second, where, prefix + "." + name);
+    const YAML::Node kind = fields.take("kind");
+    if ((!kind && it == instances.end()) || (kind && !kind.IsScalar())) {
+      fields.fail("kind", fmt::format("required for a unit not among the defaults: one of {}",
+                                      registry.names()));
+    }
+    const std::string kind_name = kind ? kind.Scalar() : std::string(it->unit->kind());
+    const ComponentEntry<Interface>* entry = registry.find(kind_name);
+    if (entry == nullptr) {
+      fields.fail("kind", fmt::format("expected one of {}, got '{}'", registry.names(), kind_name));
+    }
+    Instance instance;
+    instance.name = name;
+    if (prepare) prepare(instance);
+    parse_fields(fields, instance, Instance::fields());
+    instance.unit = entry->parse(fields);  // the kind's keys; unknown keys refused there
+    if (it != instances.end()) {
+      *it = std::move(instance);
+    } else {
+      instances.push_back(std::move(instance));
+    }
+  }
+}
+
+/// An instance as JSON: its kind, its instance keys and its kind's parameters.
+template <class Instance>
+nlohmann::json instance_json(const Instance& instance) {
+  nlohmann::json j = {{"kind", std::string(instance.unit->kind())}};
+  j.update(fields_to_json(instance, Instance::fields()));
+  j.update(instance.unit->params_json());
+  return j;
+}
+
+/// The reference of a section's instances (`section` "backend.units", an instance written
+/// `placeholder`, "<name>"): `kind` (`defaults` describes the default instances' kinds), the
+/// instance keys, then every registered kind's own keys, each kind in a table of its own.
+template <class Interface, class Instance>
+std::vector<ReferenceRow> instance_reference(const std::string& section,
+                                             const std::string& placeholder,
+                                             const std::string& defaults) {
+  const std::string at = section + "." + placeholder;
+  const auto& registry = ComponentRegistry<Interface>::instance();
+  std::vector<std::string> kinds;
+  for (const auto* e : registry.entries()) kinds.push_back(e->name);
+  std::vector<ReferenceRow> rows = {reference_row(
+      at, "kind", FieldKind::kText, "", std::string(), {}, kinds,
+      fmt::format("the unit's kind: required for a unit not among the defaults, which keep "
+                  "theirs ({}); its own keys follow",
+                  defaults))};
+  for (ReferenceRow& row : reference_rows(at, Instance::fields())) rows.push_back(std::move(row));
+  for (const auto* entry : registry.entries()) {
+    for (ReferenceRow& row : entry->reference(at)) rows.push_back(std::move(row));
+  }
+  return rows;
 }
 
 /// The JSON of an implementation's parameters (its params_json()).

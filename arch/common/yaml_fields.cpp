@@ -84,6 +84,15 @@ void YamlFields::fail(const std::string& key, const std::string& message) const 
   throw std::runtime_error(fmt::format("{}{}: {}.{}: {}", where_, line, prefix_, key, message));
 }
 
+void YamlFields::refuse_moved(const std::map<std::string, std::string>& moved) const {
+  if (!node_ || !node_.IsMap()) return;
+  for (const auto& [key, now] : moved) {
+    if (static_cast<const YAML::Node&>(node_)[key]) {
+      fail(key, fmt::format("moved: now {} (docs/CONFIG.md)", now));
+    }
+  }
+}
+
 YAML::Node YamlFields::take(const std::string& key) {
   read_.insert(key);
   // Undefined (false), not YAML::Node() (a defined null), when there is no such key.

@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <initializer_list>
+#include <map>
 #include <set>
 #include <string>
 
@@ -31,6 +32,9 @@ class YamlFields {
   /// finish(), with `sections` (maps parsed by their own readers) counted as read.
   void finish_except(std::initializer_list<const char*> sections);
 
+  /// Fails at the first key of `moved` the map holds: "file:line: prefix.key: moved: now <where
+  /// it went> (docs/CONFIG.md)" (keys an older edx read here).
+  void refuse_moved(const std::map<std::string, std::string>& moved) const;
   /// "file:line: prefix.key: message" for errors found later (e.g. in validate()). `key` may be
   /// dotted ("units.gemm"): the line is that of the nested key.
   [[noreturn]] void fail(const std::string& key, const std::string& message) const;

@@ -1,21 +1,15 @@
 #include "arch/cost/cost_config.hpp"
 
+#include <map>
+
 #include "arch/common/yaml_fields.hpp"
 
 namespace edx::arch::cost {
-Arithmetic CostConfig::frontend_arith() const {
-  return parse_arithmetic(frontend_arithmetic, "cost.frontend_arithmetic");
-}
 
 const FieldList<CostConfig>& CostConfig::fields() {
   using C = CostConfig;
   const Bounds fraction = Bounds::at_least(0);
   static const FieldList<C> list = {
-      choice_field("frontend_arithmetic", &C::frontend_arithmetic, "", {"fixed", "single"},
-                   "multiply-accumulates of IF and LSS: fixed point (one DSP) or single precision"),
-      field("if_separable", &C::if_separable, "", "IF as two 1-D passes (2k taps) instead of k^2"),
-      field("fc_angle_bins", &C::fc_angle_bins, "", "rBRIEF's rotated-pattern table entries",
-            Bounds::at_least(1)),
       field("frontend_lut_overhead", &C::frontend_lut_overhead, "",
             "control and glue LUTs as a fraction of the frontend datapath's (calibrated)",
             fraction),
@@ -45,6 +39,13 @@ void CostConfig::validate() const { check_fields(*this, "cost", fields()); }
 nlohmann::json CostConfig::to_json() const { return fields_to_json(*this, fields()); }
 
 CostConfig CostConfig::from_yaml(const YAML::Node& node, const std::string& where) {
+  // Keys of `cost:` that became the frontend units' own (2026-11-28).
+  static const std::map<std::string, std::string> moved = {
+      {"frontend_arithmetic", "frontend.units.IF.arithmetic and frontend.units.LSS.arithmetic"},
+      {"if_separable", "frontend.units.IF.separable"},
+      {"fc_angle_bins", "frontend.units.FC.angle_bins"},
+  };
+  YamlFields(node, where, "cost").refuse_moved(moved);
   return parse_section<CostConfig>(node, where, "cost");
 }
 

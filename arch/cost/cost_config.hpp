@@ -18,11 +18,6 @@ namespace edx::arch::cost {
 
 /// `cost:` section: knobs of the resource model.
 struct CostConfig {
-  /// Multiply-accumulates of IF and LSS: "fixed" (one DSP each) or "single" (PG060). Selected
-  /// against Table III (docs/MODEL.md): single precision brings DSP within 12 % uncalibrated.
-  std::string frontend_arithmetic = "single";
-  bool if_separable = false;  ///< IF as two 1-D passes (2k taps) instead of k^2
-  int fc_angle_bins = 30;     ///< rBRIEF's rotated-pattern table (ORB: 12 degrees)
   /// Control and glue logic (FSMs, AXI/DMA ports, handshakes, pipeline registers, fan-out) as a
   /// fraction of each group's datapath LUTs / FFs (units and memories). Calibrated on Edx-Car's
   /// Table III LUT / FF totals x frontend shares (calibrate_control_overheads, docs/MODEL.md).
@@ -40,8 +35,8 @@ struct CostConfig {
   bool ns_fe_per_camera = false;
   bool ns_backend_per_kernel = true;  ///< one set of units per kernel (Table II)
 
-  Arithmetic frontend_arith() const;
-  /// Every key of `cost:` (docs/CONFIG.md). The backend's precision is backend.scalar_bytes.
+  /// Every key of `cost:` (docs/CONFIG.md). The units' arithmetic is each unit's own
+  /// (frontend.units.IF.arithmetic, backend.units.<name>.precision).
   static const FieldList<CostConfig>& fields();
   void validate() const;  ///< throws std::runtime_error "cost.<field>: expected ..."
   nlohmann::json to_json() const;

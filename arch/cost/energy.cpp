@@ -11,10 +11,6 @@ namespace {
 
 constexpr double kPico = 1e-12;
 
-void require(bool ok, const char* field, const char* expected) {
-  if (!ok) throw std::runtime_error(fmt::format("activity.{}: expected {}", field, expected));
-}
-
 /// compute_j, memory_j and link_j of `a` (frame_energy's work-proportional terms).
 void dynamic_parts(const FrameActivity& a, const PowerConfig& p, FrameEnergy& e) {
   const double op_pj = a.int8_ops * p.int8_op_pj + a.fixed_macs * p.fixed_mac_pj +
@@ -25,26 +21,6 @@ void dynamic_parts(const FrameActivity& a, const PowerConfig& p, FrameEnergy& e)
 }
 
 }  // namespace
-
-void FrameActivity::validate() const {
-  require(frame_s > 0, "frame_s", "a frame time > 0 s");
-  require(host_busy_s >= 0 && host_busy_s <= frame_s, "host_busy_s", "a time in [0, frame_s]");
-  require(int8_ops >= 0, "int8_ops", "a count >= 0");
-  require(fixed_macs >= 0, "fixed_macs", "a count >= 0");
-  require(single_macs >= 0, "single_macs", "a count >= 0");
-  require(double_macs >= 0, "double_macs", "a count >= 0");
-  require(bram_bytes >= 0, "bram_bytes", "a count >= 0");
-  require(dram_bytes >= 0, "dram_bytes", "a count >= 0");
-  require(link_bytes >= 0, "link_bytes", "a count >= 0");
-}
-
-nlohmann::json FrameActivity::to_json() const {
-  return {{"frame_s", frame_s},           {"host_busy_s", host_busy_s},
-          {"fpga_present", fpga_present}, {"int8_ops", int8_ops},
-          {"fixed_macs", fixed_macs},     {"single_macs", single_macs},
-          {"double_macs", double_macs},   {"bram_bytes", bram_bytes},
-          {"dram_bytes", dram_bytes},     {"link_bytes", link_bytes}};
-}
 
 nlohmann::json FrameEnergy::to_json() const {
   return {{"fpga_static_j", fpga_static_j}, {"host_j", host_j}, {"compute_j", compute_j},

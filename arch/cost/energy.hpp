@@ -14,25 +14,10 @@
 #include <vector>
 
 #include "arch/cost/cost_config.hpp"
+#include "arch/cost/energy_activity.hpp"
 #include "arch/cost/resource_report.hpp"
 
 namespace edx::arch::cost {
-
-/// What one frame did.
-struct FrameActivity {
-  double frame_s = 0;      ///< t_frame: frame period (1 / throughput)
-  double host_busy_s = 0;  ///< t_host: host computing within the frame (<= frame_s)
-  bool fpga_present = true;
-  double int8_ops = 0;    ///< pixel operations (adds, compares, |a − b|)
-  double fixed_macs = 0;  ///< fixed-point multiply-accumulates
-  double single_macs = 0;
-  double double_macs = 0;
-  double bram_bytes = 0;  ///< on-chip memory traffic
-  double dram_bytes = 0;
-  double link_bytes = 0;  ///< host <-> FPGA
-  void validate() const;  ///< throws std::runtime_error naming the field
-  nlohmann::json to_json() const;
-};
 
 struct FrameEnergy {
   double fpga_static_j = 0;

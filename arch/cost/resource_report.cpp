@@ -7,7 +7,6 @@
 #include <stdexcept>
 
 #include "arch/backend/op_timing.hpp"
-#include "arch/cost/unit_costs.hpp"
 
 namespace edx::arch::cost {
 namespace {
@@ -71,6 +70,13 @@ Resources device_totals(const Device& d) {
 
 double mib_of_blocks(double blocks) { return to_mib(bytes_of_blocks(blocks, false)); }
 
+/// "Misc." of Fig. 14: one adder at the backend's precision (e.g. + R in S = H P H^T + R).
+Resources misc_cost(const BackendConfig& be) {
+  Datapath d;
+  d.fp(1, be.scalar_bytes == 4 ? kSingleAdd : kDoubleAdd);
+  return d.resources();
+}
+
 }  // namespace
 
 nlohmann::json CostEntry::to_json() const {
@@ -125,13 +131,14 @@ ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConf
   ResourceReport r;
   r.device = device;
   auto& v = r.entries;
-  v.push_back(entry("FD", "frontend", "unit", fd_cost(fe), fe_copies));
-  v.push_back(entry("IF", "frontend", "unit", if_cost(fe, cost), fe_copies));
-  v.push_back(entry("FC", "frontend", "unit", fc_cost(fe, cost), fe_copies));
-  v.push_back(entry("MO", "frontend", "unit", mo_cost(fe), modes));
-  v.push_back(entry("DR", "frontend", "unit", dr_cost(fe), modes));
-  v.push_back(entry("DC", "frontend", "unit", dc_cost(fe), modes));
-  v.push_back(entry("LSS", "frontend", "unit", lss_cost(fe, cost), modes));
+  // The FE engine's units (FD, IF, FC) are replicated per camera too without sharing.
+  for (const FrontendUnitInstance& u : fe.units) {
+    const trace::Task task = u.unit->task();
+    const bool fe_engine =
+        task == trace::Task::FD || task == trace::Task::IF || task == trace::Task::FC;
+    v.push_back(entry(u.name, "frontend", "unit", u.unit->resources(fe) * u.count,
+                      fe_engine ? fe_copies : modes));
+  }
   for (const MemoryStructure& s : frontend_memories) {
     s.validate();
     v.push_back(entry(s.name, "frontend", "memory", memory_cost(s, cost),

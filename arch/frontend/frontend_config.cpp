@@ -1,8 +1,54 @@
 #include "arch/frontend/frontend_config.hpp"
 
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+
 #include "arch/common/yaml_fields.hpp"
 
 namespace edx::arch {
+namespace {
+
+/// Keys of `frontend:` before the units were instances (2026-11-28): where each went.
+const std::map<std::string, std::string>& moved_keys() {
+  static const std::map<std::string, std::string> moved = {
+      {"fc_patch_rows_per_cycle", "frontend.units.FC.patch_rows_per_cycle"},
+      {"fc_tests_per_cycle", "frontend.units.FC.tests_per_cycle"},
+      {"mo_comparators", "frontend.units.MO.comparators"},
+      {"dr_pixels_per_cycle", "frontend.units.DR.pixels_per_cycle"},
+      {"dr_sad_units", "frontend.units.DR.sad_units"},
+      {"dc_pixels_per_cycle", "frontend.units.DC.pixels_per_cycle"},
+      {"lss_macs_per_cycle", "frontend.units.LSS.macs_per_cycle"},
+  };
+  return moved;
+}
+
+}  // namespace
+
+std::vector<FrontendUnitInstance> FrontendConfig::paper_frontend_units() {
+  using trace::Task;
+  return {
+      make_frontend_unit(Task::FD, "fast"),          make_frontend_unit(Task::IF, "gaussian"),
+      make_frontend_unit(Task::FC, "rbrief"),        make_frontend_unit(Task::MO, "hamming"),
+      make_frontend_unit(Task::DR, "sad_disparity"), make_frontend_unit(Task::DC, "scharr_pyramid"),
+      make_frontend_unit(Task::LSS, "lk_solver")};
+}
+
+const FrontendUnitInstance& FrontendConfig::unit(trace::Task task) const {
+  const std::size_t i = static_cast<std::size_t>(task);
+  if (i < units.size() && units[i].name == trace::to_string(task)) return units[i];
+  for (const FrontendUnitInstance& u : units) {
+    if (u.name == trace::to_string(task)) return u;
+  }
+  throw std::runtime_error(fmt::format("frontend.units: no unit for {}", trace::to_string(task)));
+}
+
+double FrontendConfig::clock_of(const FrontendUnitInstance& unit) const {
+  return unit.clock_mhz > 0 ? unit.clock_mhz : clock_mhz;
+}
 const FieldList<FrontendConfig>& FrontendConfig::fields() {
   using C = FrontendConfig;
   const Bounds count = Bounds::at_least(1);
@@ -11,27 +57,14 @@ const FieldList<FrontendConfig>& FrontendConfig::fields() {
   static const FieldList<C> list = {
       field("clock_mhz", &C::clock_mhz, "MHz", "frontend clock", Bounds::above(0).at_most(1000)),
       field("fe_pixels_per_cycle", &C::fe_pixels_per_cycle, "pixels/cycle",
-            "pyramid pixels FD and IF each consume a cycle", rate),
+            "the FE engine's input stream: pyramid pixels FD and IF each consume a cycle", rate),
       field("fd_stencil", &C::fd_stencil, "pixels",
             "FAST window side (Bresenham circle of radius 3: 7)", Bounds::at_least(3).odd_only()),
       field("if_stencil", &C::if_stencil, "pixels",
             "Gaussian kernel side (the trace's IF window_size wins)", count.odd_only()),
       field("fc_patch", &C::fc_patch, "pixels",
             "rBRIEF patch side (the trace's FC window_size wins)", Bounds::at_least(3).odd_only()),
-      field("fc_patch_rows_per_cycle", &C::fc_patch_rows_per_cycle, "rows/cycle",
-            "orientation: patch rows of moments a cycle", count),
-      field("fc_tests_per_cycle", &C::fc_tests_per_cycle, "tests/cycle",
-            "rBRIEF intensity tests a cycle (256 per descriptor)", count),
-      field("mo_comparators", &C::mo_comparators, "", "256-bit Hamming-distance units of MO",
-            count),
-      field("dr_pixels_per_cycle", &C::dr_pixels_per_cycle, "pixels/cycle",
-            "each image's level 0 streamed through DR's buffers", rate),
-      field("dr_sad_units", &C::dr_sad_units, "", "window SADs DR computes in parallel", count),
-      field("dc_pixels_per_cycle", &C::dc_pixels_per_cycle, "pixels/cycle",
-            "derivative (Scharr) stencil over the LK pyramid", rate),
       field("dc_stencil", &C::dc_stencil, "pixels", "Scharr kernel side", count.odd_only()),
-      field("lss_macs_per_cycle", &C::lss_macs_per_cycle, "MACs/cycle",
-            "multiply-accumulates a cycle of the LK solver", count),
       field("pipeline_fe_sm", &C::pipeline_fe_sm, "",
             "FE of frame t+1 overlaps SM of frame t (double buffers)"),
       field("frame_interval_ms", &C::frame_interval_ms, "ms",
@@ -61,12 +94,76 @@ const FieldList<FrontendConfig>& FrontendConfig::fields() {
   return list;
 }
 
-void FrontendConfig::validate() const { check_fields(*this, "frontend", fields()); }
+void FrontendConfig::validate() const {
+  check_fields(*this, "frontend", fields());
+  // One unit per task, in task order, each of a kind that runs its task.
+  if (units.size() != trace::kTasks.size()) {
+    throw std::runtime_error(fmt::format("frontend.units: expected the {} tasks' units, got {}",
+                                         trace::kTasks.size(), units.size()));
+  }
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    const FrontendUnitInstance& u = units[i];
+    const trace::Task task = trace::kTasks[i];
+    if (u.name != trace::to_string(task)) {
+      throw std::runtime_error(
+          fmt::format("frontend.units.{}: expected a task of the graph (FD, "
+                      "IF, FC, MO, DR, DC or LSS)",
+                      u.name));
+    }
+    if (u.unit == nullptr) throw std::runtime_error("frontend.units." + u.name + ": no unit kind");
+    if (u.unit->task() != task) {
+      throw std::runtime_error(
+          fmt::format("frontend.units.{}.kind: expected a kind that runs {}, "
+                      "got '{}' (it runs {})",
+                      u.name, u.name, u.unit->kind(), trace::to_string(u.unit->task())));
+    }
+    check_fields(u, "frontend.units." + u.name, FrontendUnitInstance::fields());
+  }
+}
 
-nlohmann::json FrontendConfig::to_json() const { return fields_to_json(*this, fields()); }
+nlohmann::json FrontendConfig::to_json() const {
+  nlohmann::json j = fields_to_json(*this, fields());
+  nlohmann::json list = nlohmann::json::object();
+  for (const FrontendUnitInstance& u : units) list[u.name] = u.to_json();
+  j["units"] = list;
+  return j;
+}
 
 FrontendConfig FrontendConfig::from_yaml(const YAML::Node& node, const std::string& where) {
-  return parse_section<FrontendConfig>(node, where, "frontend");
+  FrontendConfig config;
+  YamlFields yaml(node, where, "frontend");
+  yaml.refuse_moved(moved_keys());
+  parse_fields(yaml, config, fields());
+  const YAML::Node units = yaml.take("units");
+  yaml.finish();
+  if (units) {
+    if (!units.IsMap()) yaml.fail("units", "expected a map of the tasks' units (FD, IF, ...)");
+    for (const auto& item : units) {
+      const std::string name = item.first.Scalar();
+      if (std::none_of(trace::kTasks.begin(), trace::kTasks.end(),
+                       [&](trace::Task t) { return name == trace::to_string(t); })) {
+        yaml.fail("units." + name, "expected a task of the graph: FD, IF, FC, MO, DR, DC or LSS");
+      }
+    }
+    parse_instances<FrontendUnit>(units, where, "frontend.units", config.units);
+  }
+  validate_at(yaml, [&config] { config.validate(); });
+  return config;
+}
+
+std::vector<ReferenceRow> FrontendConfig::reference() {
+  std::vector<ReferenceRow> rows = reference_rows("frontend", fields());
+  rows.push_back(reference_row("frontend", "units", FieldKind::kText, "",
+                               std::string("the seven units of Sec. V"), {}, {},
+                               "the units, a map from each task (FD, IF, FC, MO, DR, DC, LSS) to "
+                               "its unit (below)"));
+  for (ReferenceRow& row : instance_reference<FrontendUnit, FrontendUnitInstance>(
+           "frontend.units", "<task>",
+           "FD: fast, IF: gaussian, FC: rbrief, MO: hamming, DR: sad_disparity, "
+           "DC: scharr_pyramid, LSS: lk_solver")) {
+    rows.push_back(std::move(row));
+  }
+  return rows;
 }
 
 }  // namespace edx::arch

@@ -1,13 +1,18 @@
 #pragma once
-// The configured datapath of the frontend accelerator (paper Sec. V, Fig. 11): one clock, the
-// stream rates and parallel units of each task, the stencil sizes its stencil buffers serve, and
-// how frames are fed. Parsed from the `frontend:` section of a platform YAML (docs/MODEL.md
-// lists every field with its source); every field has a default, unknown keys are errors.
+// The configured frontend accelerator (paper Sec. V, Fig. 11): its units, one per task of the
+// graph, as instances of registered unit kinds (frontend_unit.hpp, arch/frontend/units/), and
+// what they share: the clock, the FE input stream's rate, the stencil sizes its stencil buffers
+// serve (the algorithm's), the memories' formats and how frames are fed. Parsed from the
+// `frontend:` section of a platform YAML (docs/MODEL.md lists every field with its source);
+// every field has a default, unknown keys are errors.
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "arch/common/config_fields.hpp"
+#include "arch/frontend/frontend_unit.hpp"
+#include "workloads/trace/records.hpp"
 
 namespace YAML {
 class Node;
@@ -17,21 +22,15 @@ namespace edx::arch {
 
 struct FrontendConfig {
   double clock_mhz = 150.0;  ///< frontend clock
-  // Feature extraction engine, time-shared between the left and right images.
-  double fe_pixels_per_cycle = 2.0;  ///< FD and IF each consume this many pyramid pixels a cycle
-  int fd_stencil = 7;                ///< FAST: Bresenham circle of radius 3 in a 7x7 window
-  int if_stencil = 7;                ///< Gaussian kernel side (the trace's IF window_size wins)
-  int fc_patch = 31;                 ///< rBRIEF patch side (the trace's FC window_size wins)
-  int fc_patch_rows_per_cycle = 1;   ///< orientation: one patch row of moments a cycle
-  int fc_tests_per_cycle = 32;       ///< rBRIEF intensity tests a cycle (256 per descriptor)
-  // Stereo matching.
-  int mo_comparators = 4;            ///< 256-bit Hamming-distance units
-  double dr_pixels_per_cycle = 0.5;  ///< each image's level 0 streamed through DR's buffers
-  int dr_sad_units = 11;             ///< window SADs computed in parallel (one per offset)
-  // Temporal matching.
-  double dc_pixels_per_cycle = 2.0;  ///< derivative (Scharr) stencil over the LK pyramid
-  int dc_stencil = 3;                ///< Scharr kernel side
-  int lss_macs_per_cycle = 64;       ///< multiply-accumulates a cycle of the LK solver
+  /// The feature-extraction engine's input stream (one SB feeds FD and IF, Sec. V-C, Fig. 12):
+  /// pyramid pixels FD and IF each consume a cycle.
+  double fe_pixels_per_cycle = 2.0;
+  // Stencil sizes: the algorithm's (Sec. V-C: "the window size of each stencil operation"),
+  // which size the stencil buffers; a trace row's window_size wins where it records one.
+  int fd_stencil = 7;  ///< FAST: Bresenham circle of radius 3 in a 7x7 window
+  int if_stencil = 7;  ///< Gaussian kernel side (the trace's IF window_size wins)
+  int fc_patch = 31;   ///< rBRIEF patch side (the trace's FC window_size wins)
+  int dc_stencil = 3;  ///< Scharr kernel side
   // Frames.
   bool pipeline_fe_sm = true;      ///< FE of frame t+1 overlaps SM of frame t (double buffers)
   double frame_interval_ms = 0.0;  ///< camera period; 0: frames back to back
@@ -54,10 +53,26 @@ struct FrontendConfig {
   int descriptor_bytes = 32;  ///< 256-bit rBRIEF
   int match_bytes = 8;        ///< MO -> DR: left index, right index, Hamming distance
   int track_bytes = 12;       ///< LSS: id + previous and current position
+  /// The units, one per task in trace::kTasks order: paper_frontend_units(), then what
+  /// `frontend.units` lists over them by task name (a unit's keys overridden, its kind kept
+  /// unless given).
+  std::vector<FrontendUnitInstance> units = paper_frontend_units();
 
-  /// Every key of `frontend:` (docs/CONFIG.md).
+  /// The instance serving `task`.
+  const FrontendUnitInstance& unit(trace::Task task) const;
+  /// An instance's clock: its own, else clock_mhz.
+  double clock_of(const FrontendUnitInstance& unit) const;
+  /// The seven units of the paper's frontend (Sec. V), each kind at its defaults (Edx-Car's
+  /// datapath): FD fast, IF gaussian, FC rbrief, MO hamming, DR sad_disparity, DC
+  /// scharr_pyramid, LSS lk_solver.
+  static std::vector<FrontendUnitInstance> paper_frontend_units();
+
+  /// The keys of `frontend:` besides `units` (docs/CONFIG.md).
   static const FieldList<FrontendConfig>& fields();
-  /// Throws std::runtime_error naming the field and the accepted range.
+  /// Every key of `frontend:`, `frontend.units.<task>` and each registered unit kind.
+  static std::vector<ReferenceRow> reference();
+  /// Throws std::runtime_error naming the field and the accepted range; every task has one unit
+  /// whose kind runs it.
   void validate() const;
   nlohmann::json to_json() const;
   /// Reads the fields present in `node` (a map) over the defaults; `where` (file name) prefixes

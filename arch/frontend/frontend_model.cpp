@@ -21,14 +21,13 @@ using sim::Simulator;
 using trace::Image;
 using trace::Task;
 
-constexpr std::array<Task, 7> kTasks = {Task::FD, Task::IF, Task::FC, Task::MO,
-                                        Task::DR, Task::DC, Task::LSS};
-
-/// One task: waits for its predecessors, then holds its unit for its cycles.
+/// One task: waits for its predecessors, then holds a copy of its unit for its cycles (on the
+/// unit's clock: a task that can start between its edges starts on the next one).
 Process run_task(Simulator& sim, const sim::ClockDomain& clock, Resource& unit,
                  std::vector<ProcessHandle> after, TaskSpan& span) {
   for (ProcessHandle& handle : after) co_await handle;
   Lease lease = co_await unit.acquire();
+  if (clock.next_edge(sim.now()) != sim.now()) co_await sim.cycles(clock, 0);
   span.start = sim.now();
   if (span.cycles > 0) co_await sim.cycles(clock, static_cast<std::uint64_t>(span.cycles));
   span.end = sim.now();
@@ -73,33 +72,12 @@ double span_ms(sim::Time begin, sim::Time end) { return sim::to_ms(end - begin);
 FrontendAccelerator::FrontendAccelerator(sim::Simulator& sim, const FrontendConfig& config)
     : sim_(&sim),
       clock_("frontend", (config.validate(), config.clock_mhz)),
-      fd_(sim, 1, "FD"),
-      if_(sim, 1, "IF"),
-      fc_(sim, 1, "FC"),
-      mo_(sim, 1, "MO"),
-      dr_(sim, 1, "DR"),
-      dc_(sim, 1, "DC"),
-      lss_(sim, 1, "LSS"),
-      buffers_(sim, config.pipeline_fe_sm ? 2 : 1, "frame buffers") {}
-
-sim::Resource& FrontendAccelerator::unit(Task task) noexcept {
-  switch (task) {
-    case Task::FD:
-      return fd_;
-    case Task::IF:
-      return if_;
-    case Task::FC:
-      return fc_;
-    case Task::MO:
-      return mo_;
-    case Task::DR:
-      return dr_;
-    case Task::DC:
-      return dc_;
-    case Task::LSS:
-      return lss_;
+      buffers_(sim, config.pipeline_fe_sm ? 2 : 1, "frame buffers") {
+  for (const FrontendUnitInstance& u : config.units) {
+    clocks_.push_back(std::make_unique<sim::ClockDomain>(u.name, config.clock_of(u)));
+    units_.push_back(
+        std::make_unique<Resource>(sim, static_cast<std::size_t>(u.count), std::string(u.name)));
   }
-  return fd_;
 }
 
 sim::Task<void> FrontendAccelerator::run_frame(FrontendFrameTiming& timing, DmaLink* link) {
@@ -112,7 +90,8 @@ sim::Task<void> FrontendAccelerator::run_frame(FrontendFrameTiming& timing, DmaL
   };
   const auto spawn = [&](Task task, Image image, std::vector<ProcessHandle> after) {
     // The unit's name (short: no allocation a task) names the process in the event log.
-    return sim.spawn(run_task(sim, clock_, unit(task), std::move(after), at(task, image)),
+    return sim.spawn(run_task(sim, *clocks_[static_cast<std::size_t>(task)], unit(task),
+                              std::move(after), at(task, image)),
                      trace::to_string(task));
   };
   // Spawn order is the queue order on each unit: the left image before the right one.
@@ -221,7 +200,7 @@ FrontendSimResult simulate_frontend(const std::vector<trace::FrameTrace>& frames
   } else if (result.makespan_ms > 0) {
     result.throughput_fps = 1e3 / result.makespan_ms;
   }
-  for (Task task : kTasks) {
+  for (Task task : trace::kTasks) {
     result.utilization.emplace_back(
         trace::to_string(task),
         result.makespan_ms > 0 ? sim::to_ms(busy[task]) / result.makespan_ms : 0.0);
@@ -230,7 +209,8 @@ FrontendSimResult simulate_frontend(const std::vector<trace::FrameTrace>& frames
   if (options.timeline) {
     sim::Timeline timeline;
     std::map<Task, sim::Timeline::TrackId> tracks;
-    for (Task task : kTasks) tracks[task] = timeline.track("frontend", trace::to_string(task));
+    for (Task task : trace::kTasks)
+      tracks[task] = timeline.track("frontend", trace::to_string(task));
     const sim::Timeline::TrackId frame_track = timeline.track("frontend", "frames");
     const std::size_t last =
         std::min(result.frames.size(), options.timeline_first + options.timeline_count);

@@ -3,8 +3,9 @@
 // frontend tasks of a trace: their work counts, not their host times.
 //
 // Units: FD, IF, FC (the feature-extraction engine, time-shared between the left and right
-// images: one unit of each), MO, DR (stereo matching), DC, LSS (temporal matching), each a
-// sim::Resource of capacity 1 on the frontend clock. Per frame, the task graph:
+// images: one copy of each), MO, DR (stereo matching), DC, LSS (temporal matching), each a
+// sim::Resource of its instance's copies (frontend.units.<task>.count, 1 in the paper's design)
+// on its clock. Per frame, the task graph:
 //   FD(L) ∥ IF(L); FC(L) after FD(L); FD(R) ∥ IF(R) queue behind the left image on their units;
 //   FC(R) after FD(R); MO after FC(L) and FC(R); DR after MO; DC after IF(L); LSS after DC.
 // A frame enters the accelerator when it has arrived (camera period, or back to back) and a
@@ -14,6 +15,7 @@
 // and the frame's IMU/GPS samples, arch/link/frame_transfers.hpp) have reached the host.
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -84,8 +86,8 @@ class FrontendAccelerator {
 
   /// The frame buffers; a frame holds one while it runs (the caller acquires and releases it).
   sim::Resource& frame_buffers() noexcept { return buffers_; }
-  /// The unit of a task.
-  sim::Resource& unit(trace::Task task) noexcept;
+  /// The unit of a task (its copies).
+  sim::Resource& unit(trace::Task task) noexcept { return *units_[static_cast<std::size_t>(task)]; }
   /// Runs a prepared frame's task graph, then its results (transfer 1) over `link` (nullptr:
   /// the frame ends when DR and LSS do). Fills the spans, transfer_start and end of `timing`,
   /// which must outlive the task.
@@ -93,8 +95,9 @@ class FrontendAccelerator {
 
  private:
   sim::Simulator* sim_;
-  sim::ClockDomain clock_;
-  sim::Resource fd_, if_, fc_, mo_, dr_, dc_, lss_;
+  sim::ClockDomain clock_;                                 ///< frames start on its edges
+  std::vector<std::unique_ptr<sim::ClockDomain>> clocks_;  ///< each unit's, trace::Task order
+  std::vector<std::unique_ptr<sim::Resource>> units_;      ///< trace::Task order
   sim::Resource buffers_;
 };
 

@@ -154,13 +154,15 @@ FrontendMemoryPlan plan_frontend_memory(const std::vector<trace::FrameTrace>& fr
   const auto cycle = [&](sim::Time t) { return static_cast<std::int64_t>(clock.cycles_in(t)); };
   const std::int64_t fe_lag =
       window_lag_cycles(std::max(c.fd_stencil, if_side), width, c.fe_pixels_per_cycle);
-  const std::int64_t dr_lag = window_lag_cycles(dr_window, width, c.dr_pixels_per_cycle);
+  // DR streams its images at its unit's rate (Sec. V-C: its SB's production and consumption).
+  const double dr_rate = c.unit(Task::DR).unit->stream_pixels_per_cycle(c);
+  const std::int64_t dr_lag = window_lag_cycles(dr_window, width, dr_rate);
   const auto decide = [&](const FrontendFrameTiming& t, Image image) {
     const std::int64_t read = cycle(span_of(t, Task::FD, image).start);
     const std::int64_t dr = cycle(span_of(t, Task::DR, Image::Stereo).start);
-    return decide_sb_sharing(
-        stream(read, c.fe_pixels_per_cycle), stream(read + fe_lag, c.fe_pixels_per_cycle),
-        stream(dr + dr_lag, c.dr_pixels_per_cycle), stream(dr, c.dr_pixels_per_cycle), pixels, b);
+    return decide_sb_sharing(stream(read, c.fe_pixels_per_cycle),
+                             stream(read + fe_lag, c.fe_pixels_per_cycle),
+                             stream(dr + dr_lag, dr_rate), stream(dr, dr_rate), pixels, b);
   };
   for (const FrontendFrameTiming& t : timing.frames) {
     if (span_of(t, Task::DR, Image::Stereo).end == span_of(t, Task::DR, Image::Stereo).start) {

@@ -1,13 +1,17 @@
 #pragma once
-// Cycles of each frontend task on the accelerator, from the work counts the trace recorded
-// (docs/TRACE.md, tasks table) and the configured datapath (FrontendConfig). Every formula is
-// listed in docs/MODEL.md with its source; stream(n, r) = ceil(n / r).
+// Cycles of a frontend task row on the accelerator (the trace's work counts, docs/TRACE.md tasks
+// table) on the unit that serves its task (frontend_unit.hpp; each kind's formula is in its file
+// under arch/frontend/units/ and in docs/MODEL.md), and the stream arithmetic the kinds share:
+// stream(n, r) = ⌈n / r⌉.
 #include <cstdint>
 
 #include "arch/frontend/frontend_config.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {
+
+/// Bits of a pixel in the frontend's datapaths (8-bit grayscale).
+inline constexpr int kPixelBits = 8;
 
 /// Cycles to stream `pixels` at `per_cycle` pixels a cycle: ceil(pixels / per_cycle).
 std::int64_t stream_cycles(std::int64_t pixels, double per_cycle);
@@ -16,32 +20,16 @@ std::int64_t stream_cycles(std::int64_t pixels, double per_cycle);
 /// (stencil - 1) / 2 lines plus (stencil - 1) / 2 pixels (the window centred on the pixel).
 std::int64_t stencil_halo_pixels(const trace::TaskRecord& task, int stencil);
 
-/// FD: the FAST segment test streams the pyramid, fe_pixels_per_cycle pixels a cycle, after the
-/// halo of its 7x7 window fills: stream(pixels + halo, r_fe).
-std::int64_t fd_cycles(const trace::TaskRecord& task, const FrontendConfig& config);
-/// IF: the Gaussian stencil over the same pyramid: stream(pixels + halo, r_fe).
-std::int64_t if_cycles(const trace::TaskRecord& task, const FrontendConfig& config);
-/// FC per descriptor: orientation by intensity moments over the patch, one patch row per
-/// cycle group (ceil(patch / rows_per_cycle)), then 256 rBRIEF tests, fc_tests_per_cycle a
-/// cycle: descriptors * (ceil(p / rows) + ceil(256 / tests)).
-std::int64_t fc_cycles(const trace::TaskRecord& task, const FrontendConfig& config);
-/// MO: one 256-bit Hamming distance per comparator a cycle: ceil(comparisons / comparators).
-std::int64_t mo_cycles(const trace::TaskRecord& task, const FrontendConfig& config);
-/// DR: both images' level 0 stream through DR's stencil buffers at dr_pixels_per_cycle each (in
-/// parallel), while the SADs of each window's search_range offsets run dr_sad_units at a time,
-/// one window row a cycle: max(stream(W*H, r_dr), windows * ceil(search / units) * window).
-std::int64_t dr_cycles(const trace::TaskRecord& task, std::int64_t level0_pixels,
-                       const FrontendConfig& config);
-/// DC: the Scharr stencil over the LK pyramid: stream(pixels + halo, r_dc).
-std::int64_t dc_cycles(const trace::TaskRecord& task, const FrontendConfig& config);
-/// LSS: each Gauss-Newton update of a point accumulates the 2x2 normal equations and the
-/// mismatch vector over the window (5 products a pixel: Ix², IxIy, Iy², IxIt, IyIt) plus the
-/// bilinear interpolation of the moved window (4 products a pixel), and each point solve first
-/// accumulates the window's gradient matrix once (3 products a pixel):
-/// ceil(window² (9 iterations + 3 points) / macs).
-std::int64_t lss_cycles(const trace::TaskRecord& task, const FrontendConfig& config);
+/// The stencil side a row used: the trace's window_size when it recorded one, else `configured`.
+int stencil_of(const trace::TaskRecord& task, int configured);
 
-/// The cycles of any task row; level0_pixels is the image size (for DR).
+/// Pixel lanes of a stream rate: ⌈pixels per cycle⌉ (a fractional rate reuses one lane).
+int lanes_of(double pixels_per_cycle);
+
+/// Bits of a k-row window of `columns` pixels held in flip-flops (an SB's shift register).
+double window_bits(int rows, int columns);
+
+/// The cycles of any task row on the unit of its task; level0_pixels is the image size (DR).
 std::int64_t task_cycles(const trace::TaskRecord& task, std::int64_t level0_pixels,
                          const FrontendConfig& config);
 

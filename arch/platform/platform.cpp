@@ -68,7 +68,7 @@ std::vector<ReferenceRow> Platform::reference() {
   };
   add(reference_rows("", fields()));
   add(reference_rows("host", HostConfig::fields()));
-  add(reference_rows("frontend", FrontendConfig::fields()));
+  add(FrontendConfig::reference());
   add(BackendConfig::reference());
   add(LinkSpec::reference());
   add(reference_rows("transfers", FrameTransferConfig::fields()));
@@ -104,7 +104,14 @@ std::string config_reference_markdown() {
          "[MODEL.md](MODEL.md); the Edx-Car and Edx-Drone values are in `configs/`.\n\n"
          "Unknown keys, a key written twice and a value outside what its key accepts are errors "
          "naming the file, line and key. `link.preset` sets the link's and DMA's keys before the "
-         "others are read; the defaults below are `pcie3_x8`'s.\n" +
+         "others are read; the defaults below are `pcie3_x8`'s.\n\n"
+         "The frontend's and the backend's units are instances of registered unit kinds "
+         "(`frontend.units.<task>`, one per task of the graph; `backend.units.<name>`): each "
+         "instance names its `kind`, has the instance keys (`count`, `clock_mhz`, ...) and its "
+         "kind's own keys, listed per kind below. A section's `units` map is read over the "
+         "paper's units: a listed instance overrides the default of its name (its kind kept "
+         "unless given), a new name adds a unit. A kind is one source file registering itself "
+         "(arch/frontend/units/, arch/backend/units/; docs/MODEL.md, \"Components\").\n" +
          render_reference(Platform::reference());
 }
 

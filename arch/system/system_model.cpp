@@ -389,67 +389,18 @@ nlohmann::json SystemResult::to_json() const {
 }
 
 cost::FrameActivity frontend_activity(const trace::FrameTrace& frame, const FrontendConfig& fe,
-                                      const cost::CostConfig& cost,
                                       std::array<cost::FrameActivity, 7>* per_task) {
   std::array<cost::FrameActivity, 7> tasks{};
-  std::array<double, 7> task_macs{};
   for (const trace::TaskRecord& t : frame.tasks) {
+    const cost::FrameActivity row = fe.unit(t.task).unit->activity(t, fe);
     cost::FrameActivity& a = tasks[static_cast<std::size_t>(t.task)];
-    double& macs = task_macs[static_cast<std::size_t>(t.task)];
-    const double px = double(t.pixels);
-    switch (t.task) {
-      case trace::Task::FD:
-        // c±t (2), 32 brighter/darker compares, 16 |p − c| and their 15-adder score tree per
-        // pixel; 8 NMS compares per candidate. Line buffer: each pixel written and read once.
-        a.int8_ops += 65 * px + 8 * double(t.candidates);
-        a.bram_bytes += 2 * px * fe.bytes_per_pixel;
-        break;
-      case trace::Task::IF: {  // k² taps a pixel (k: the trace's window_size, else if_stencil);
-                               // FD's line buffer
-        const double k = t.window_size > 0 ? double(t.window_size) : double(fe.if_stencil);
-        macs += px * k * k;
-      } break;
-      case trace::Task::FC:
-        // Moments (2 patch² products) and 256 tests a descriptor, the patch read from the SB.
-        a.int8_ops += double(t.descriptors) * (2.0 * fe.fc_patch * fe.fc_patch + 256);
-        a.bram_bytes += double(t.descriptors) * fe.fc_patch * fe.fc_patch;
-        break;
-      case trace::Task::MO:
-        // 256-bit XOR and popcount (255 adds) a comparison; two 32 B descriptors read.
-        a.int8_ops += 511 * double(t.comparisons);
-        a.bram_bytes += 64 * double(t.comparisons);
-        break;
-      case trace::Task::DR: {
-        // |L − R| and an add per window pixel and offset; both windows read from the SBs.
-        const double w2 = double(t.window_size) * double(t.window_size);
-        a.int8_ops += 2 * double(t.windows) * double(t.search_range) * w2;
-        a.bram_bytes += 2 * double(t.windows) * double(t.search_range) * w2;
-        break;
-      }
-      case trace::Task::DC:
-        // Scharr x and y (2 · 2k taps) and pyrDown (2g taps) as shift-adds; line buffer.
-        a.int8_ops += px * (4.0 * fe.dc_stencil + 2.0 * fe.pyramid_filter);
-        a.bram_bytes += 2 * px * fe.bytes_per_pixel;
-        break;
-      case trace::Task::LSS: {
-        // As its task timing: window² · (9 · iterations + 3 · points) MACs; I, Ix, Iy read
-        // from the SPM per window pixel and update.
-        const double w2 = double(t.window_size) * double(t.window_size);
-        const double work = w2 * (9.0 * double(t.iterations) + 3.0 * double(t.points));
-        macs += work;
-        a.bram_bytes += 3 * w2 * double(t.iterations + t.points);
-        break;
-      }
-    }
+    a.int8_ops += row.int8_ops;
+    a.fixed_macs += row.fixed_macs;
+    a.single_macs += row.single_macs;
+    a.bram_bytes += row.bram_bytes;
   }
   cost::FrameActivity a;
-  for (std::size_t i = 0; i < tasks.size(); ++i) {
-    cost::FrameActivity& t = tasks[i];
-    if (cost.frontend_arith() == cost::Arithmetic::kSingle) {
-      t.single_macs += task_macs[i];
-    } else {
-      t.fixed_macs += task_macs[i];
-    }
+  for (const cost::FrameActivity& t : tasks) {
     a.int8_ops += t.int8_ops;
     a.fixed_macs += t.fixed_macs;
     a.single_macs += t.single_macs;
@@ -579,7 +530,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     FrameResult acc = base;
     acc.frontend_ms = r.frontend.frame_accel_ms[f];
     std::array<cost::FrameActivity, 7> task_activity;
-    acc.activity = frontend_activity(frame, platform.frontend, platform.cost, &task_activity);
+    acc.activity = frontend_activity(frame, platform.frontend, &task_activity);
     acc.activity.fpga_present = true;
     acc.activity.dram_bytes = double(extra_dram);
     acc.activity.link_bytes = double(r.frontend.frame_results_bytes[f]);

@@ -157,10 +157,10 @@ struct SystemResult {
 std::string fnv1a_hex(const std::string& text);
 
 /// The frontend's work of one frame as the energy model counts it (docs/MODEL.md, "Energy"):
-/// pixel operations, MACs of IF and LSS, on-chip memory bytes. `per_task` (optional): the same
-/// split by task unit, in trace::Task order (their sum is the result).
+/// each task row's on its unit (FrontendUnit::activity: pixel operations, MACs, on-chip bytes).
+/// `per_task` (optional): the same split by task unit, in trace::Task order (their sum is the
+/// result).
 cost::FrameActivity frontend_activity(const trace::FrameTrace& frame, const FrontendConfig& fe,
-                                      const cost::CostConfig& cost,
                                       std::array<cost::FrameActivity, 7>* per_task = nullptr);
 
 /// The trace's key in results: FNV-1a of its frame count and meta table (SystemResult::trace_hash).

@@ -58,11 +58,14 @@ TEST(ConfigCommand, ReferenceCoversEveryKeyOfTheShippedPlatforms) {
     dotted_keys(YAML::LoadFile(kSource + "/configs/" + file), "", keys);
     ASSERT_GT(keys.size(), 50u) << file;
     for (std::string key : keys) {
-      // A unit instance's keys are documented under its kind: backend.units.<name>.block.
-      for (const std::string units : {"backend.units.", "frontend.units."}) {
+      // A unit instance's keys are documented under its kind: backend.units.<name>.block,
+      // frontend.units.<task>.tests_per_cycle.
+      for (const auto& [units, placeholder] :
+           {std::pair<std::string, std::string>{"backend.units.", "<name>"},
+            {"frontend.units.", "<task>"}}) {
         if (!key.starts_with(units)) continue;
         const std::size_t dot = key.find('.', units.size());
-        key = units + "<name>" + key.substr(dot);
+        key = units + placeholder + key.substr(dot);
       }
       EXPECT_THAT(result.out, HasSubstr("| `" + key + "` |")) << file;
     }

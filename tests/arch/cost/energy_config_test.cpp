@@ -72,11 +72,9 @@ TEST(FrameEnergy, ComparesWithEdxCar) {
 }
 
 TEST(CostYaml, ReadsFieldsOverDefaults) {
-  const YAML::Node n = YAML::Load(
-      "frontend_arithmetic: single\nns_modes: 2\n"
-      "frontend_lut_overhead: 1.5\nns_fe_per_camera: false\n");
+  const YAML::Node n =
+      YAML::Load("ns_modes: 2\nfrontend_lut_overhead: 1.5\nns_fe_per_camera: false\n");
   const CostConfig c = CostConfig::from_yaml(n, "car.yaml");
-  EXPECT_EQ(c.frontend_arith(), Arithmetic::kSingle);
   EXPECT_EQ(c.ns_modes, 2);
   EXPECT_DOUBLE_EQ(c.frontend_lut_overhead, 1.5);
   EXPECT_FALSE(c.ns_fe_per_camera);
@@ -102,12 +100,16 @@ TEST(CostYaml, ErrorsNameFileLineAndKey) {
   expect_error("s:\n  ns_modes: 0\n", false,
                "car.yaml:2: cost.ns_modes: expected an integer >= 1, got '0'");
   expect_error("s:\n  bogus: 1\n", false, "car.yaml:2: cost.bogus: unknown key");
-  expect_error("s:\n  if_separable: maybe\n", false, "car.yaml:2: cost.if_separable");
+  expect_error("s:\n  ns_fe_per_camera: maybe\n", false, "car.yaml:2: cost.ns_fe_per_camera");
+  // The keys that became the frontend units' own name where they went.
+  expect_error("s:\n  if_separable: true\n", false,
+               "car.yaml:2: cost.if_separable: moved: now frontend.units.IF.separable");
   // The backend's precision has one home, backend.scalar_bytes.
   expect_error("s:\n  ns_modes: 2\n  backend_precision: single\n", false,
                "car.yaml:3: cost.backend_precision: unknown key");
-  expect_error("s:\n  frontend_arithmetic: double\n", false,
-               "cost.frontend_arithmetic: expected fixed or single");
+  expect_error("s:\n  frontend_arithmetic: single\n", false,
+               "cost.frontend_arithmetic: moved: now frontend.units.IF.arithmetic and "
+               "frontend.units.LSS.arithmetic");
   expect_error("s:\n  fpga_static_w: -1\n", true, "car.yaml:2: power.fpga_static_w");
   expect_error("s:\n  host_active_w: 5\n  host_idle_w: 6\n", true,
                "car.yaml:3: power.host_idle_w: expected a power in [0, host_active_w] W");

@@ -8,7 +8,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
+
+#include "tests/arch/frontend/frontend_test_support.hpp"
 
 namespace edx::arch::cost {
 namespace {
@@ -164,14 +167,22 @@ TEST(TableIII, ComparisonRowsAreSimulatedOverPaperMinusOne) {
   EXPECT_DOUBLE_EQ(rows[15].paper, 0.735);
 }
 
-/// Builds Edx-Car's report with `base`'s options and the four control overheads calibrated on
-/// Table III; prints the units and every Table III figure with its error.
+/// The frontend of configs/edx_car.yaml.
+FrontendConfig car_frontend_config() {
+  const fs::path car_yaml = fs::path(EDX_SOURCE_DIR) / "configs" / "edx_car.yaml";
+  return FrontendConfig::from_yaml(YAML::LoadFile(car_yaml.string())["frontend"],
+                                   car_yaml.string());
+}
+
+/// Builds Edx-Car's report with `base`'s options (and `frontend`, else the Car's) and the four
+/// control overheads calibrated on Table III; prints the units and every Table III figure with
+/// its error.
 ResourceReport calibrated_car_report(const std::string& variant, CostConfig base,
+                                     const std::optional<FrontendConfig>& frontend = std::nullopt,
                                      CostConfig* calibrated_out = nullptr) {
   const auto memories = car_frontend_memories();
   const fs::path car_yaml = fs::path(EDX_SOURCE_DIR) / "configs" / "edx_car.yaml";
-  const FrontendConfig car_frontend =
-      FrontendConfig::from_yaml(YAML::LoadFile(car_yaml.string())["frontend"], car_yaml.string());
+  const FrontendConfig car_frontend = frontend ? *frontend : car_frontend_config();
   const BackendConfig car_backend =
       BackendConfig::from_yaml(YAML::LoadFile(car_yaml.string())["backend"], car_yaml.string());
   CostConfig datapath_only = base;
@@ -211,7 +222,7 @@ ResourceReport calibrated_car_report(const std::string& variant, CostConfig base
 
 TEST(TableIII, CalibratedControlOverheadsReproduceTheLutAndFfSplitAndReportTheRest) {
   CostConfig calibrated;
-  const ResourceReport r = calibrated_car_report("defaults", {}, &calibrated);
+  const ResourceReport r = calibrated_car_report("defaults", {}, std::nullopt, &calibrated);
   // The calibrated fractions are CostConfig's documented defaults (docs/MODEL.md).
   const CostConfig defaults;
   EXPECT_NEAR(calibrated.frontend_lut_overhead, defaults.frontend_lut_overhead, 1e-3);
@@ -237,9 +248,10 @@ TEST(TableIII, Variants) {
   cameras_too.ns_fe_per_camera = true;  // N.S. also without FE time-sharing of the cameras
   const ResourceReport c = calibrated_car_report("N.S. per mode and per camera", cameras_too);
   EXPECT_GT(c.total.ns.lut, calibrated_car_report("N.S. per mode", {}).total.ns.lut);
-  CostConfig fixed;
-  fixed.frontend_arithmetic = "fixed";  // IF and LSS MACs on one DSP each
-  const ResourceReport f = calibrated_car_report("fixed-point frontend MACs", fixed);
+  FrontendConfig fixed = car_frontend_config();  // IF and LSS MACs on one DSP each
+  testing::set_unit(fixed, trace::Task::IF, "{arithmetic: fixed}");
+  testing::set_unit(fixed, trace::Task::LSS, "{arithmetic: fixed, macs_per_cycle: 64}");
+  const ResourceReport f = calibrated_car_report("fixed-point frontend MACs", {}, fixed);
   const ResourceReport s = calibrated_car_report("single-precision frontend MACs", {});
   EXPECT_GT(s.frontend.shared.dsp, f.frontend.shared.dsp);
 }

@@ -5,7 +5,8 @@
 
 #include "arch/backend/matrix_unit.hpp"
 #include "arch/cost/resource_report.hpp"
-#include "arch/cost/unit_costs.hpp"
+#include "arch/frontend/task_timing.hpp"
+#include "tests/arch/frontend/frontend_test_support.hpp"
 
 namespace edx::arch::cost {
 namespace {
@@ -59,17 +60,22 @@ TEST(Datapath, FloatingPointMacsTakePg060Operators) {
   EXPECT_DOUBLE_EQ(f.resources().lut, 0);
 }
 
+/// The resources of one copy of the unit of `task` with `params` (YAML of its kind's keys).
+Resources unit_cost(const FrontendConfig& fe, trace::Task task, const std::string& params) {
+  FrontendConfig c = fe;
+  testing::set_unit(c, task, params);
+  return c.unit(task).unit->resources(c);
+}
+
 TEST(UnitCosts, HammingUnitByHand) {
-  FrontendConfig fe;
-  fe.mo_comparators = 1;
-  const Resources r = mo_cost(fe);
+  const FrontendConfig fe;
+  const Resources r = unit_cost(fe, trace::Task::MO, "{comparators: 1}");
   // XOR 128 + popcount 502 + two 9-bit comparators 18.
   EXPECT_DOUBLE_EQ(r.lut, 128 + 502 + 18);
   // popcount 502 + comparators 2 + two descriptors 512 + 4 x (9 + 16) index/distance registers.
   EXPECT_DOUBLE_EQ(r.ff, 502 + 2 + 512 + 100);
   EXPECT_DOUBLE_EQ(r.dsp, 0);
-  fe.mo_comparators = 4;
-  const Resources four = mo_cost(fe);
+  const Resources four = unit_cost(fe, trace::Task::MO, "{comparators: 4}");
   EXPECT_DOUBLE_EQ(four.lut, 4 * (128 + 502 + 18));
 }
 
@@ -77,18 +83,17 @@ TEST(UnitCosts, GaussianThreeByThreeOnOneLane) {
   FrontendConfig fe;
   fe.fe_pixels_per_cycle = 1;
   fe.if_stencil = 3;
-  CostConfig cost;
-  cost.frontend_arithmetic = "fixed";
-  const Resources r = if_cost(fe, cost);
+  const Resources r = unit_cost(fe, trace::Task::IF, "{arithmetic: fixed}");
   EXPECT_DOUBLE_EQ(r.dsp, 9);                          // k² products
   EXPECT_DOUBLE_EQ(r.lut, 4 * 25 + 2 * 26 + 27 + 28);  // tree of 9 24-bit products
   EXPECT_DOUBLE_EQ(r.ff, 207 + 3 * 3 * 8);             // tree + 3x3 window of pixels
-  cost.if_separable = true;
-  EXPECT_DOUBLE_EQ(if_cost(fe, cost).dsp, 6);  // 2k taps
+  const std::string separable = "{arithmetic: fixed, separable: true}";
+  EXPECT_DOUBLE_EQ(unit_cost(fe, trace::Task::IF, separable).dsp, 6);  // 2k taps
   fe.fe_pixels_per_cycle = 2;
-  EXPECT_DOUBLE_EQ(if_cost(fe, cost).dsp, 12);  // two lanes
-  cost.frontend_arithmetic = "single";
-  EXPECT_DOUBLE_EQ(if_cost(fe, cost).dsp, 12 * (3 + 2));  // PG060 fmul + fadd per tap
+  EXPECT_DOUBLE_EQ(unit_cost(fe, trace::Task::IF, separable).dsp, 12);  // two lanes
+  // PG060 fmul + fadd per tap
+  EXPECT_DOUBLE_EQ(unit_cost(fe, trace::Task::IF, "{arithmetic: single, separable: true}").dsp,
+                   12 * (3 + 2));
 }
 
 TEST(UnitCosts, GemmTwoByTwoDoubleByHand) {
@@ -113,17 +118,18 @@ TEST(UnitCosts, GemmTwoByTwoDoubleByHand) {
 }
 
 TEST(UnitCosts, UnitsGrowWithTheirDimensions) {
+  using trace::Task;
   FrontendConfig small, big;
   big.fe_pixels_per_cycle = 4;
-  big.fc_tests_per_cycle = 64;
-  big.dr_sad_units = 22;
-  big.lss_macs_per_cycle = 128;
-  CostConfig cost;
-  EXPECT_GT(fd_cost(big).lut, fd_cost(small).lut);
-  EXPECT_GT(fc_cost(big, cost).lut, fc_cost(small, cost).lut);
-  EXPECT_GT(dr_cost(big).lut, dr_cost(small).lut);
-  EXPECT_GT(lss_cost(big, cost).dsp, lss_cost(small, cost).dsp);
-  EXPECT_GT(fc_cost(small, cost).bram, 0);  // the rotated-pattern table
+  const auto cost_of = [](const FrontendConfig& fe, Task task) {
+    return fe.unit(task).unit->resources(fe);
+  };
+  EXPECT_GT(cost_of(big, Task::FD).lut, cost_of(small, Task::FD).lut);
+  EXPECT_GT(unit_cost(small, Task::FC, "{tests_per_cycle: 64}").lut, cost_of(small, Task::FC).lut);
+  EXPECT_GT(unit_cost(small, Task::DR, "{sad_units: 22}").lut, cost_of(small, Task::DR).lut);
+  EXPECT_GT(unit_cost(small, Task::LSS, "{macs_per_cycle: 128}").dsp,
+            cost_of(small, Task::LSS).dsp);
+  EXPECT_GT(cost_of(small, Task::FC).bram, 0);  // the rotated-pattern table
 }
 
 TEST(UnitCosts, LanesRoundUpFractionalRates) {

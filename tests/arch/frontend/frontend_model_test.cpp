@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "arch/frontend/task_timing.hpp"
+#include "tests/arch/frontend/frontend_test_support.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace edx::arch {
@@ -24,12 +25,11 @@ FrontendConfig unit_config() {
   FrontendConfig c;
   c.clock_mhz = 100;
   c.fe_pixels_per_cycle = 1;
-  c.fc_patch_rows_per_cycle = 1;
-  c.fc_tests_per_cycle = 256;
-  c.mo_comparators = 1;
-  c.dr_pixels_per_cycle = 1;
-  c.dc_pixels_per_cycle = 1;
-  c.lss_macs_per_cycle = 1;
+  testing::set_unit(c, Task::FC, "{patch_rows_per_cycle: 1, tests_per_cycle: 256}");
+  testing::set_unit(c, Task::MO, "{comparators: 1}");
+  testing::set_unit(c, Task::DR, "{pixels_per_cycle: 1}");
+  testing::set_unit(c, Task::DC, "{pixels_per_cycle: 1}");
+  testing::set_unit(c, Task::LSS, "{macs_per_cycle: 1}");
   return c;
 }
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 
 #include "sim_core/clock.hpp"
+#include "tests/arch/frontend/frontend_test_support.hpp"
 
 namespace edx::arch {
 namespace {
@@ -58,7 +59,7 @@ FrontendConfig config() {
   FrontendConfig c;
   c.clock_mhz = 100;
   c.fe_pixels_per_cycle = 1;
-  c.dr_pixels_per_cycle = 1;
+  testing::set_unit(c, Task::DR, "{pixels_per_cycle: 1}");
   return c;
 }
 

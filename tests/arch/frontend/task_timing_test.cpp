@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/arch/frontend/frontend_test_support.hpp"
+
 namespace edx::arch {
 namespace {
 
@@ -23,12 +25,12 @@ TEST(TaskTiming, StencilStreamsPayTheirHaloOncePerLevel) {
   // halo: 3 lines + 3 pixels per level: (3*100 + 3) + (3*50 + 3) = 456.
   EXPECT_EQ(stencil_halo_pixels(pyramid_task(trace::Task::FD, 0), 7), 456);
   // ceil((6250 + 456) / 2) = 3353.
-  EXPECT_EQ(fd_cycles(pyramid_task(trace::Task::FD, 0), c), 3353);
+  EXPECT_EQ(task_cycles(pyramid_task(trace::Task::FD, 0), 0, c), 3353);
   // IF uses the trace's kernel side (5): halo (2*100+2) + (2*50+2) = 304; ceil(6554/2) = 3277.
-  EXPECT_EQ(if_cycles(pyramid_task(trace::Task::IF, 5), c), 3277);
+  EXPECT_EQ(task_cycles(pyramid_task(trace::Task::IF, 5), 0, c), 3277);
   // DC: 3x3 Scharr at 1.5 px/cycle: halo 101 + 51 = 152; ceil(6402 / 1.5) = 4268.
-  c.dc_pixels_per_cycle = 1.5;
-  EXPECT_EQ(dc_cycles(pyramid_task(trace::Task::DC, 3), c), 4268);
+  testing::set_unit(c, trace::Task::DC, "{pixels_per_cycle: 1.5}");
+  EXPECT_EQ(task_cycles(pyramid_task(trace::Task::DC, 3), 0, c), 4268);
 }
 
 TEST(TaskTiming, DescriptorsComparisonsWindowsAndSolves) {
@@ -37,42 +39,39 @@ TEST(TaskTiming, DescriptorsComparisonsWindowsAndSolves) {
   fc.task = trace::Task::FC;
   fc.descriptors = 10;
   fc.window_size = 31;
-  c.fc_patch_rows_per_cycle = 1;
-  c.fc_tests_per_cycle = 32;
-  EXPECT_EQ(fc_cycles(fc, c), 10 * (31 + 8));
-  c.fc_patch_rows_per_cycle = 4;  // ceil(31/4) = 8
-  c.fc_tests_per_cycle = 256;
-  EXPECT_EQ(fc_cycles(fc, c), 10 * (8 + 1));
+  testing::set_unit(c, trace::Task::FC, "{patch_rows_per_cycle: 1, tests_per_cycle: 32}");
+  EXPECT_EQ(task_cycles(fc, 0, c), 10 * (31 + 8));
+  // ceil(31/4) = 8
+  testing::set_unit(c, trace::Task::FC, "{patch_rows_per_cycle: 4, tests_per_cycle: 256}");
+  EXPECT_EQ(task_cycles(fc, 0, c), 10 * (8 + 1));
 
   trace::TaskRecord mo;
   mo.task = trace::Task::MO;
   mo.comparisons = 1001;
-  c.mo_comparators = 4;
-  EXPECT_EQ(mo_cycles(mo, c), 251);
+  testing::set_unit(c, trace::Task::MO, "{comparators: 4}");
+  EXPECT_EQ(task_cycles(mo, 0, c), 251);
 
   trace::TaskRecord dr;
   dr.task = trace::Task::DR;
   dr.keypoints = dr.windows = 100;
   dr.window_size = 11;
   dr.search_range = 11;
-  c.dr_pixels_per_cycle = 0.25;
-  c.dr_sad_units = 11;
-  EXPECT_EQ(dr_cycles(dr, 10000, c), 40000);  // the image stream dominates
-  c.dr_pixels_per_cycle = 100;
-  c.dr_sad_units = 4;  // 100 windows x ceil(11/4) x 11 rows = 3300
-  EXPECT_EQ(dr_cycles(dr, 10000, c), 3300);
+  testing::set_unit(c, trace::Task::DR, "{pixels_per_cycle: 0.25, sad_units: 11}");
+  EXPECT_EQ(task_cycles(dr, 10000, c), 40000);  // the image stream dominates
+  // 100 windows x ceil(11/4) x 11 rows = 3300
+  testing::set_unit(c, trace::Task::DR, "{pixels_per_cycle: 100, sad_units: 4}");
+  EXPECT_EQ(task_cycles(dr, 10000, c), 3300);
   trace::TaskRecord no_matches = dr;
   no_matches.keypoints = no_matches.windows = 0;
-  EXPECT_EQ(dr_cycles(no_matches, 10000, c), 0);
+  EXPECT_EQ(task_cycles(no_matches, 10000, c), 0);
 
   trace::TaskRecord lss;
   lss.task = trace::Task::LSS;
   lss.window_size = 16;
   lss.points = 20;
   lss.iterations = 100;
-  c.lss_macs_per_cycle = 64;
-  EXPECT_EQ(lss_cycles(lss, c), 256 * (9 * 100 + 3 * 20) / 64);
-  EXPECT_EQ(task_cycles(lss, 0, c), lss_cycles(lss, c));
+  testing::set_unit(c, trace::Task::LSS, "{macs_per_cycle: 64}");
+  EXPECT_EQ(task_cycles(lss, 0, c), 256 * (9 * 100 + 3 * 20) / 64);
 }
 
 }  // namespace

@@ -24,14 +24,15 @@ TEST(Platform, ReadsFieldsOverTheDefaults) {
   const Platform p = Platform::parse(
       "name: car\nhost:\n  frontend_suite_ms: 2.5\n  provenance: calibrated\n"
       "  backend_suite_ms: 4\nfrontend:\n"
-      "  clock_mhz: 200\n  pipeline_fe_sm: false\n  mo_comparators: 8\n",
+      "  clock_mhz: 200\n  pipeline_fe_sm: false\n  units: {MO: {comparators: 8}}\n",
       "p.yaml");
   EXPECT_EQ(p.name, "car");
   EXPECT_DOUBLE_EQ(p.host.frontend_suite_ms, 2.5);
   EXPECT_EQ(p.host.provenance, "calibrated");
   EXPECT_DOUBLE_EQ(p.frontend.clock_mhz, 200);
   EXPECT_FALSE(p.frontend.pipeline_fe_sm);
-  EXPECT_EQ(p.frontend.mo_comparators, 8);
+  EXPECT_EQ(p.frontend.to_json()["units"]["MO"]["comparators"], 8);
+  EXPECT_EQ(p.frontend.to_json()["units"]["MO"]["kind"], "hamming");  // the default's, kept
   EXPECT_EQ(p.frontend.fd_stencil, FrontendConfig{}.fd_stencil);
   EXPECT_EQ(p.to_json()["frontend"]["clock_mhz"], 200.0);
 }
@@ -51,8 +52,15 @@ TEST(Platform, BadInputNamesFileLineAndKey) {
             "p.yaml:2: platform.backend_units: unknown key");
   EXPECT_THAT(error_of("frontend: {}\n"), HasSubstr("platform.name: required"));
   EXPECT_THAT(error_of("name: [unclosed\n"), HasSubstr("p.yaml:"));
-  EXPECT_THAT(error_of("name: car\nfrontend:\n  mo_comparators: 0\n"),
-              HasSubstr("p.yaml:3: frontend.mo_comparators: expected an integer >= 1"));
+  EXPECT_THAT(error_of("name: car\nfrontend:\n  units:\n    MO: {comparators: 0}\n"),
+              HasSubstr("p.yaml:4: frontend.units.MO.comparators: expected an integer >= 1"));
+  EXPECT_THAT(error_of("name: car\nfrontend:\n  mo_comparators: 8\n"),
+              HasSubstr("p.yaml:3: frontend.mo_comparators: moved: now frontend.units.MO."
+                        "comparators"));
+  EXPECT_THAT(error_of("name: car\nfrontend:\n  units:\n    XX: {kind: fast}\n"),
+              HasSubstr("p.yaml:4: frontend.units.XX: expected a task of the graph"));
+  EXPECT_THAT(error_of("name: car\nfrontend:\n  units:\n    FD: {kind: hamming}\n"),
+              HasSubstr("frontend.units.FD.kind: expected a kind that runs FD, got 'hamming'"));
 }
 
 TEST(Platform, ReadsBackendCostPowerSchedulerAndHostBackendScale) {

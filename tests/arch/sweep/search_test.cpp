@@ -29,7 +29,7 @@ std::string car_space(const std::string& sampling, const std::string& name) {
   return "name: " + name + "\nbase: " + kSource +
          "/configs/edx_car.yaml\nparameters:\n"
          "  frontend.fe_pixels_per_cycle: {values: [1, 2, 4, 8]}\n"
-         "  frontend.dr_pixels_per_cycle: {values: [0.25, 0.5, 1, 2]}\n"
+         "  frontend.units.DR.pixels_per_cycle: {values: [0.25, 0.5, 1, 2]}\n"
          "  backend.units.gemm.block: {values: [2, 4, 8, 16]}\n"
          "  backend.units.decomposition.block: {values: [1, 2, 4, 8]}\n"
          "  backend.clock_mhz: {values: [100, 150, 200, 250, 300]}\n"

@@ -49,18 +49,19 @@ std::string error_of(F&& f) {
 TEST(Extends, ChildOverridesParentRecursivelyByMap) {
   testing::TempDir dir;
   write(dir.path() / "base.yaml",
-        "name: base\ndescription: the parent\nfrontend:\n  clock_mhz: 100\n  mo_comparators: 8\n"
+        "name: base\ndescription: the parent\nfrontend:\n  clock_mhz: 100\n  units: {MO: "
+        "{comparators: 8}}\n"
         "backend: {clock_mhz: 120, units: {gemm: {block: 2}}}\n");
   write(dir.path() / "mid.yaml",
         "extends: base.yaml\nname: mid\nbackend: {units: {gemm: {block: 8}}}\n");
   write(dir.path() / "leaf.yaml", "extends: mid.yaml\nfrontend: {clock_mhz: 200}\n");
   const Platform p = Platform::load(dir.path() / "leaf.yaml");
-  EXPECT_EQ(p.name, "mid");                       // from mid
-  EXPECT_EQ(p.description, "the parent");         // from base
-  EXPECT_DOUBLE_EQ(p.frontend.clock_mhz, 200);    // leaf over base
-  EXPECT_EQ(p.frontend.mo_comparators, 8);        // base, beside the leaf's key in the same map
-  EXPECT_EQ(p.backend.units[0].unit->tile(), 8);  // mid over base
-  EXPECT_DOUBLE_EQ(p.backend.clock_mhz, 120);     // base
+  EXPECT_EQ(p.name, "mid");                                          // from mid
+  EXPECT_EQ(p.description, "the parent");                            // from base
+  EXPECT_DOUBLE_EQ(p.frontend.clock_mhz, 200);                       // leaf over base
+  EXPECT_EQ(p.frontend.to_json()["units"]["MO"]["comparators"], 8);  // base, beside the leaf's
+  EXPECT_EQ(p.backend.units[0].unit->tile(), 8);                     // mid over base
+  EXPECT_DOUBLE_EQ(p.backend.clock_mhz, 120);                        // base
 }
 
 TEST(Extends, MissingParentAndCyclesAreFileLineErrors) {
