@@ -7,7 +7,7 @@
 #include <map>
 #include <stdexcept>
 
-#include "arch/common/yaml_fields.hpp"
+#include "common/yaml_fields.hpp"
 
 namespace edx::arch {
 namespace {

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "arch/backend/matrix_unit.hpp"
-#include "arch/common/config_fields.hpp"
+#include "common/config_fields.hpp"
 #include "arch/kernels/kernels.hpp"
 
 namespace YAML {

@@ -2,7 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "arch/common/yaml_fields.hpp"
+#include "common/yaml_fields.hpp"
 
 namespace edx::arch {
 

@@ -23,7 +23,7 @@
 #include <string>
 #include <string_view>
 
-#include "arch/common/config_fields.hpp"
+#include "common/config_fields.hpp"
 #include "arch/common/registry.hpp"
 #include "arch/cost/resources.hpp"
 #include "workloads/trace/records.hpp"

@@ -31,8 +31,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "arch/common/config_fields.hpp"
-#include "arch/common/yaml_fields.hpp"
+#include "common/config_fields.hpp"
+#include "common/yaml_fields.hpp"
 
 namespace edx::arch {
 

@@ -2,7 +2,7 @@
 
 #include <map>
 
-#include "arch/common/yaml_fields.hpp"
+#include "common/yaml_fields.hpp"
 
 namespace edx::arch::cost {
 

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "arch/common/config_fields.hpp"
+#include "common/config_fields.hpp"
 #include "arch/cost/resources.hpp"
 
 namespace YAML {

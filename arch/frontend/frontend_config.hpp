@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "arch/common/config_fields.hpp"
+#include "common/config_fields.hpp"
 #include "arch/frontend/frontend_unit.hpp"
 #include "workloads/trace/records.hpp"
 

@@ -23,7 +23,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "arch/common/config_fields.hpp"
+#include "common/config_fields.hpp"
 #include "arch/common/registry.hpp"
 #include "arch/cost/energy_activity.hpp"
 #include "arch/cost/resources.hpp"

@@ -11,7 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "arch/common/yaml_fields.hpp"
+#include "common/yaml_fields.hpp"
 #include "arch/host/host_model.hpp"
 #include "common/resources.hpp"
 

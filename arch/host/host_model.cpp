@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "arch/common/yaml_fields.hpp"
+#include "common/yaml_fields.hpp"
 #include "arch/host/host_costs.hpp"
 
 namespace edx::arch {

@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "arch/common/config_fields.hpp"
+#include "common/config_fields.hpp"
 #include "workloads/trace/host_speed.hpp"
 
 namespace edx::arch {

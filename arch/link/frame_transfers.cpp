@@ -5,7 +5,7 @@
 
 #include <stdexcept>
 
-#include "arch/common/yaml_fields.hpp"
+#include "common/yaml_fields.hpp"
 
 namespace edx::arch {
 namespace {

@@ -33,7 +33,7 @@
 #include <string>
 #include <vector>
 
-#include "arch/common/config_fields.hpp"
+#include "common/config_fields.hpp"
 #include "arch/kernels/kernels.hpp"
 #include "arch/link/link.hpp"
 #include "workloads/trace/records.hpp"

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "arch/common/yaml_fields.hpp"
+#include "common/yaml_fields.hpp"
 
 namespace edx::arch {
 namespace {

@@ -30,7 +30,7 @@
 #include <string>
 #include <vector>
 
-#include "arch/common/config_fields.hpp"
+#include "common/config_fields.hpp"
 #include "sim_core/engine.hpp"
 
 namespace YAML {

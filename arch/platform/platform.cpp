@@ -9,7 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "arch/common/yaml_fields.hpp"
+#include "common/yaml_fields.hpp"
 #include "arch/memory/bram.hpp"
 
 namespace edx::arch {
@@ -99,7 +99,7 @@ std::string config_reference_markdown() {
          "Every key a platform file (`configs/*.yaml`) may hold, section by section: its type, "
          "unit, default (the value when the key is absent) and the values it accepts. Generated "
          "by `edx config --reference` from the field list each config struct declares "
-         "(`arch/common/config_fields.hpp`); a test fails when this file is not its current "
+         "(`common/config_fields.hpp`); a test fails when this file is not its current "
          "output. What each value means for the model, and where it comes from, is in "
          "[MODEL.md](MODEL.md); the Edx-Car and Edx-Drone values are in `configs/`.\n\n"
          "Unknown keys, a key written twice and a value outside what its key accepts are errors "

@@ -15,7 +15,7 @@
 //   scheduler: {policy: regression, training_fraction: 0.25}
 //   system: {sensor_fps: 0, queue_depth: 2, drop: oldest, ...}   SystemConfig (system_config.hpp)
 // Every section is optional (defaults); unknown keys and wrong types are file:line:key errors.
-// Each struct declares its keys once, in a field list (arch/common/config_fields.hpp), which
+// Each struct declares its keys once, in a field list (common/config_fields.hpp), which
 // drives parsing, validation, JSON and the reference of every key (docs/CONFIG.md).
 //
 // `extends: parent.yaml` (path relative to the file) starts from the parent's keys: the

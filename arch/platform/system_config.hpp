@@ -4,7 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "arch/common/config_fields.hpp"
+#include "common/config_fields.hpp"
 
 namespace YAML {
 class Node;

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "arch/common/yaml_fields.hpp"
+#include "common/yaml_fields.hpp"
 
 namespace edx::arch {
 namespace {

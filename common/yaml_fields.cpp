@@ -1,4 +1,4 @@
-#include "arch/common/yaml_fields.hpp"
+#include "common/yaml_fields.hpp"
 
 #include <fmt/format.h>
 
@@ -6,7 +6,7 @@
 #include <map>
 #include <stdexcept>
 
-namespace edx::arch {
+namespace edx {
 namespace {
 
 std::string line_of(const YAML::Node& node) {
@@ -116,4 +116,4 @@ void YamlFields::finish() const {
   }
 }
 
-}  // namespace edx::arch
+}  // namespace edx

@@ -9,7 +9,7 @@
 #include <set>
 #include <string>
 
-namespace edx::arch {
+namespace edx {
 
 /// Parses `text` (read from `where`) and checks that its top level is a map. Errors:
 /// "where:line: not valid YAML: ..." and "where: expected a map of <what>".
@@ -47,4 +47,4 @@ class YamlFields {
   std::set<std::string> read_;
 };
 
-}  // namespace edx::arch
+}  // namespace edx

@@ -1,4 +1,4 @@
-#include "arch/common/config_fields.hpp"
+#include "common/config_fields.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace edx::arch {
+namespace edx {
 namespace {
 
 /// Shortest text of a bound: 1000, 0.5, 1e+09.
@@ -255,4 +255,4 @@ std::string render_reference(const std::vector<ReferenceRow>& rows) {
   return out;
 }
 
-}  // namespace edx::arch
+}  // namespace edx

@@ -1,13 +1,13 @@
 // One field list per config struct drives parsing, checking, JSON and the reference: each of
 // those four against hand-written expectations on a small struct.
-#include "arch/common/config_fields.hpp"
+#include "common/config_fields.hpp"
 
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 #include <string>
 
-namespace edx::arch {
+namespace edx {
 namespace {
 
 enum class Mode { kFast, kSlow };
@@ -169,4 +169,4 @@ TEST(ConfigFields, ReferenceRowsAndMarkdown) {
 }
 
 }  // namespace
-}  // namespace edx::arch
+}  // namespace edx

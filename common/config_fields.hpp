@@ -19,9 +19,9 @@
 #include <variant>
 #include <vector>
 
-#include "arch/common/yaml_fields.hpp"
+#include "common/yaml_fields.hpp"
 
-namespace edx::arch {
+namespace edx {
 
 /// Accepted numbers: lo <= v (lo < v when lo_open), v <= hi (v < hi when hi_open), and odd
 /// integers only when `odd`. Built as Bounds::above(0).at_most(1000) = (0, 1000].
@@ -240,4 +240,4 @@ Config parse_section(const YAML::Node& node, const std::string& where, const std
 /// order).
 std::string render_reference(const std::vector<ReferenceRow>& rows);
 
-}  // namespace edx::arch
+}  // namespace edx
