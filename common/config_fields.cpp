@@ -23,6 +23,8 @@ std::string kind_name(FieldKind kind) {
       return "number";
     case FieldKind::kText:
       return "text";
+    case FieldKind::kTextList:
+      return "list of text";
   }
   return "";
 }
@@ -63,6 +65,8 @@ std::string expected_text(FieldKind kind, const Bounds& bounds,
       return "true or false";
     case FieldKind::kText:
       return choices.empty() ? "a text value" : choices_text(choices);
+    case FieldKind::kTextList:
+      return choices.empty() ? "a list of text values" : "a list of " + choices_text(choices);
     case FieldKind::kInteger:
     case FieldKind::kNumber:
       return choices.empty() ? bounds.describe(kind == FieldKind::kInteger) : choices_text(choices);
@@ -116,6 +120,21 @@ FieldValue read_field_value(const YamlFields& fields, const std::string& key,
     fields.fail(key, fmt::format("expected {}, got '{}'", expected_text(kind, bounds, choices),
                                  YamlFields::described(node)));
   };
+  if (kind == FieldKind::kTextList) {
+    // [a, b, c]: each a text value, each one of `choices` when there are some.
+    if (!node.IsSequence()) refuse();
+    std::vector<std::string> items;
+    for (const YAML::Node& item : node) {
+      if (!item.IsScalar()) refuse();
+      if (!choices.empty() &&
+          std::find(choices.begin(), choices.end(), item.Scalar()) == choices.end()) {
+        fields.fail(key, fmt::format("expected a list of {}, got '{}' in it", choices_text(choices),
+                                     item.Scalar()));
+      }
+      items.push_back(item.Scalar());
+    }
+    return items;
+  }
   if (!node.IsScalar()) refuse();
   FieldValue value;
   switch (kind) {
@@ -138,6 +157,7 @@ FieldValue read_field_value(const YamlFields& fields, const std::string& key,
       break;
     }
     case FieldKind::kText:
+    case FieldKind::kTextList:
       value = node.Scalar();
       break;
   }
@@ -160,6 +180,13 @@ std::optional<std::string> field_value_problem(const FieldValue& value, FieldKin
       break;
     case FieldKind::kText:
       break;
+    case FieldKind::kTextList:
+      for (const std::string& item : std::get<std::vector<std::string>>(value)) {
+        if (!choices.empty() && std::find(choices.begin(), choices.end(), item) == choices.end()) {
+          return fmt::format("expected a list of {}, got '{}' in it", choices_text(choices), item);
+        }
+      }
+      return std::nullopt;
   }
   if (ok && !choices.empty()) {
     ok = std::find(choices.begin(), choices.end(), field_value_text(value)) != choices.end();
@@ -181,6 +208,8 @@ std::string field_value_text(const FieldValue& value) {
           return v ? "true" : "false";
         } else if constexpr (std::is_same_v<T, std::string>) {
           return v.empty() ? "(empty)" : v;
+        } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+          return v.empty() ? "(none)" : fmt::format("[{}]", fmt::join(v, ", "));
         } else {
           return fmt::format("{}", v);
         }

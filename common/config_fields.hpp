@@ -48,9 +48,9 @@ struct Bounds {
   std::string describe(bool integer) const;
 };
 
-enum class FieldKind { kFlag, kInteger, kNumber, kText };
+enum class FieldKind { kFlag, kInteger, kNumber, kText, kTextList };
 /// A field's value as the generic code sees it.
-using FieldValue = std::variant<bool, std::int64_t, double, std::string>;
+using FieldValue = std::variant<bool, std::int64_t, double, std::string, std::vector<std::string>>;
 
 /// One key of a config section: how to read and write it in the struct, and what it accepts.
 template <class Config>
@@ -81,6 +81,8 @@ Field<Config> field(std::string key, T Config::*member, std::string unit, std::s
       return static_cast<std::int64_t>(c.*member);
     } else if constexpr (std::is_floating_point_v<T>) {
       return static_cast<double>(c.*member);
+    } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+      return c.*member;
     } else {
       return std::string(c.*member);
     }
@@ -92,6 +94,8 @@ Field<Config> field(std::string key, T Config::*member, std::string unit, std::s
       c.*member = static_cast<T>(std::get<std::int64_t>(v));
     } else if constexpr (std::is_floating_point_v<T>) {
       c.*member = std::get<double>(v);
+    } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+      c.*member = std::get<std::vector<std::string>>(v);
     } else {
       c.*member = std::get<std::string>(v);
     }
@@ -105,6 +109,8 @@ Field<Config> field(std::string key, T Config::*member, std::string unit, std::s
     f.bounds.hi = std::min(f.bounds.hi, static_cast<double>(std::numeric_limits<T>::max()));
   } else if constexpr (std::is_floating_point_v<T>) {
     f.kind = FieldKind::kNumber;
+  } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+    f.kind = FieldKind::kTextList;  // a YAML list of text values, each one of `choices`
   } else {
     f.kind = FieldKind::kText;
   }

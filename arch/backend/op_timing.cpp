@@ -86,6 +86,7 @@ OperandScalars op_operand_scalars(const OpRecord& op, const BackendConfig& confi
     case Op::Transpose:
       return {m * n, m * n};
     case Op::Inverse:
+      if (has(op, flags::kDiagonal)) return {m, m};
       if (has(op, flags::kSymmetric)) return {sym(m), sym(m)};
       return {m * m, m * m};
   }
@@ -124,7 +125,7 @@ std::int64_t op_macs(const OpRecord& op, const BackendConfig& config) {
     case Op::Transpose:
       return 0;
     case Op::Inverse:
-      return m * m * m;
+      return has(op, flags::kDiagonal) ? 0 : m * m * m;
   }
   return 0;
 }
@@ -152,13 +153,19 @@ std::vector<OpRecord> kernel_ops(const trace::KernelRecord& kernel, const Backen
         fmt::format("kernel '{}': negative size (m {}, n {})", kernel.kernel, kernel.m, kernel.n));
   }
   const AccelerableKernel* descriptor = find_accelerable_kernel(kernel.kernel);
-  if (descriptor == nullptr) {
+  if (descriptor == nullptr || descriptor->derive_ops == nullptr) {
     throw std::runtime_error(
         fmt::format("kernel '{}': no ops recorded and no rule to derive them (expected {}, or a "
                     "trace with ops)",
                     kernel.kernel, accelerable_kernel_names()));
   }
   return descriptor->derive_ops(kernel.m, kernel.n, config.matrix_format());
+}
+
+bool has_ops(const trace::KernelRecord& kernel) {
+  if (!kernel.ops.empty()) return true;
+  const AccelerableKernel* descriptor = find_accelerable_kernel(kernel.kernel);
+  return descriptor != nullptr && descriptor->derive_ops != nullptr;
 }
 
 bool offloadable(const trace::KernelRecord& kernel, const BackendConfig& config) {
@@ -168,15 +175,19 @@ bool offloadable(const trace::KernelRecord& kernel, const BackendConfig& config)
   return true;
 }
 
-std::vector<std::string> kernels_using(std::size_t unit, const BackendConfig& config) {
+std::vector<std::string> kernels_using(std::size_t unit, const BackendConfig& config,
+                                       const std::vector<std::string>& offload) {
   // Sizes large enough that every kernel derives its full op list (r > 0 for marginalization).
   const KernelMatrixFormat format{8, kPoseBlock, 3};
   std::vector<std::string> out;
   for (const AccelerableKernel* k : accelerable_kernels()) {
-    const auto ops = k->derive_ops(8, 8, format);
-    if (std::any_of(ops.begin(), ops.end(), [&](const OpRecord& op) {
-          return config.unit_for(op.op) == &config.units[unit];
-        })) {
+    if (std::find(offload.begin(), offload.end(), k->name) == offload.end()) continue;
+    std::vector<trace::Op> kinds = k->op_kinds;
+    if (k->derive_ops != nullptr) {
+      for (const OpRecord& op : k->derive_ops(8, 8, format)) kinds.push_back(op.op);
+    }
+    if (std::any_of(kinds.begin(), kinds.end(),
+                    [&](trace::Op op) { return config.unit_for(op) == &config.units[unit]; })) {
       out.emplace_back(k->name);
     }
   }

@@ -54,7 +54,8 @@ std::int64_t op_cycles(const trace::OpRecord& op, int copies, const BackendConfi
 /// unit stores them its own way (MatrixUnit::own_operands: the structured inverse):
 ///   gemm  in mk + kn, out mn          syrk  in mk, out sym(m)
 ///   potrf, ldlt  in sym(m), out sym(m)       trsm, trsv  in sym(m) + m·rhs, out m·rhs
-///   transpose  in mn, out mn          inverse  in m^2, out m^2 (sym(m) each when kSymmetric)
+///   transpose  in mn, out mn          inverse  in m^2, out m^2 (sym(m) each when kSymmetric;
+///                                              m each when kDiagonal)
 OperandScalars op_operand_scalars(const trace::OpRecord& op, const BackendConfig& config);
 
 /// Scratchpad bytes of one op's operands and result (Sec. VI-A: "the input matrices must be
@@ -66,7 +67,7 @@ std::int64_t op_spm_bytes(const trace::OpRecord& op, const BackendConfig& config
 /// unless its unit computes it its own way (MatrixUnit::own_macs: the structured inverse):
 ///   gemm mnk (k sym(m) for a symmetric result with the optimization)   syrk k sym(m)
 ///   potrf, ldlt factorization_macs(m)     trsm, trsv rhs m(m+1)/2      transpose 0
-///   inverse m^3
+///   inverse m^3 (0 when kDiagonal: reciprocals)
 std::int64_t op_macs(const trace::OpRecord& op, const BackendConfig& config);
 
 /// SPM tile side of an op that spills: t = max(1, ⌊√(M / 3)⌋), M = spm_bytes / s the SPM's
@@ -94,12 +95,18 @@ SpillTraffic op_spill_traffic(const trace::OpRecord& op, const BackendConfig& co
 std::vector<trace::OpRecord> kernel_ops(const trace::KernelRecord& kernel,
                                         const BackendConfig& config);
 
+/// True when `kernel` has ops: recorded, or derivable from its sizes (a kernel without is no
+/// matrix work: it stays on the host).
+bool has_ops(const trace::KernelRecord& kernel);
+
 /// True when an instance serves every op of `kernel` (else it cannot leave the host).
 bool offloadable(const trace::KernelRecord& kernel, const BackendConfig& config);
 
-/// The accelerable kernels (arch/kernels) whose ops use instance `unit` of `config` (Table II's
-/// columns), from their derived ops: what the non-shared design replicates the unit for.
-std::vector<std::string> kernels_using(std::size_t unit, const BackendConfig& config);
+/// The kernels of `offload` (scheduler.offload) whose ops use instance `unit` of `config` (Table
+/// II's columns for the paper's three), from their derived ops: what the non-shared design
+/// replicates the unit for.
+std::vector<std::string> kernels_using(std::size_t unit, const BackendConfig& config,
+                                       const std::vector<std::string>& offload);
 
 /// Σ op_cycles over kernel_ops(kernel): the kernel's cycles on an idle accelerator (its ops run
 /// one after another: each needs the previous one's result).

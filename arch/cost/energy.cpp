@@ -66,14 +66,4 @@ ResourceEnergy unit_energy(std::string name, double busy_s, double span_s, doubl
   return r;
 }
 
-std::vector<PaperComparison> compare_energy_to_edx_car(double baseline_j, double accelerated_j) {
-  const double reduction = baseline_j > 0 ? 1.0 - accelerated_j / baseline_j : 0.0;
-  const auto row = [](const char* name, double paper, double simulated) {
-    return PaperComparison{name, paper, simulated, simulated / paper - 1.0};
-  };
-  return {row("baseline_j_per_frame", EdxCarEnergy::kBaselineJ, baseline_j),
-          row("accelerated_j_per_frame", EdxCarEnergy::kAcceleratedJ, accelerated_j),
-          row("energy_reduction", EdxCarEnergy::kReduction, reduction)};
-}
-
 }  // namespace edx::arch::cost

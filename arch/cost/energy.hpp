@@ -8,7 +8,8 @@
 //
 // with the constants of PowerConfig (s_host = host_power_scale, s_fpga = fpga_dynamic_scale,
 // f_fpga = fpga_energy_factor; energies in pJ). The paper's Edx-Car figures (1.9 J -> 0.5 J per
-// frame, −73.7 %, Sec. VII-C) are exposed for comparison; nothing is calibrated yet.
+// frame, −73.7 %, Sec. VII-C) are paper-check targets (reports/paper_targets.yaml); nothing is
+// calibrated on them.
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -50,16 +51,5 @@ struct ResourceEnergy {
 /// idle_s = span_s − busy_s, so E = dynamic_j · (1 + f_idle · idle_s / busy_s).
 ResourceEnergy unit_energy(std::string name, double busy_s, double span_s, double dynamic_j,
                            const PowerConfig& power);
-
-/// Edx-Car's energy per frame (Sec. VII-C): baseline 1.9 J, accelerated 0.5 J (−73.7 %).
-struct EdxCarEnergy {
-  static constexpr double kBaselineJ = 1.9;
-  static constexpr double kAcceleratedJ = 0.5;
-  static constexpr double kReduction = 0.737;
-};
-
-/// Baseline, accelerated and reduction against EdxCarEnergy (the calibration hook for
-/// host_power_scale and fpga_dynamic_scale once end-to-end traces exist).
-std::vector<PaperComparison> compare_energy_to_edx_car(double baseline_j, double accelerated_j);
 
 }  // namespace edx::arch::cost

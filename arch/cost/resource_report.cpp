@@ -120,7 +120,8 @@ std::vector<MemoryStructure> backend_memories(const BackendConfig& be) {
 ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConfig& be,
                                      const CostConfig& cost,
                                      const std::vector<MemoryStructure>& frontend_memories,
-                                     const Device& device) {
+                                     const Device& device,
+                                     const std::vector<std::string>& offload) {
   fe.validate();
   be.validate();
   cost.validate();
@@ -150,11 +151,16 @@ ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConf
     const MatrixUnitInstance& u = be.units[i];
     if (u.count == 0) continue;
     v.push_back(entry(u.name, "backend", "unit", u.unit->resources(u.arithmetic()) * u.count,
-                      kernels(double(kernels_using(i, be).size()))));
+                      kernels(double(kernels_using(i, be, offload).size()))));
   }
-  v.push_back(entry("misc", "backend", "unit", misc_cost(be), kernels(2)));
+  // The adder of "Misc." per kernel that adds (the paper's: Kalman gain's + R, marginalization),
+  // the operand SPM per kernel.
+  double adders = 0;
+  for (const std::string& name : offload) adders += accelerable_kernel(name).misc_add ? 1 : 0;
+  v.push_back(entry("misc", "backend", "unit", misc_cost(be), kernels(adders)));
   for (const MemoryStructure& s : backend_memories(be)) {
-    v.push_back(entry(s.name, "backend", "memory", memory_cost(s, cost), kernels(3)));
+    v.push_back(
+        entry(s.name, "backend", "memory", memory_cost(s, cost), kernels(double(offload.size()))));
   }
   const CostEntry fe_control =
       control_entry(v, "frontend", cost.frontend_lut_overhead, cost.frontend_ff_overhead);

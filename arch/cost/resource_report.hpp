@@ -9,9 +9,10 @@
 //   FE units and memories (FD, IF, FC; the fe./fc. stencil buffers, the FD->FC FIFO):
 //       (ns_fe_per_camera ? 2 : 1) x (ns_frontend_per_mode ? ns_modes : 1)   (default 1 x 3)
 //   the rest of the frontend (MO, DR, DC, LSS, their memories, the SPM): ns_modes or 1
-//   backend units (ns_backend_per_kernel): the kernels of Table II using them — GEMM 3
-//       (projection, Kalman gain, marginalization), decomposition, transpose, substitution 2,
-//       inverse 1, misc 2 (Kalman gain's + R, marginalization); the backend SPM 3.
+//   backend units (ns_backend_per_kernel): the offloaded kernels (scheduler.offload) using them,
+//       from their ops; with the paper's three (Table II): GEMM 3 (projection, Kalman gain,
+//       marginalization), decomposition, transpose, substitution 2, inverse 1; misc (its adder)
+//       one per kernel that adds (2 of the three); the backend SPM one per kernel (3).
 //   control overhead: the group's overhead fraction of its N.S. datapath.
 #include <nlohmann/json.hpp>
 #include <string>
@@ -62,10 +63,13 @@ std::vector<MemoryStructure> backend_memories(const BackendConfig& be);
 /// Builds the report. `frontend_memories`: the frontend memory plan's structures
 /// (FrontendMemoryPlan::bram.structures[i].structure), by their plan names (fe.L<l>..., fc...,
 /// fd_to_fc: FE; everything else: SM/TM/SPM).
+/// `offload`: the kernels the backend serves (scheduler.offload), whose use of each unit the
+/// N.S. variant replicates it for.
 ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConfig& be,
                                      const CostConfig& cost,
                                      const std::vector<MemoryStructure>& frontend_memories,
-                                     const Device& device);
+                                     const Device& device,
+                                     const std::vector<std::string>& offload = paper_offload_set());
 
 /// The frontend memory structures of an `edx simulate --json` result
 /// (frontend.memory.bram.structures); throws std::runtime_error naming `where` and the missing key.

@@ -11,9 +11,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "common/yaml_fields.hpp"
 #include "arch/host/host_model.hpp"
 #include "common/resources.hpp"
+#include "common/yaml_fields.hpp"
 
 namespace edx::arch {
 namespace {
@@ -45,6 +45,7 @@ double op_flops(const OpRecord& op) {
     case Op::Transpose:
       return 0;
     case Op::Inverse:
+      if (op.flags & trace::op_flags::kDiagonal) return m;  // reciprocals
       return (op.flags & trace::op_flags::kSymmetric) ? m * m * m : 2 * m * m * m;
   }
   return 0;

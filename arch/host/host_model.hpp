@@ -85,7 +85,6 @@ class HostMapping {
   double backend_scale(std::int64_t frame_id) const { return scale(backend_, frame_id); }
   /// The factors at the trace's overall medians (what the summary prints).
   double mean_frontend_scale() const { return frontend_.overall; }
-  double mean_backend_scale() const { return backend_.overall; }
   /// e.g. "x1.86 = 172.1 ms / 92.6 ms on the suite v1 (calibrated: ...)".
   const std::string& frontend_basis() const { return frontend_basis_; }
   const std::string& backend_basis() const { return backend_basis_; }

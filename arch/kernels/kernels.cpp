@@ -13,8 +13,13 @@ std::int64_t symmetric_elements(std::int64_t n, bool packed) {
 const std::vector<const AccelerableKernel*>& accelerable_kernels() {
   // The registry: one line per kernel.
   static const std::vector<const AccelerableKernel*> kernels = {
-      &projection_kernel(), &kalman_gain_kernel(), &marginalization_kernel()};
+      &projection_kernel(),       &kalman_gain_kernel(),       &marginalization_kernel(),
+      &schur_complement_kernel(), &covariance_update_kernel(), &gps_fusion_kernel()};
   return kernels;
+}
+
+std::vector<std::string> paper_offload_set() {
+  return {"projection", "kalman_gain", "marginalization"};
 }
 
 const AccelerableKernel* find_accelerable_kernel(std::string_view name) {

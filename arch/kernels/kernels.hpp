@@ -1,6 +1,8 @@
 #pragma once
-// The accelerable kernels of the backend (paper Sec. VI-A, Table II), one descriptor each: the
-// one place that knows a kernel by its trace name. What the models need of a kernel is here:
+// The backend kernels the accelerator can run (the paper's three of Sec. VI-A, Table II, and others
+// whose matrix ops the trace records), one descriptor each: the one place that knows a kernel by
+// its trace name. Which of them a platform offloads is its scheduler.offload. What the models need
+// of a kernel is here:
 //   - the ops it runs when the trace recorded none, derived from its sizes (op_timing's
 //     kernel_ops, the scheduler's prediction from the latency profiles, Sec. VI-B);
 //   - its operands (transfer 2, host -> FPGA) and results (transfer 3) in bytes, by matrix
@@ -46,13 +48,20 @@ struct AccelerableKernel {
   std::string_view sizes;  ///< what the trace's m and n are
   /// Degree of the scheduler's host-time polynomial in the kernel's size (Sec. VI-B).
   int host_model_degree = 1;
-  /// Its ops from sizes m, n, mirroring what the backend records (for traces without ops).
+  /// Its result is combined with an operand by an addition on the "Misc." block of Fig. 14
+  /// (S = H P Hᵀ + R; P - K P Hᵀ ...): what the non-shared design replicates that adder for.
+  bool misc_add = true;
+  /// Its ops from sizes m, n, mirroring what the backend records (for traces without ops);
+  /// nullptr for a kernel whose ops only the trace knows (an invocation without recorded ops
+  /// then did no matrix work and stays on the host).
   std::vector<trace::OpRecord> (*derive_ops)(std::int64_t m, std::int64_t n,
                                              const KernelMatrixFormat& format) = nullptr;
   /// Its operands and results in bytes (s bytes a scalar; symmetric matrices packed as
   /// triangles when `pack_symmetric`). Sizes are checked by the caller (>= 0).
   KernelOperands (*operands)(const trace::KernelRecord& kernel, const KernelMatrixFormat& format,
                              bool pack_symmetric) = nullptr;
+  /// The op kinds it runs, for a kernel without derive_ops (Table II's column of it).
+  std::vector<trace::Op> op_kinds = {};
 };
 
 /// Every accelerable kernel, in registry order.
@@ -65,9 +74,16 @@ const AccelerableKernel& accelerable_kernel(std::string_view name);
 /// "projection, kalman_gain or marginalization".
 std::string accelerable_kernel_names();
 
-// The descriptors (one file each).
+// The descriptors (one file each): the paper's three, then kernels beyond the paper that a
+// platform may offload (scheduler.offload).
 const AccelerableKernel& projection_kernel();
 const AccelerableKernel& kalman_gain_kernel();
 const AccelerableKernel& marginalization_kernel();
+const AccelerableKernel& schur_complement_kernel();
+const AccelerableKernel& covariance_update_kernel();
+const AccelerableKernel& gps_fusion_kernel();
+
+/// The paper's accelerated kernels (Sec. VI-A, Table II), the default of scheduler.offload.
+std::vector<std::string> paper_offload_set();
 
 }  // namespace edx::arch

@@ -30,6 +30,7 @@ const AccelerableKernel& projection_kernel() {
           "multiplication)",
       .sizes = "m: map points M",
       .host_model_degree = 1,  // M·12 multiply-adds: linear in M
+      .misc_add = false,       // C X alone
       .derive_ops = ops,
       .operands = operands,
   };

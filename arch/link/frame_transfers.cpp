@@ -66,40 +66,10 @@ FrameTransferConfig FrameTransferConfig::from_yaml(const YAML::Node& node, const
   return parse_section<FrameTransferConfig>(node, where, prefix);
 }
 
-std::int64_t FrameTransfers::kernel_inputs_to_fpga() const {
-  std::int64_t sum = 0;
-  for (const KernelTransfer& k : kernels) sum += k.input_bytes;
-  return sum;
-}
-
-std::int64_t FrameTransfers::kernel_results_to_host() const {
-  std::int64_t sum = 0;
-  for (const KernelTransfer& k : kernels) sum += k.output_bytes;
-  return sum;
-}
-
-std::int64_t FrameTransfers::total() const {
-  return frontend_to_host() + kernel_inputs_to_fpga() + kernel_results_to_host();
-}
-
 nlohmann::json FrameTransfers::to_json() const {
-  nlohmann::json list = nlohmann::json::array();
-  for (const KernelTransfer& k : kernels) {
-    list.push_back({{"kernel", k.kernel},
-                    {"input_bytes", k.input_bytes},
-                    {"output_bytes", k.output_bytes},
-                    {"parts", k.parts}});
-  }
-  return {{"frame_id", frame_id},
-          {"features", features},
-          {"frontend_bytes", frontend_bytes},
-          {"imu_bytes", imu_bytes},
-          {"gps_bytes", gps_bytes},
-          {"frontend_to_host", frontend_to_host()},
-          {"kernel_inputs_to_fpga", kernel_inputs_to_fpga()},
-          {"kernel_results_to_host", kernel_results_to_host()},
-          {"total", total()},
-          {"kernels", list}};
+  return {
+      {"frame_id", frame_id},   {"features", features},   {"frontend_bytes", frontend_bytes},
+      {"imu_bytes", imu_bytes}, {"gps_bytes", gps_bytes}, {"frontend_to_host", frontend_to_host()}};
 }
 
 KernelTransfer kernel_transfer(const trace::KernelRecord& k, const FrameTransferConfig& c,
@@ -131,39 +101,8 @@ FrameTransfers frontend_transfer(const trace::FrameTrace& frame, const FrameTran
   return t;
 }
 
-FrameTransfers frame_transfers(const trace::FrameTrace& frame, const FrameTransferConfig& c,
-                               const KernelMatrixFormat& format) {
-  FrameTransfers t = frontend_transfer(frame, c);
-  for (const trace::KernelRecord& k : frame.kernels) {
-    if (!k.accelerable) continue;
-    try {
-      t.kernels.push_back(kernel_transfer(k, c, format));
-    } catch (const std::runtime_error& e) {
-      throw std::runtime_error(fmt::format("frame {}: {}", frame.frame.frame_id, e.what()));
-    }
-  }
-  return t;
-}
-
-nlohmann::json FrameTransferTimes::to_json() const {
-  return {{"frontend_to_host_us", sim::to_us(frontend_to_host)},
-          {"kernel_inputs_to_fpga_us", sim::to_us(kernel_inputs_to_fpga)},
-          {"kernel_results_to_host_us", sim::to_us(kernel_results_to_host)},
-          {"total_us", sim::to_us(total())}};
-}
-
 sim::Time kernel_transfer_time(const LinkSpec& link, const KernelTransfer& kernel) {
   return transfer_time(link, kernel.input_bytes) + transfer_time(link, kernel.output_bytes);
-}
-
-FrameTransferTimes frame_transfer_times(const LinkSpec& link, const FrameTransfers& transfers) {
-  FrameTransferTimes t;
-  t.frontend_to_host = transfer_time(link, transfers.frontend_to_host());
-  for (const KernelTransfer& k : transfers.kernels) {
-    t.kernel_inputs_to_fpga += transfer_time(link, k.input_bytes);
-    t.kernel_results_to_host += transfer_time(link, k.output_bytes);
-  }
-  return t;
 }
 
 }  // namespace edx::arch

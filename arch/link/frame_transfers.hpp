@@ -27,15 +27,14 @@
 //                    out prior A_rr - A_rm A_mm^-1 A_mr n x n (sym) + prior b n
 //     l: the kernel's detail "landmark_dim" if given, else (inverse op size - p) / m when the
 //     kernel records the A_mm inverse, else the configured backend.landmark_dim.
-// Frontend-only frames (no accelerable kernel) have (2) = (3) = 0.
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include "common/config_fields.hpp"
 #include "arch/kernels/kernels.hpp"
 #include "arch/link/link.hpp"
+#include "common/config_fields.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace YAML {
@@ -77,23 +76,16 @@ struct KernelTransfer {
   nlohmann::json parts;           ///< {"inputs": {name: bytes}, "outputs": {name: bytes}}
 };
 
-/// The three transfers of one frame.
+/// Transfer (1) of one frame: its frontend results and sensor samples, FPGA -> host.
 struct FrameTransfers {
   std::int64_t frame_id = 0;
   std::int64_t features = 0;        ///< F
   std::int64_t frontend_bytes = 0;  ///< F x feature record
   std::int64_t imu_bytes = 0;
   std::int64_t gps_bytes = 0;
-  std::vector<KernelTransfer> kernels;  ///< accelerable kernels, in trace order
 
   /// (1) FPGA -> host: frontend results + IMU + GPS.
   std::int64_t frontend_to_host() const { return frontend_bytes + imu_bytes + gps_bytes; }
-  /// (2) host -> FPGA: inputs of every accelerable kernel.
-  std::int64_t kernel_inputs_to_fpga() const;
-  /// (3) FPGA -> host: results of every accelerable kernel.
-  std::int64_t kernel_results_to_host() const;
-  /// (1) + (2) + (3).
-  std::int64_t total() const;
   nlohmann::json to_json() const;
 };
 
@@ -102,28 +94,11 @@ struct FrameTransfers {
 KernelTransfer kernel_transfer(const trace::KernelRecord& kernel, const FrameTransferConfig& config,
                                const KernelMatrixFormat& format);
 
-/// Transfer (1) of `frame` alone (no kernels).
+/// Transfer (1) of `frame`; (2) and (3) are each offloaded kernel's (kernel_transfer).
 FrameTransfers frontend_transfer(const trace::FrameTrace& frame, const FrameTransferConfig& config);
-/// The three transfers of `frame`. Host-only kernels are ignored.
-FrameTransfers frame_transfers(const trace::FrameTrace& frame, const FrameTransferConfig& config,
-                               const KernelMatrixFormat& format);
-
-/// Idle-link times of a frame's three transfers (each one DMA transfer; transfer_time()).
-struct FrameTransferTimes {
-  sim::Time frontend_to_host = 0;        ///< (1)
-  sim::Time kernel_inputs_to_fpga = 0;   ///< (2), one transfer per kernel, summed
-  sim::Time kernel_results_to_host = 0;  ///< (3), one transfer per kernel, summed
-  sim::Time total() const {
-    return frontend_to_host + kernel_inputs_to_fpga + kernel_results_to_host;
-  }
-  nlohmann::json to_json() const;
-};
 
 /// Inputs + results of one kernel on an idle link: transfer_time(in) + transfer_time(out)
 /// (what offloading that kernel adds to its compute time).
 sim::Time kernel_transfer_time(const LinkSpec& link, const KernelTransfer& kernel);
-
-/// The frame's transfers timed on an idle link, one DMA transfer each.
-FrameTransferTimes frame_transfer_times(const LinkSpec& link, const FrameTransfers& transfers);
 
 }  // namespace edx::arch

@@ -172,8 +172,4 @@ BramBudget check_bram(const std::string& list_name, const std::vector<MemoryStru
   return budget;
 }
 
-void require_fits(const BramBudget& budget) {
-  if (!budget.fits) throw std::runtime_error(budget.message);
-}
-
 }  // namespace edx::arch

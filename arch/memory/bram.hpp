@@ -137,7 +137,4 @@ struct BramBudget {
 BramBudget check_bram(const std::string& list_name, const std::vector<MemoryStructure>& structures,
                       const Device& device, bool allow_bram18 = true);
 
-/// Throws std::runtime_error with budget.message unless budget.fits.
-void require_fits(const BramBudget& budget);
-
 }  // namespace edx::arch

@@ -9,8 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "common/yaml_fields.hpp"
 #include "arch/memory/bram.hpp"
+#include "common/yaml_fields.hpp"
 
 namespace edx::arch {
 
@@ -26,8 +26,23 @@ const FieldList<SchedulerConfig>& SchedulerConfig::fields() {
             "leading share of each kernel's invocations its regression is fitted on (they run on "
             "the host)",
             Bounds::at_least(0).below(1)),
+      choice_field(
+          "offload", &C::offload, "",
+          [] {
+            std::vector<std::string> names;
+            for (const AccelerableKernel* k : accelerable_kernels()) {
+              names.emplace_back(k->name);
+            }
+            return names;
+          }(),
+          "the kernels that may run on the backend units (their ops: recorded in the "
+          "trace or derived from their sizes)"),
   };
   return list;
+}
+
+bool SchedulerConfig::offloads(const std::string& kernel) const {
+  return std::find(offload.begin(), offload.end(), kernel) != offload.end();
 }
 
 void SchedulerConfig::validate() const { check_fields(*this, "scheduler", fields()); }

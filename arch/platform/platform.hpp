@@ -47,6 +47,12 @@ struct SchedulerConfig {
   /// Leading share of each accelerable kernel's invocations its regression model is fitted on
   /// (paper Sec. VII-A: 25 % of the frames); those invocations run on the host.
   double training_fraction = 0.25;
+  /// The kernels that may leave the host (arch/kernels descriptors; default the paper's three).
+  /// Each invocation runs its ops, recorded in the trace or derived from its sizes, on the
+  /// backend units; the policy decides per invocation.
+  std::vector<std::string> offload = paper_offload_set();
+  /// True when `kernel` is in the offload set.
+  bool offloads(const std::string& kernel) const;
   /// Every key of `scheduler:` (docs/CONFIG.md).
   static const FieldList<SchedulerConfig>& fields();
   void validate() const;

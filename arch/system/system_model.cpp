@@ -188,7 +188,7 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
     std::vector<bool> offloaded;
     for (const trace::KernelRecord& kernel : frame.kernels) {
       bool off = false;
-      if (kernel.accelerable) {
+      if (platform.scheduler.offloads(kernel.kernel) && has_ops(kernel)) {
         const KernelDecision& d = r.decisions[next];
         off = d.offloaded;
         if (off) {
@@ -469,7 +469,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     const trace::FrameTrace& frame = frames[f];
     for (std::size_t k = 0; k < frame.kernels.size(); ++k) {
       const trace::KernelRecord& kernel = frame.kernels[k];
-      if (!kernel.accelerable) continue;
+      if (!platform.scheduler.offloads(kernel.kernel) || !has_ops(kernel)) continue;
       KernelAccelResult a = accelerate_kernel(kernel, platform.backend);
       KernelTransfer t =
           kernel_transfer(kernel, platform.transfers, platform.backend.matrix_format());
@@ -591,8 +591,9 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
 
   std::vector<MemoryStructure> memories;
   for (const StructureUsage& s : r.frontend.memory.bram.structures) memories.push_back(s.structure);
-  r.resources = cost::build_resource_report(platform.frontend, platform.backend, platform.cost,
-                                            memories, Device::by_name(platform.device));
+  r.resources =
+      cost::build_resource_report(platform.frontend, platform.backend, platform.cost, memories,
+                                  Device::by_name(platform.device), platform.scheduler.offload);
   return r;
 }
 

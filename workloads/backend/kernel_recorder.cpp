@@ -24,6 +24,12 @@ KernelRecorder::Scope KernelRecorder::kernel(std::string name, bool accelerable)
   return Scope(*this, kernels_.size() - 1);
 }
 
+void KernelRecorder::describe(trace::Op op, std::int64_t m, std::int64_t n, std::int64_t k,
+                              std::uint32_t flags) {
+  if (!open_) throw std::logic_error("KernelRecorder: op outside a kernel");
+  kernels_.back().ops.push_back(trace::OpRecord{op, m, n, k, flags, 0});
+}
+
 std::vector<trace::KernelRecord> KernelRecorder::take() {
   if (open_) throw std::logic_error("KernelRecorder: take() while a kernel is open");
   return std::exchange(kernels_, {});

@@ -54,6 +54,12 @@ class KernelRecorder {
     return std::forward<Fn>(fn)();
   }
 
+  /// Records a matrix primitive of the open kernel without running or timing anything (host_ns
+  /// 0): the dense primitive a kernel's work amounts to where the host computes it another way
+  /// (SLAM's Schur complement exploits its block sparsity in loops; docs/TRACE.md, ops table).
+  /// Throws std::logic_error when no kernel is open.
+  void describe(trace::Op op, std::int64_t m, std::int64_t n, std::int64_t k, std::uint32_t flags);
+
   /// The kernels recorded since the last take(), in order; clears them. Throws
   /// std::logic_error while a kernel is open.
   std::vector<trace::KernelRecord> take();

@@ -36,7 +36,8 @@ inline constexpr std::uint32_t kLower = 1u << 3;          ///< lower-triangular 
 inline constexpr std::uint32_t kUpper = 1u << 4;          ///< upper-triangular operand
 inline constexpr std::uint32_t kTransposeA = 1u << 5;
 inline constexpr std::uint32_t kTransposeB = 1u << 6;
-inline constexpr std::uint32_t kAll = (1u << 7) - 1;
+inline constexpr std::uint32_t kDiagonal = 1u << 7;  ///< the whole matrix is diagonal
+inline constexpr std::uint32_t kAll = (1u << 8) - 1;
 }  // namespace op_flags
 
 /// A pose as translation and unit quaternion: tx, ty, tz, qw, qx, qy, qz (T_world_body).

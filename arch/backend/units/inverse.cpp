@@ -6,6 +6,8 @@
 //
 //   general     m t_div + ⌈m^3 / (L c)⌉: Gauss-Jordan, each pivot's reciprocal on the critical
 //               path, n rows of n updated per pivot
+//   diagonal    (flag kDiagonal: SLAM's Schur complement's H_ll) t_div + ⌈m / (L c)⌉: the
+//               reciprocals, pipelined over the lanes; m scalars in and out, no multiply-adds
 //   structured  (flags kDiagonalBlock and kBlock6x6, m > 6; workloads/backend/slam/
 //               marginalizer.cpp computes the full symmetric inverse this way)
 //                 reciprocals of the diagonal, pipelined over the lanes   t_div + ⌈d / (L c)⌉
@@ -56,6 +58,7 @@ class Inverse final : public MatrixUnit {
                       const BackendConfig& backend) const override {
     if (op.m == 0) return 0;
     const std::int64_t lanes = std::int64_t(params_.lanes) * std::max(1, copies);
+    if (diagonal(op)) return params_.divide_latency_cycles + ceil_div(op.m, lanes);
     if (!structured(op)) return general_cycles(op.m, lanes);
     const std::int64_t d = op.m - kPoseBlock;  // diagonal (landmark) part
     const std::int64_t reciprocals = params_.divide_latency_cycles + ceil_div(d, lanes);
@@ -65,6 +68,7 @@ class Inverse final : public MatrixUnit {
 
   std::optional<OperandScalars> own_operands(const trace::OpRecord& op,
                                              const BackendConfig& backend) const override {
+    if (diagonal(op)) return OperandScalars{op.m, op.m};
     if (!structured(op)) return std::nullopt;
     const std::int64_t d = op.m - kPoseBlock;
     return OperandScalars{d + d * kPoseBlock + symmetric_scalars(kPoseBlock, backend),
@@ -73,6 +77,7 @@ class Inverse final : public MatrixUnit {
 
   std::optional<std::int64_t> own_macs(const trace::OpRecord& op,
                                        const BackendConfig& backend) const override {
+    if (diagonal(op)) return 0;
     if (!structured(op)) return std::nullopt;
     return structured_products(op.m - kPoseBlock, backend);
   }
@@ -86,6 +91,8 @@ class Inverse final : public MatrixUnit {
   }
 
  private:
+  /// A diagonal matrix: its inverse is its reciprocals.
+  static bool diagonal(const trace::OpRecord& op) { return (op.flags & flags::kDiagonal) != 0; }
   /// The structured form serves `op`: flags kDiagonalBlock and kBlock6x6, m > 6, structured on.
   bool structured(const trace::OpRecord& op) const {
     return params_.structured && (op.flags & flags::kDiagonalBlock) &&

@@ -206,6 +206,16 @@ TEST(BackendOpCycles, Inverse) {
   EXPECT_EQ(op_cycles(op(Op::Inverse, 10, 10, 0, structured), c), 12 + 168 + (312 + 96) / 2);
 }
 
+TEST(BackendOpCycles, DiagonalInverseIsItsReciprocals) {
+  // SLAM's Schur complement inverts the damped H_ll, diagonal: 40 reciprocals on 2 lanes after
+  // the divider's 10 cycles; 40 scalars in and out, no multiply-adds.
+  const BackendConfig c = small_config();
+  const OpRecord d = op(Op::Inverse, 40, 40, 0, flags::kDiagonal | flags::kSymmetric);
+  EXPECT_EQ(op_cycles(d, c), 10 + 20);
+  EXPECT_EQ(op_spm_bytes(d, c), 80 * 8);
+  EXPECT_EQ(op_macs(d, c), 0);
+}
+
 TEST(BackendOpCycles, StructuredInverseBeatsGeneralFor100Landmarks) {
   const BackendConfig c;  // defaults
   const std::int64_t m = 3 * 100 + 6;

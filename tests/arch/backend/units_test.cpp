@@ -46,7 +46,7 @@ TEST(BackendUnits, TableIIUseFollowsFromTheKernelsOps) {
   using Names = std::vector<std::string>;
   const BackendConfig c;
   const auto using_unit = [&](const std::string& name) {
-    return kernels_using(testing::unit_index(c, name), c);
+    return kernels_using(testing::unit_index(c, name), c, paper_offload_set());
   };
   EXPECT_EQ(using_unit("gemm"), (Names{"projection", "kalman_gain", "marginalization"}));
   EXPECT_EQ(using_unit("decomposition"), (Names{"kalman_gain", "marginalization"}));

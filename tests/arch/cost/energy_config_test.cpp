@@ -62,15 +62,6 @@ TEST(FrameEnergy, RejectsAHostBusierThanTheFrame) {
   EXPECT_THROW(frame_energy(a, {}), std::runtime_error);
 }
 
-TEST(FrameEnergy, ComparesWithEdxCar) {
-  const auto rows = compare_energy_to_edx_car(2.0, 0.5);
-  ASSERT_EQ(rows.size(), 3u);
-  EXPECT_NEAR(rows[0].relative_error, 2.0 / 1.9 - 1, 1e-12);
-  EXPECT_NEAR(rows[1].relative_error, 0.0, 1e-12);
-  EXPECT_NEAR(rows[2].simulated, 0.75, 1e-12);
-  EXPECT_NEAR(rows[2].relative_error, 0.75 / 0.737 - 1, 1e-12);
-}
-
 TEST(CostYaml, ReadsFieldsOverDefaults) {
   const YAML::Node n =
       YAML::Load("ns_modes: 2\nfrontend_lut_overhead: 1.5\nns_fe_per_camera: false\n");

@@ -6,6 +6,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace edx::arch {
 namespace {
@@ -14,8 +15,12 @@ namespace flags = trace::op_flags;
 using trace::Op;
 
 TEST(AccelerableKernels, RegistryNamesAndLookups) {
-  ASSERT_EQ(accelerable_kernels().size(), 3u);
-  EXPECT_EQ(accelerable_kernel_names(), "projection, kalman_gain or marginalization");
+  ASSERT_EQ(accelerable_kernels().size(), 6u);
+  EXPECT_EQ(accelerable_kernel_names(),
+            "projection, kalman_gain, marginalization, schur_complement, covariance_update or "
+            "gps_fusion");
+  EXPECT_EQ(paper_offload_set(),
+            (std::vector<std::string>{"projection", "kalman_gain", "marginalization"}));
   EXPECT_EQ(&accelerable_kernel("kalman_gain"), &kalman_gain_kernel());
   EXPECT_EQ(find_accelerable_kernel("pnp"), nullptr);
   try {
@@ -23,8 +28,8 @@ TEST(AccelerableKernels, RegistryNamesAndLookups) {
     FAIL() << "no error";
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()),
-              "kernel 'pnp': expected an accelerable kernel (projection, kalman_gain or "
-              "marginalization)");
+              "kernel 'pnp': expected an accelerable kernel (projection, kalman_gain, "
+              "marginalization, schur_complement, covariance_update or gps_fusion)");
   }
   EXPECT_EQ(projection_kernel().host_model_degree, 1);
   EXPECT_EQ(kalman_gain_kernel().host_model_degree, 2);

@@ -46,31 +46,27 @@ trace::KernelRecord kernel(const std::string& name, std::int64_t m, std::int64_t
 TEST(FrameTransfers, FrontendOnlyFrame) {
   const FrameTransferConfig c;
   EXPECT_EQ(c.feature_record_bytes(), 14);  // id 4 + 4 coordinates x 2 + disparity 2
-  const FrameTransfers t = frame_transfers(frontend_only_frame(200, false), c, kFormat);
+  const FrameTransfers t = frontend_transfer(frontend_only_frame(200, false), c);
   EXPECT_EQ(t.frame_id, 7);
   EXPECT_EQ(t.features, 200);  // the left FC row, not the right one nor MO
   EXPECT_EQ(t.frontend_bytes, 2800);
   EXPECT_EQ(t.imu_bytes, 560);  // 10 x 56
   EXPECT_EQ(t.gps_bytes, 0);    // no GPS on this frame
   EXPECT_EQ(t.frontend_to_host(), 3360);
-  EXPECT_EQ(t.kernel_inputs_to_fpga(), 0);
-  EXPECT_EQ(t.kernel_results_to_host(), 0);
-  EXPECT_EQ(t.total(), 3360);
 
-  const FrameTransfers with_gps = frame_transfers(frontend_only_frame(200, true), c, kFormat);
+  const FrameTransfers with_gps = frontend_transfer(frontend_only_frame(200, true), c);
   EXPECT_EQ(with_gps.gps_bytes, 32);
   EXPECT_EQ(with_gps.frontend_to_host(), 3392);
 
   FrameTransferConfig descriptors = c;
   descriptors.descriptor_bytes = 32;
-  EXPECT_EQ(frame_transfers(frontend_only_frame(100, false), descriptors, kFormat).frontend_bytes,
-            4600);
+  EXPECT_EQ(frontend_transfer(frontend_only_frame(100, false), descriptors).frontend_bytes, 4600);
 }
 
 TEST(FrameTransfers, FallsBackToMatchedFeaturesWithoutAnFcRow) {
   trace::FrameTrace f = frontend_only_frame(200, false);
   f.tasks.erase(f.tasks.begin() + 1);  // drop FC L
-  EXPECT_EQ(frame_transfers(f, {}, kFormat).features, 100);
+  EXPECT_EQ(frontend_transfer(f, {}).features, 100);
 }
 
 TEST(FrameTransfers, Projection) {
@@ -117,27 +113,27 @@ TEST(FrameTransfers, Marginalization) {
   EXPECT_THROW(kernel_transfer(bad, {}, kFormat), std::runtime_error);
 }
 
-TEST(FrameTransfers, SumsAccelerableKernelsAndIgnoresHostOnlyOnes) {
-  trace::FrameTrace f = frontend_only_frame(150, false);
-  f.kernels = {kernel("imu_propagation", 0, 15, false), kernel("kalman_gain", 4, 3),
-               kernel("projection", 1000, 0)};
-  const FrameTransfers t = frame_transfers(f, {}, kFormat);
-  ASSERT_EQ(t.kernels.size(), 2u);
-  EXPECT_EQ(t.kernel_inputs_to_fpga(), 200 + 32096);
-  EXPECT_EQ(t.kernel_results_to_host(), 96 + 16000);
-  EXPECT_EQ(t.frontend_to_host(), 150 * 14 + 560);
-  EXPECT_EQ(t.total(), 2100 + 560 + 32296 + 16096);
-  EXPECT_EQ(t.to_json()["kernel_inputs_to_fpga"], 32296);
+TEST(FrameTransfers, TheKernelsBeyondThePapersThree) {
+  // schur_complement of 3 landmarks, 12 camera columns: H_cc 144 + H_cl 36 + H_ll 3 + b_c 12 +
+  // b_l 3 = 198 doubles in; S 144 + s 12 out.
+  const KernelTransfer schur = kernel_transfer(kernel("schur_complement", 3, 12), {}, kFormat);
+  EXPECT_EQ(schur.input_bytes, 198 * 8);
+  EXPECT_EQ(schur.output_bytes, 156 * 8);
+  // covariance_update of 4 rows, state 3: P 9 + K 12 + P H^T 12 in, P 9 out.
+  const KernelTransfer cov = kernel_transfer(kernel("covariance_update", 4, 3), {}, kFormat);
+  EXPECT_EQ(cov.input_bytes, 33 * 8);
+  EXPECT_EQ(cov.output_bytes, 9 * 8);
+  // gps_fusion of 2 fixes, state 3: P 9 + H 2 x 9 + R 6 in; P 9 + x 3 out.
+  const KernelTransfer gps = kernel_transfer(kernel("gps_fusion", 2, 3), {}, kFormat);
+  EXPECT_EQ(gps.input_bytes, 33 * 8);
+  EXPECT_EQ(gps.output_bytes, 12 * 8);
 }
 
 TEST(FrameTransfers, RejectsUnknownAcceleratedKernels) {
-  trace::FrameTrace f = frontend_only_frame(10, false);
-  f.kernels = {kernel("bundle_adjustment", 5, 5)};
   try {
-    frame_transfers(f, {}, kFormat);
+    kernel_transfer(kernel("bundle_adjustment", 5, 5), {}, kFormat);
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("frame 7"), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("bundle_adjustment"), std::string::npos);
   }
   EXPECT_THROW(kernel_transfer(kernel("projection", -1, 0), {}, kFormat), std::runtime_error);
@@ -170,26 +166,17 @@ TEST(FrameTransfers, ConfigFromYaml) {
 namespace edx::arch {
 namespace {
 
-TEST(FrameTransferTimes, EachTransferIsOneDmaTransfer) {
-  // AXI4 at 1.2 GB/s with no setup or latency: 1200 B take 1 us.
+TEST(KernelTransferTime, InputsAndResultsAreOneDmaTransferEach) {
+  // AXI4 at 1.2 GB/s with no setup or latency: 1200 B take 1 us. A projection of 297 points:
+  // in (12 + 1188) x 8 = 9600 B (8 us), out 4752 B (3.96 us).
   LinkSpec axi = LinkSpec::axi4();
   axi.link.latency_ns = 0;
   axi.dma.setup_ns = 0;
-  trace::FrameTrace f = frontend_only_frame(0, false);
-  f.kernels = {kernel("projection", 297, 0)};  // in (12 + 1188) x 8 = 9600 B, out 4752 B
-  FrameTransferConfig c;
-  c.imu_samples_per_frame = 20;
-  c.imu_sample_bytes = 60;  // 1200 B of IMU samples, nothing else on (1)
-  const FrameTransfers t = frame_transfers(f, c, kFormat);
-  ASSERT_EQ(t.frontend_to_host(), 1200);
-  ASSERT_EQ(t.kernel_inputs_to_fpga(), 9600);
-  ASSERT_EQ(t.kernel_results_to_host(), 4752);
-  const FrameTransferTimes times = frame_transfer_times(axi, t);
-  EXPECT_EQ(times.frontend_to_host, sim::us(1));
-  EXPECT_EQ(times.kernel_inputs_to_fpga, sim::us(8));
-  EXPECT_EQ(times.kernel_results_to_host, sim::ns(3960));
-  EXPECT_EQ(times.total(), sim::ns(12960));
-  EXPECT_EQ(kernel_transfer_time(axi, t.kernels[0]), sim::ns(11960));
+  const KernelTransfer t = kernel_transfer(kernel("projection", 297, 0), {}, kFormat);
+  ASSERT_EQ(t.input_bytes, 9600);
+  ASSERT_EQ(t.output_bytes, 4752);
+  EXPECT_EQ(kernel_transfer_time(axi, t), sim::ns(11960));
+  EXPECT_EQ(transfer_time(axi, 1200), sim::us(1));
 }
 
 }  // namespace

@@ -104,7 +104,6 @@ TEST(BramBudget, TotalsStructuresAndChecksTheDevice) {
   EXPECT_TRUE(fits.fits);
   EXPECT_DOUBLE_EQ(fits.utilization, 9.5 / 912.0);
   EXPECT_DOUBLE_EQ(fits.total_bytes(true), 9.5 * 4608.0);
-  EXPECT_NO_THROW(require_fits(fits));
 
   const std::vector<MemoryStructure> big = {{"frame_buffer", 8, 1280 * 720, 8}};
   // 8 x 921600: 9-bit 4K aspect -> 225 blocks; BRAM18 2K x 9 -> 450 halves = 225; x 8 = 1800.
@@ -113,7 +112,6 @@ TEST(BramBudget, TotalsStructuresAndChecksTheDevice) {
   EXPECT_FALSE(overflow.fits);
   EXPECT_NE(overflow.message.find("double-buffered images"), std::string::npos);
   EXPECT_NE(overflow.message.find("XC7V690T"), std::string::npos);
-  EXPECT_THROW(require_fits(overflow), std::runtime_error);
   EXPECT_EQ(overflow.to_json()["fits"], false);
 }
 

@@ -204,3 +204,48 @@ TEST(SimulateCommand, BadInputExitsOneNamingTheFile) {
 
 }  // namespace
 }  // namespace edx::arch
+
+namespace edx::arch {
+namespace {
+
+// The offload set is data (issue 40): SLAM's Schur complement and VIO's covariance update named
+// in scheduler.offload are simulated on the backend units (the reference trace records their
+// ops), and their rows are in the results database.
+TEST(SimulateCommand, KernelsBeyondThePapersThreeCanBeOffloaded) {
+  const testing::TempDir dir;
+  const fs::path golden = fs::path(EDX_SOURCE_DIR) / "tests" / "data" / "golden" / "golden_mix.db";
+  const fs::path config = dir.path() / "schur.yaml";
+  std::ofstream(config) << "extends: " << kCarConfig.string()
+                        << "\nname: edx_car_schur\nscheduler:\n  policy: always\n"
+                           "  offload: [projection, kalman_gain, marginalization, "
+                           "schur_complement, covariance_update]\n";
+  const fs::path db = dir.path() / "r.db";
+  const auto r =
+      edx::testing::run_command(fmt::format("{} simulate --config {} --trace {} --out {}", kEdx,
+                                            config.string(), golden.string(), db.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  SQLite::Database results(db.string(), SQLite::OPEN_READONLY);
+  std::map<std::string, int> offloaded;
+  SQLite::Statement q(results,
+                      "SELECT kernel, SUM(offloaded), COUNT(*) FROM offload GROUP BY kernel");
+  while (q.executeStep()) {
+    offloaded[q.getColumn(0).getString()] = q.getColumn(1).getInt();
+    EXPECT_GT(q.getColumn(2).getInt(), 0);
+  }
+  // Policy always: every invocation after the training share runs on the units.
+  EXPECT_GT(offloaded["schur_complement"], 0);
+  EXPECT_GT(offloaded["covariance_update"], 0);
+  EXPECT_EQ(offloaded.count("gps_fusion"), 0u);  // not in this platform's set
+  EXPECT_THAT(r.out, HasSubstr("offload    schur_complement"));
+  // A kernel nobody described is refused at the key.
+  std::ofstream(config) << "extends: " << kCarConfig.string()
+                        << "\nname: x\nscheduler:\n  offload: [projection, pnp]\n";
+  const auto bad = edx::testing::run_command(
+      fmt::format("{} simulate --config {} --trace {}", kEdx, config.string(), golden.string()));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_THAT(bad.err, HasSubstr("schur.yaml:4: scheduler.offload: expected a list of "));
+  EXPECT_THAT(bad.err, HasSubstr("got 'pnp' in it"));
+}
+
+}  // namespace
+}  // namespace edx::arch

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -210,6 +211,25 @@ double window_cost(const Window& window, const SlamOptions& options) {
          add_offset_prior(window, options, nullptr, nullptr);
 }
 
+/// The Schur complement's work as the dense primitives of the paper's matrix units (Table II),
+/// which the loop below computes block-sparsely: with W = H_cl (C x L) and D = the damped H_ll
+/// (diagonal, L), D^-1 (L reciprocals), T = W D^-1 (a column scaling: one product an entry),
+/// S = H_cc - T W^T (C x C of L, symmetric) and s = b_c - T b_l (C x 1 of L). The kernel's detail
+/// counts W's non-zero 6-blocks (coupling_blocks), the share a block-sparse unit would compute.
+static void record_schur_ops(KernelRecorder& recorder, trace::KernelRecord& kernel,
+                             const NormalEquations& ne, std::size_t landmarks, int cameras) {
+  namespace f = trace::op_flags;
+  const auto L = static_cast<std::int64_t>(landmarks);
+  const std::int64_t C = cameras;
+  recorder.describe(trace::Op::Inverse, L, L, 0, f::kDiagonal | f::kSymmetric);
+  recorder.describe(trace::Op::Gemm, C, L, 1, 0);
+  recorder.describe(trace::Op::Gemm, C, C, L, f::kSymmetric);
+  recorder.describe(trace::Op::Gemm, C, 1, L, 0);
+  std::size_t blocks = 0;
+  for (const LandmarkRow& row : ne.rows) blocks += row.H_lc.size();
+  kernel.detail_json = "{\"coupling_blocks\":" + std::to_string(blocks) + "}";
+}
+
 LmReport optimize_window(Window& window, const SlamOptions& options, KernelRecorder& recorder) {
   LmReport report;
   const int d = window.state_dim;
@@ -239,6 +259,7 @@ LmReport optimize_window(Window& window, const SlamOptions& options, KernelRecor
       auto k = recorder.kernel("schur_complement");
       k.record().m = static_cast<std::int64_t>(L);
       k.record().n = C;
+      record_schur_ops(recorder, k.record(), ne, L, C);
       S = ne.H_cc;
       S.diagonal() += lambda * ne.H_cc.diagonal();
       S.diagonal().array() += 1e-9;

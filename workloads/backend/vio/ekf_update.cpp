@@ -42,16 +42,22 @@ KalmanGain kalman_gain(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H,
   return gain;
 }
 
-bool update_covariance(Eigen::MatrixXd& P, const KalmanGain& gain) {
-  Eigen::MatrixXd updated = P - gain.K * gain.PHt.transpose();
-  updated = 0.5 * (updated + updated.transpose()).eval();
+bool update_covariance(Eigen::MatrixXd& P, const KalmanGain& gain, KernelRecorder* ops) {
+  namespace f = trace::op_flags;
+  const std::int64_t n = gain.K.rows(), m = gain.K.cols();
+  Eigen::MatrixXd updated =
+      maybe_op(ops, trace::Op::Gemm, n, n, m, f::kSymmetric | f::kTransposeB,
+               [&] { return Eigen::MatrixXd(P - gain.K * gain.PHt.transpose()); });
+  updated = maybe_op(ops, trace::Op::Transpose, n, n, 0, 0,
+                     [&] { return Eigen::MatrixXd(0.5 * (updated + updated.transpose()).eval()); });
   if ((updated.diagonal().array() < 0).any()) return false;  // states without variance stay at 0
   P = std::move(updated);
   return true;
 }
 
-bool apply_update(VioState& state, const KalmanGain& gain, const Eigen::VectorXd& r) {
-  if (!update_covariance(state.P, gain)) return false;
+bool apply_update(VioState& state, const KalmanGain& gain, const Eigen::VectorXd& r,
+                  KernelRecorder* ops) {
+  if (!update_covariance(state.P, gain, ops)) return false;
   state.correct(gain.K * r);
   return true;
 }

@@ -23,11 +23,15 @@ KalmanGain kalman_gain(const Eigen::MatrixXd& P, const Eigen::MatrixXd& H,
                        const Eigen::VectorXd& noise_var, KernelRecorder* ops);
 
 /// P <- P - K (P H^T)^T, kept symmetric. Returns false (and leaves P unchanged) when a diagonal
-/// entry would turn negative.
-bool update_covariance(Eigen::MatrixXd& P, const KalmanGain& gain);
+/// entry would turn negative. When `ops` is given, its primitives are recorded on it: the gemm
+/// P - K (P H^T)^T (n x n of m, a symmetric result) and the symmetrization (P + P^T) / 2 on the
+/// transpose unit (n x n).
+bool update_covariance(Eigen::MatrixXd& P, const KalmanGain& gain, KernelRecorder* ops);
 
-/// update_covariance on the state's P, then dx = K r applied to the state. Returns false (and
-/// leaves the state unchanged) when the covariance update fails.
-bool apply_update(VioState& state, const KalmanGain& gain, const Eigen::VectorXd& r);
+/// update_covariance on the state's P (its primitives recorded on `ops` when given), then dx = K r
+/// applied to the state. Returns false (and leaves the state unchanged) when the covariance update
+/// fails.
+bool apply_update(VioState& state, const KalmanGain& gain, const Eigen::VectorXd& r,
+                  KernelRecorder* ops);
 
 }  // namespace edx::backend::vio

@@ -329,7 +329,7 @@ void MsckfUpdater::sequential_update(VioState& state, const StackedRows& rows,
     auto kernel = recorder.kernel("covariance_update");
     kernel.record().m = group;
     kernel.record().n = n;
-    if (!update_covariance(P, gain)) break;
+    if (!update_covariance(P, gain, &recorder)) break;
     dx += gain.K * r_g;
     ++report.gains;
   }

@@ -309,7 +309,7 @@ TEST(EkfUpdate, GainMatchesTheClosedFormAndRecordsItsOps) {
     return h;
   }();
   const KalmanGain full = kalman_gain(state.P, H_full, noise, nullptr);
-  ASSERT_TRUE(apply_update(state, full, Eigen::VectorXd::Zero(m)));
+  ASSERT_TRUE(apply_update(state, full, Eigen::VectorXd::Zero(m), nullptr));
   const Eigen::MatrixXd expected = P - K * S * K.transpose();
   EXPECT_TRUE(state.P.topLeftCorner(n, n).isApprox(expected, 1e-9));
   EXPECT_TRUE(state.P.isApprox(state.P.transpose()));
