@@ -17,6 +17,8 @@
 // The implementation's Params must provide
 //   static const FieldList<Params>& fields();   every key, once
 //   void validate() const;                      rules between fields (check_fields at least)
+// and may provide `static Params parse(YamlFields&)` when it reads more than its field list
+// (nested sections, presets); the registry still refuses the keys it leaves unread.
 // and the implementation `explicit Impl(const Params&)` and `const Params& params() const`.
 #include <fmt/format.h>
 
@@ -131,7 +133,11 @@ ComponentEntry<Interface> component_entry(std::string name, std::string doc) {
   e.doc = std::move(doc);
   e.parse = [](YamlFields& fields) -> std::shared_ptr<const Interface> {
     Params params;
-    parse_fields(fields, params, Params::fields());
+    if constexpr (requires { Params::parse(fields); }) {
+      params = Params::parse(fields);  // a kind with nested sections or presets reads its own
+    } else {
+      parse_fields(fields, params, Params::fields());
+    }
     fields.finish();
     validate_at(fields, [&params] { params.validate(); });
     return std::make_shared<const Impl>(params);
@@ -222,6 +228,51 @@ std::vector<ReferenceRow> instance_reference(const std::string& section,
 template <class Params>
 nlohmann::json params_to_json(const Params& params) {
   return fields_to_json(params, Params::fields());
+}
+
+/// A section that holds one component (`host:`, `link:`, `memory:`, `backend:`):
+/// `{kind: K, <K's own keys>}`, `kind` optional (`default_kind` when absent). `fields` is the
+/// section's map; every other key is the kind's, unknown keys refused. Errors name file, line
+/// and key.
+template <class Interface>
+std::shared_ptr<const Interface> parse_component(YamlFields& fields,
+                                                 std::string_view default_kind) {
+  const auto& registry = ComponentRegistry<Interface>::instance();
+  const YAML::Node kind = fields.take("kind");
+  if (kind && !kind.IsScalar()) {
+    fields.fail("kind", fmt::format("expected one of {}", registry.names()));
+  }
+  const std::string kind_name = kind ? kind.Scalar() : std::string(default_kind);
+  const ComponentEntry<Interface>* entry = registry.find(kind_name);
+  if (entry == nullptr) {
+    fields.fail("kind", fmt::format("expected one of {}, got '{}'", registry.names(), kind_name));
+  }
+  return entry->parse(fields);
+}
+
+/// A one-component section as JSON: its kind and its parameters.
+template <class Interface>
+nlohmann::json component_json(const Interface& component) {
+  nlohmann::json j = {{"kind", std::string(component.kind())}};
+  j.update(component.params_json());
+  return j;
+}
+
+/// The reference of a one-component section: `kind` (default `default_kind`), then every
+/// registered kind's own keys, each kind in a table of its own.
+template <class Interface>
+std::vector<ReferenceRow> component_reference(const std::string& section,
+                                              std::string_view default_kind) {
+  const auto& registry = ComponentRegistry<Interface>::instance();
+  std::vector<std::string> kinds;
+  for (const auto* e : registry.entries()) kinds.push_back(e->name);
+  std::vector<ReferenceRow> rows = {
+      reference_row(section, "kind", FieldKind::kText, "", std::string(default_kind), {}, kinds,
+                    fmt::format("the {}'s kind; its own keys follow", Interface::kKindName))};
+  for (const auto* entry : registry.entries()) {
+    for (ReferenceRow& row : entry->reference(section)) rows.push_back(std::move(row));
+  }
+  return rows;
 }
 
 }  // namespace edx::arch
