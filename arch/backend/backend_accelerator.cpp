@@ -19,7 +19,7 @@ BackendAccelerator::BackendAccelerator(sim::Simulator& sim, BackendConfig config
 
 sim::Task<void> BackendAccelerator::run(const trace::KernelRecord& kernel) {
   const KernelAccelResult plan = accelerate_kernel(kernel, config_);
-  if (!plan.offloadable) throw std::runtime_error(plan.message);
+  if (!plan.runnable) throw std::runtime_error(plan.message);
   co_await run(plan);
 }
 
@@ -61,6 +61,14 @@ sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::stri
     timeline_->span(kernel_track_, label.empty() ? plan.kernel : label, start, sim_->now(),
                     {{"cycles", plan.cycles}, {"ops", plan.ops.size()}});
   }
+}
+
+const sim::Resource* BackendAccelerator::resource(std::size_t index) const {
+  for (const auto& unit : units_) {
+    if (unit == nullptr) continue;
+    if (index-- == 0) return unit.get();
+  }
+  return nullptr;
 }
 
 void BackendAccelerator::register_stats(sim::StatsRegistry& registry,

@@ -12,23 +12,26 @@
 //   BackendAccelerator accel(sim, config);
 //   auto frame = [&]() -> sim::Process { co_await accel.run(kernel); };
 //
-// A kernel whose operands do not fit the scratchpad (accelerate_kernel().fits_spm false) runs its
+// A kernel whose operands do not fit the scratchpad (fits_local_memory false) runs its
 // ops out of core: the units take the same cycles, and its spill traffic (plan.spill, DRAM bytes)
 // is the caller's to move: the system DES puts it on the link before and after the units
 // (docs/MODEL.md, "SPM spills").
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "arch/backend/backend_config.hpp"
 #include "arch/backend/kernel_replay.hpp"
+#include "arch/backend/offload_accelerator.hpp"
 #include "arch/backend/op_timing.hpp"
 #include "sim_core/engine.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {
 
-class BackendAccelerator {
+/// The DES model of kind fpga_matrix_units (offload_accelerator.hpp).
+class BackendAccelerator final : public OffloadModel {
  public:
   /// Validates `config`. Must be destroyed before `sim`.
   BackendAccelerator(sim::Simulator& sim, BackendConfig config);
@@ -42,16 +45,23 @@ class BackendAccelerator {
   /// Runs a kernel already replayed by accelerate_kernel() on this accelerator's config (which
   /// must outlive the task). `label` names its spans (e.g. "f12 projection").
   sim::Task<void> run(const KernelAccelResult& plan, std::string label = {});
+  /// run() of a plan made by accelerate_kernel() (FpgaMatrixUnits::plan).
+  sim::Task<void> run(const OffloadPlan& plan, std::string label) override {
+    return run(static_cast<const KernelAccelResult&>(plan), std::move(label));
+  }
+  /// The units of count > 0, in BackendConfig::units order (FpgaMatrixUnits::resource_names).
+  const sim::Resource* resource(std::size_t index) const override;
 
   /// Registers <prefix>.<unit>.busy (time-weighted copies busy: its mean over the count is the
   /// unit's utilization) for every unit, <prefix>.kernels and <prefix>.ops (counters) and
   /// <prefix>.kernel_latency_us (samples: from a kernel's first request of a unit to its last
   /// op's end).
-  void register_stats(sim::StatsRegistry& registry, const std::string& prefix = "backend") const;
+  void register_stats(sim::StatsRegistry& registry,
+                      const std::string& prefix = "backend") const override;
 
   /// Records every op as a span on one track per unit in `group` of `timeline`, and every kernel
   /// on a "kernels" track (optional; the timeline must outlive the runs).
-  void set_timeline(sim::Timeline& timeline, const std::string& group = "backend");
+  void set_timeline(sim::Timeline& timeline, const std::string& group = "backend") override;
 
   const BackendConfig& config() const noexcept { return config_; }
   /// The units' resources, in BackendConfig::units order (an instance of count 0 has none:

@@ -107,35 +107,32 @@ nlohmann::json BackendConfig::to_json() const {
   return j;
 }
 
-BackendConfig BackendConfig::from_yaml(const YAML::Node& node, const std::string& where,
-                                       const std::string& prefix) {
+BackendConfig BackendConfig::parse(YamlFields& yaml) {
   BackendConfig config;
-  YamlFields yaml(node, where, prefix);
   yaml.refuse_moved(moved_keys());
   parse_fields(yaml, config, fields());
   const YAML::Node units = yaml.take("units");
-  yaml.finish();
-  for (MatrixUnitInstance& unit : config.units) {
+  const auto precision = [&](MatrixUnitInstance& unit) {
     unit.precision = config.scalar_bytes == 4 ? "single" : "double";
-  }
+  };
+  for (MatrixUnitInstance& unit : config.units) precision(unit);
   if (units) {
     if (!units.IsMap()) yaml.fail("units", "expected a map of named units");
-    parse_instances<MatrixUnit>(units, where, prefix + ".units", config.units,
-                                [&](MatrixUnitInstance& unit) {
-                                  unit.precision = config.scalar_bytes == 4 ? "single" : "double";
-                                });
+    parse_instances<MatrixUnit>(units, yaml.where(), yaml.prefix() + ".units", config.units,
+                                precision);
   }
-  validate_at(yaml, [&config] { config.validate(); });
   return config;
 }
 
-std::vector<ReferenceRow> BackendConfig::reference() {
-  std::vector<ReferenceRow> rows = reference_rows("backend", fields());
-  rows.push_back(reference_row("backend", "units", FieldKind::kText, "",
+std::vector<ReferenceRow> BackendConfig::reference(const std::string& section,
+                                                   const std::string& heading) {
+  std::vector<ReferenceRow> rows = reference_rows(section, fields(), BackendConfig{}, heading);
+  rows.push_back(reference_row(section, "units", FieldKind::kText, "",
                                std::string("the five units of Table II"), {}, {},
                                "the matrix units, a map of named instances (below)"));
+  rows.back().group = heading;
   for (ReferenceRow& row : instance_reference<MatrixUnit, MatrixUnitInstance>(
-           "backend.units", "<name>",
+           section + ".units", "<name>",
            "gemm: systolic_array, decomposition, inverse, transpose, substitution")) {
     rows.push_back(std::move(row));
   }

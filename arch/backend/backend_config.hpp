@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "arch/backend/matrix_unit.hpp"
-#include "common/config_fields.hpp"
 #include "arch/kernels/kernels.hpp"
+#include "common/config_fields.hpp"
 
 namespace YAML {
 class Node;
@@ -58,12 +58,14 @@ struct BackendConfig {
   /// ..."): field ranges, and every trace op served by at most one instance.
   void validate() const;
   nlohmann::json to_json() const;
-  /// Reads the fields present in `node` (a map) over the defaults; errors name file, line and
-  /// key: "car.yaml:12: backend.units.gemm.block: expected an integer in [1, 256], got 0".
-  static BackendConfig from_yaml(const YAML::Node& node, const std::string& where,
-                                 const std::string& prefix = "backend");
-  /// Every key of `backend:`, `backend.units.<name>` and each registered unit kind.
-  static std::vector<ReferenceRow> reference();
+  /// Reads the keys of a `backend:` map over the defaults (the registry's hook for kind
+  /// fpga_matrix_units, which then refuses unread keys and validates); errors name file, line
+  /// and key: "car.yaml:12: backend.units.gemm.block: expected an integer in [1, 256], got 0".
+  static BackendConfig parse(YamlFields& fields);
+  /// Every key of the kind: its fields, `units`, `units.<name>` and each registered unit kind;
+  /// its own table headed `heading`.
+  static std::vector<ReferenceRow> reference(const std::string& section,
+                                             const std::string& heading);
 
   /// The five building blocks of Table II, one instance each, each kind at its defaults (Edx-Car's
   /// sizes, docs/MODEL.md "Backend unit sizes"): gemm (systolic_array 4x4), decomposition (one

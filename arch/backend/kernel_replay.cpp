@@ -18,8 +18,8 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
   const std::vector<trace::OpRecord> ops = kernel_ops(kernel, config);
   for (const trace::OpRecord& op : ops) {
     if (config.unit_for(op.op) == nullptr) {
-      r.offloadable = false;
-      r.seconds = std::numeric_limits<double>::infinity();
+      r.runnable = false;
+      r.compute_s = std::numeric_limits<double>::infinity();
       r.message = fmt::format("kernel '{}': no backend unit serves its {} op (backend.units)",
                               kernel.kernel, trace::to_string(op.op));
       return r;
@@ -45,37 +45,41 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
       r.spill.write_bytes += t.spill.write_bytes;
     }
     r.unit_busy_cycles[t.unit] += t.cycles * t.copies;
-    if (t.spm_bytes > r.spm_bytes_needed) {
-      r.spm_bytes_needed = t.spm_bytes;
+    if (t.spm_bytes > r.local_bytes) {
+      r.local_bytes = t.spm_bytes;
       largest = r.ops.size();
     }
     r.ops.push_back(t);
   }
   for (const auto& [clock_mhz, cycles] : cycles_at_clock) {
-    r.seconds += static_cast<double>(cycles) / (clock_mhz * 1e6);
+    r.compute_s += static_cast<double>(cycles) / (clock_mhz * 1e6);
   }
-  ScratchpadSpec spec;
-  spec.name = "backend.spm";
-  spec.word_bits = 8 * config.scalar_bytes;  // one scalar per word
-  if (!r.ops.empty()) {
-    spec.regions.push_back(
-        {fmt::format("{}.{}", kernel.kernel, trace::to_string(r.ops[largest].op.op)),
-         r.spm_bytes_needed});
+  // The work by resource (the units of count > 0): a busy copy-cycle is mac_lanes MACs of the
+  // unit's precision; each op reads and writes its operands in the SPM once.
+  std::vector<std::size_t> resource_of(config.units.size(), 0);
+  for (std::size_t u = 0; u < config.units.size(); ++u) {
+    if (config.units[u].count == 0) continue;
+    resource_of[u] = r.activity.size();
+    const MatrixUnitInstance& unit = config.units[u];
+    cost::FrameActivity a;
+    const double macs = double(r.unit_busy_cycles[u]) * unit.unit->mac_lanes();
+    (unit.arithmetic() == cost::Arithmetic::kSingle ? a.single_macs : a.double_macs) = macs;
+    r.activity.push_back(a);
   }
-  r.spm = size_scratchpad(spec);
-  r.fits_spm = r.spm_bytes_needed <= config.spm_bytes;
-  if (!r.fits_spm) {
+  for (const OpTiming& t : r.ops) r.activity[resource_of[t.unit]].bram_bytes += double(t.spm_bytes);
+  r.fits_local_memory = r.local_bytes <= config.spm_bytes;
+  if (!r.fits_local_memory) {
     const trace::OpRecord& op = r.ops[largest].op;
     r.message = fmt::format(
         "kernel '{}': its {} op ({}x{}x{}) needs {} B of backend SPM, capacity {} B "
         "(backend.spm_bytes): {} op(s) spill, {} B read from and {} B written to DRAM",
-        kernel.kernel, trace::to_string(op.op), op.m, op.n, op.k, r.spm_bytes_needed,
-        config.spm_bytes, r.spilled_ops, r.spill.read_bytes, r.spill.write_bytes);
+        kernel.kernel, trace::to_string(op.op), op.m, op.n, op.k, r.local_bytes, config.spm_bytes,
+        r.spilled_ops, r.spill.read_bytes, r.spill.write_bytes);
   }
   return r;
 }
 
-double spill_seconds(const KernelAccelResult& plan, const LinkSpec& link) {
+double spill_seconds(const OffloadPlan& plan, const LinkSpec& link) {
   if (plan.spill.bytes() == 0) return 0.0;
   return sim::to_seconds(transfer_time(link, plan.spill.read_bytes) +
                          transfer_time(link, plan.spill.write_bytes));

@@ -18,7 +18,6 @@
 #include "arch/backend/op_timing.hpp"
 #include "arch/link/frame_transfers.hpp"
 #include "arch/link/link.hpp"
-#include "arch/memory/scratchpad.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {
@@ -34,30 +33,26 @@ struct OpTiming {
   SpillTraffic spill;            ///< op_spill_traffic(): zero when it fits the SPM
 };
 
-struct KernelAccelResult {
-  std::string kernel;
+/// The plan of the paper's accelerator (OffloadPlan's fields: kernel; runnable, false when an op
+/// has no unit: compute_s infinite; compute_s = Σ op cycles / its unit's clock; local_bytes = the
+/// largest op's SPM bytes, fits_local_memory against spm_bytes, spill = Σ op_spill_traffic;
+/// activity per unit of count > 0: its MACs (busy copy-cycles × MAC lanes, at its precision) and
+/// its ops' SPM bytes).
+struct KernelAccelResult final : OffloadPlan {
   bool derived_ops = false;  ///< the trace had no ops: kernel_ops() derived them from the sizes
-  /// Every op has a unit (else it stays on the host: no ops, seconds infinite).
-  bool offloadable = true;
-  std::int64_t cycles = 0;  ///< Σ op cycles
-  double seconds = 0;       ///< Σ op cycles / its unit's clock
+  std::int64_t cycles = 0;   ///< Σ op cycles
   /// Busy copy-cycles per instance (BackendConfig::units order): Σ cycles × copies of its ops.
   std::vector<std::int64_t> unit_busy_cycles;
-  std::int64_t spm_bytes_needed = 0;    ///< max over ops of op_spm_bytes()
   std::int64_t spm_bytes_capacity = 0;  ///< config.spm_bytes
-  bool fits_spm = true;                 ///< needed <= capacity (else it spills)
-  std::string message;                  ///< why it spills ("" when it fits)
   int spilled_ops = 0;                  ///< ops run out of core
-  SpillTraffic spill;                   ///< Σ op_spill_traffic over its ops (DRAM bytes)
-  /// The SPM sized for this kernel's largest op (one region), mapped to BRAM.
-  ScratchpadSizing spm;
   std::vector<OpTiming> ops;
 };
 
 /// Replays `kernel` (validated config; kernel_ops() throws for a kernel without ops it cannot
-/// derive). A kernel that does not fit is returned with fits_spm = false, its spill traffic, and
-/// a message naming the kernel, its largest op, the bytes needed, the capacity and the spill; a
-/// kernel with an op no unit serves with offloadable = false and a message naming the op.
+/// derive). A kernel that does not fit is returned with fits_local_memory = false, its spill
+/// traffic, and a message naming the kernel, its largest op, the bytes needed, the capacity and
+/// the spill; a kernel with an op no unit serves with runnable = false and a message naming the
+/// op.
 KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel, const BackendConfig& config);
 
 /// Time of a replayed kernel's spill traffic on an idle link (the accelerator's only configured
@@ -65,6 +60,6 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel, const Bac
 /// transfer_time(spill.read_bytes) + transfer_time(spill.write_bytes), serialized with the
 /// kernel's compute (the conservative reading: no tile prefetch overlaps the units). Seconds;
 /// 0 when the kernel fits.
-double spill_seconds(const KernelAccelResult& plan, const LinkSpec& link);
+double spill_seconds(const OffloadPlan& plan, const LinkSpec& link);
 
 }  // namespace edx::arch

@@ -23,9 +23,9 @@
 #include <string>
 #include <string_view>
 
-#include "common/config_fields.hpp"
 #include "arch/common/registry.hpp"
 #include "arch/cost/resources.hpp"
+#include "common/config_fields.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {

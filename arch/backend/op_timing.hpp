@@ -18,6 +18,7 @@
 
 #include "arch/backend/backend_config.hpp"
 #include "arch/backend/matrix_unit.hpp"
+#include "arch/backend/offload_accelerator.hpp"
 #include "arch/kernels/kernels.hpp"
 #include "workloads/trace/records.hpp"
 
@@ -83,10 +84,6 @@ std::int64_t spill_tile(const BackendConfig& config);
 /// (for a gemm with t dividing m and n this is the blocked algorithm's exact count
 /// mk⌈n/t⌉ + kn⌈m/t⌉ = 2mnk/t; Hong and Kung, STOC 1981, bound any schedule's traffic below
 /// by Ω(W / √M), so this is within a constant of optimal). Not calibrated.
-struct SpillTraffic {
-  std::int64_t read_bytes = 0, write_bytes = 0;
-  std::int64_t bytes() const { return read_bytes + write_bytes; }
-};
 SpillTraffic op_spill_traffic(const trace::OpRecord& op, const BackendConfig& config);
 
 /// The ops an accelerable kernel runs: its recorded ops, or, when the trace recorded none, the

@@ -18,7 +18,8 @@
 //   static const FieldList<Params>& fields();   every key, once
 //   void validate() const;                      rules between fields (check_fields at least)
 // and may provide `static Params parse(YamlFields&)` when it reads more than its field list
-// (nested sections, presets); the registry still refuses the keys it leaves unread.
+// (nested sections, presets; the registry still refuses the keys it leaves unread), with
+// `static std::vector<ReferenceRow> reference(section, heading)` listing those keys too.
 // and the implementation `explicit Impl(const Params&)` and `const Params& params() const`.
 #include <fmt/format.h>
 
@@ -146,8 +147,12 @@ ComponentEntry<Interface> component_entry(std::string name, std::string doc) {
     return std::make_shared<const Impl>(Params{});
   };
   e.reference = [name = e.name, doc = e.doc](const std::string& section) {
-    return reference_rows(section, Params::fields(), Params{},
-                          fmt::format("`{}` of kind `{}`: {}", section, name, doc));
+    const std::string heading = fmt::format("`{}` of kind `{}`: {}", section, name, doc);
+    if constexpr (requires { Params::reference(section, heading); }) {
+      return Params::reference(section, heading);  // with its nested sections
+    } else {
+      return reference_rows(section, Params::fields(), Params{}, heading);
+    }
   };
   return e;
 }

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "common/config_fields.hpp"
 #include "arch/cost/resources.hpp"
+#include "common/config_fields.hpp"
 
 namespace YAML {
 class Node;

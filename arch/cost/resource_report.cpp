@@ -6,16 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "arch/backend/op_timing.hpp"
-
 namespace edx::arch::cost {
 namespace {
-
-CostEntry entry(std::string name, std::string group, std::string kind, const Resources& shared,
-                double ns_copies) {
-  return {std::move(name), std::move(group), std::move(kind),
-          shared,          ns_copies,        shared * ns_copies};
-}
 
 /// FE (time-shared between cameras) memories of the frontend plan, by name.
 bool is_fe_memory(const std::string& name) {
@@ -70,20 +62,7 @@ Resources device_totals(const Device& d) {
 
 double mib_of_blocks(double blocks) { return to_mib(bytes_of_blocks(blocks, false)); }
 
-/// "Misc." of Fig. 14: one adder at the backend's precision (e.g. + R in S = H P H^T + R).
-Resources misc_cost(const BackendConfig& be) {
-  Datapath d;
-  d.fp(1, be.scalar_bytes == 4 ? kSingleAdd : kDoubleAdd);
-  return d.resources();
-}
-
 }  // namespace
-
-nlohmann::json CostEntry::to_json() const {
-  return {{"name", name},           {"group", group},
-          {"kind", kind},           {"shared", shared.to_json()},
-          {"ns_copies", ns_copies}, {"ns", ns.to_json()}};
-}
 
 nlohmann::json CostTotals::to_json() const {
   return {{"shared", shared.to_json()}, {"ns", ns.to_json()}};
@@ -106,28 +85,15 @@ nlohmann::json ResourceReport::to_json() const {
           {"fits", fits}};
 }
 
-std::vector<MemoryStructure> backend_memories(const BackendConfig& be) {
-  const std::int64_t word_bytes = be.scalar_bytes;
-  // A row feeds every copy of the array a block row a cycle (one word without an array).
-  const MatrixUnitInstance* array = be.unit_for(trace::Op::Gemm);
-  const std::int64_t row_words =
-      array == nullptr ? 1 : std::int64_t(std::max(1, array->unit->tile())) * array->count;
-  const std::int64_t row_bytes = word_bytes * row_words;
-  MemoryStructure spm{"backend_spm", row_bytes * 8, (be.spm_bytes + row_bytes - 1) / row_bytes, 1};
-  return {spm};
-}
-
-ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConfig& be,
+ResourceReport build_resource_report(const FrontendConfig& fe, const OffloadAccelerator& be,
                                      const CostConfig& cost,
                                      const std::vector<MemoryStructure>& frontend_memories,
                                      const Device& device,
                                      const std::vector<std::string>& offload) {
   fe.validate();
-  be.validate();
   cost.validate();
   const double modes = cost.ns_frontend_per_mode ? cost.ns_modes : 1;
   const double fe_copies = modes * (cost.ns_fe_per_camera ? 2 : 1);
-  const auto kernels = [&](double n) { return cost.ns_backend_per_kernel ? n : 1.0; };
 
   ResourceReport r;
   r.device = device;
@@ -137,30 +103,19 @@ ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConf
     const trace::Task task = u.unit->task();
     const bool fe_engine =
         task == trace::Task::FD || task == trace::Task::IF || task == trace::Task::FC;
-    v.push_back(entry(u.name, "frontend", "unit", u.unit->resources(fe) * u.count,
-                      fe_engine ? fe_copies : modes));
+    v.push_back(CostEntry::replicated(u.name, "frontend", "unit", u.unit->resources(fe) * u.count,
+                                      fe_engine ? fe_copies : modes));
   }
   for (const MemoryStructure& s : frontend_memories) {
     s.validate();
-    v.push_back(entry(s.name, "frontend", "memory", memory_cost(s, cost),
-                      is_fe_memory(s.name) ? fe_copies : modes));
+    v.push_back(CostEntry::replicated(s.name, "frontend", "memory", memory_cost(s, cost),
+                                      is_fe_memory(s.name) ? fe_copies : modes));
   }
-  // Table II: the non-shared design has one copy of a building block per kernel that uses it
-  // (from the kernels' ops: multiply 3, decompose 2, inverse 1, transpose 2, substitute 2).
-  for (std::size_t i = 0; i < be.units.size(); ++i) {
-    const MatrixUnitInstance& u = be.units[i];
-    if (u.count == 0) continue;
-    v.push_back(entry(u.name, "backend", "unit", u.unit->resources(u.arithmetic()) * u.count,
-                      kernels(double(kernels_using(i, be, offload).size()))));
-  }
-  // The adder of "Misc." per kernel that adds (the paper's: Kalman gain's + R, marginalization),
-  // the operand SPM per kernel.
-  double adders = 0;
-  for (const std::string& name : offload) adders += accelerable_kernel(name).misc_add ? 1 : 0;
-  v.push_back(entry("misc", "backend", "unit", misc_cost(be), kernels(adders)));
-  for (const MemoryStructure& s : backend_memories(be)) {
-    v.push_back(
-        entry(s.name, "backend", "memory", memory_cost(s, cost), kernels(double(offload.size()))));
+  // The offload accelerator's own entries (group "backend"; the N.S. copies per kernel).
+  for (CostEntry& e :
+       be.cost_entries({offload, cost.ns_backend_per_kernel,
+                        [&cost](const MemoryStructure& s) { return memory_cost(s, cost); }})) {
+    v.push_back(std::move(e));
   }
   const CostEntry fe_control =
       control_entry(v, "frontend", cost.frontend_lut_overhead, cost.frontend_ff_overhead);

@@ -18,24 +18,13 @@
 #include <string>
 #include <vector>
 
-#include "arch/backend/backend_config.hpp"
+#include "arch/backend/offload_accelerator.hpp"
 #include "arch/cost/cost_config.hpp"
 #include "arch/cost/resources.hpp"
 #include "arch/frontend/frontend_config.hpp"
 #include "arch/memory/bram.hpp"
 
 namespace edx::arch::cost {
-
-/// One unit, memory or overhead entry of the report.
-struct CostEntry {
-  std::string name;      ///< "FD", "gemm", "fe.L0.line_fifo", "control"
-  std::string group;     ///< "frontend" or "backend"
-  std::string kind;      ///< "unit", "memory" or "control"
-  Resources shared;      ///< as built (shared across modes, cameras, kernels)
-  double ns_copies = 1;  ///< copies without sharing (control: 1, its ns is computed)
-  Resources ns;          ///< the N.S. resources: shared x ns_copies (control: overhead of N.S.)
-  nlohmann::json to_json() const;
-};
 
 /// Totals of a set of entries, shared and N.S.
 struct CostTotals {
@@ -56,16 +45,13 @@ struct ResourceReport {
   nlohmann::json to_json() const;
 };
 
-/// The backend's memories from its unit sizes: the operand scratchpad (spm_bytes in rows of
-/// gemm_block words of the backend precision, so the array reads a block row a cycle).
-std::vector<MemoryStructure> backend_memories(const BackendConfig& be);
-
 /// Builds the report. `frontend_memories`: the frontend memory plan's structures
 /// (FrontendMemoryPlan::bram.structures[i].structure), by their plan names (fe.L<l>..., fc...,
 /// fd_to_fc: FE; everything else: SM/TM/SPM).
-/// `offload`: the kernels the backend serves (scheduler.offload), whose use of each unit the
-/// N.S. variant replicates it for.
-ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConfig& be,
+/// `be`: the offload accelerator, whose cost_entries() are the backend group. `offload`: the
+/// kernels it serves (scheduler.offload), whose use of each unit the N.S. variant replicates it
+/// for.
+ResourceReport build_resource_report(const FrontendConfig& fe, const OffloadAccelerator& be,
                                      const CostConfig& cost,
                                      const std::vector<MemoryStructure>& frontend_memories,
                                      const Device& device,

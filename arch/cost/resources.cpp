@@ -30,6 +30,18 @@ nlohmann::json Resources::to_json() const {
   return {{"lut", lut}, {"ff", ff}, {"dsp", dsp}, {"bram_blocks", bram}};
 }
 
+CostEntry CostEntry::replicated(std::string name, std::string group, std::string kind,
+                                const Resources& shared, double ns_copies) {
+  return {std::move(name), std::move(group), std::move(kind),
+          shared,          ns_copies,        shared * ns_copies};
+}
+
+nlohmann::json CostEntry::to_json() const {
+  return {{"name", name},           {"group", group},
+          {"kind", kind},           {"shared", shared.to_json()},
+          {"ns_copies", ns_copies}, {"ns", ns.to_json()}};
+}
+
 Arithmetic parse_arithmetic(const std::string& text, const std::string& what) {
   if (text == "fixed") return Arithmetic::kFixed;
   if (text == "single") return Arithmetic::kSingle;

@@ -40,6 +40,20 @@ struct Resources {
   nlohmann::json to_json() const;
 };
 
+/// One unit, memory or overhead entry of a resource report (resource_report.hpp).
+struct CostEntry {
+  std::string name;      ///< "FD", "gemm", "fe.L0.line_fifo", "control"
+  std::string group;     ///< "frontend" or "backend"
+  std::string kind;      ///< "unit", "memory" or "control"
+  Resources shared;      ///< as built (shared across modes, cameras, kernels)
+  double ns_copies = 1;  ///< copies without sharing (control: 1, its ns is computed)
+  Resources ns;          ///< the N.S. resources: shared x ns_copies (control: overhead of N.S.)
+  /// An entry whose N.S. resources are `shared` x `ns_copies`.
+  static CostEntry replicated(std::string name, std::string group, std::string kind,
+                              const Resources& shared, double ns_copies);
+  nlohmann::json to_json() const;
+};
+
 /// Names of the four resources in Resources::operator[] order.
 inline constexpr const char* kResourceNames[4] = {"lut", "ff", "dsp", "bram"};
 

@@ -55,7 +55,7 @@ void Platform::validate() const {
   frontend.validate();
   link.validate();
   transfers.validate();
-  backend.validate();
+  if (backend == nullptr) throw std::runtime_error("backend: no offload accelerator");
   cost.validate();
   power.validate();
   scheduler.validate();
@@ -84,7 +84,7 @@ std::vector<ReferenceRow> Platform::reference() {
   add(reference_rows("", fields()));
   add(reference_rows("host", HostConfig::fields()));
   add(FrontendConfig::reference());
-  add(BackendConfig::reference());
+  add(component_reference<OffloadAccelerator>("backend", kDefaultOffloadKind));
   add(LinkSpec::reference());
   add(reference_rows("transfers", FrameTransferConfig::fields()));
   add(reference_rows("cost", cost::CostConfig::fields()));
@@ -102,7 +102,7 @@ nlohmann::json Platform::to_json() const {
           {"frontend", frontend.to_json()},
           {"link", link.to_json()},
           {"transfers", transfers.to_json()},
-          {"backend", backend.to_json()},
+          {"backend", component_json(*backend)},
           {"cost", cost.to_json()},
           {"power", power.to_json()},
           {"scheduler", scheduler.to_json()},
@@ -126,7 +126,9 @@ std::string config_reference_markdown() {
          "kind's own keys, listed per kind below. A section's `units` map is read over the "
          "paper's units: a listed instance overrides the default of its name (its kind kept "
          "unless given), a new name adds a unit. A kind is one source file registering itself "
-         "(arch/frontend/units/, arch/backend/units/; docs/MODEL.md, \"Components\").\n" +
+         "(arch/frontend/units/, arch/backend/units/; docs/MODEL.md, \"Components\"). The "
+         "`backend:` section is the offload accelerator, itself a kind (`backend.kind`, by "
+         "default the paper's `fpga_matrix_units`: the keys below).\n" +
          render_reference(Platform::reference());
 }
 
@@ -227,7 +229,8 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   p.frontend = FrontendConfig::from_yaml(root["frontend"], where);
   if (root["link"]) p.link = LinkSpec::from_yaml(root["link"], where);
   p.transfers = FrameTransferConfig::from_yaml(root["transfers"], where);
-  p.backend = BackendConfig::from_yaml(root["backend"], where);
+  YamlFields backend(root["backend"], where, "backend");
+  p.backend = parse_component<OffloadAccelerator>(backend, kDefaultOffloadKind);
   p.cost = cost::CostConfig::from_yaml(root["cost"], where);
   p.power = cost::PowerConfig::from_yaml(root["power"], where);
   p.system = SystemConfig::from_yaml(root["system"], where);

@@ -8,7 +8,8 @@
 //   host: {frontend_suite_ms: 71.2, provenance: "...", backend_suite_ms: 21.9,
 //          backend_provenance: "..."}         HostConfig (arch/host)
 //   frontend: {clock_mhz: 150, ...}             FrontendConfig
-//   backend: {gemm_block: 4, ...}               BackendConfig (arch/backend)
+//   backend: {kind: fpga_matrix_units, units: {gemm: {block: 4}}, ...}
+//                                               OffloadAccelerator (arch/backend)
 //   link: {preset: pcie3_x8, ...}               LinkSpec
 //   transfers: {feature_id_bytes: 4, ...}       FrameTransferConfig
 //   cost: {...}  power: {...}                   cost::CostConfig, cost::PowerConfig
@@ -27,10 +28,12 @@
 
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "arch/backend/backend_config.hpp"
+#include "arch/backend/accelerators/fpga_matrix_units.hpp"
+#include "arch/backend/offload_accelerator.hpp"
 #include "arch/cost/cost_config.hpp"
 #include "arch/frontend/frontend_config.hpp"
 #include "arch/host/host_model.hpp"
@@ -80,9 +83,10 @@ struct Platform {
   FrontendConfig frontend;
   LinkSpec link = LinkSpec::pcie3_x8();  ///< host <-> FPGA
   FrameTransferConfig transfers;         ///< what crosses the link per frame
-  BackendConfig backend;                 ///< the backend accelerator's units and SPM
-  cost::CostConfig cost;                 ///< resource model knobs
-  cost::PowerConfig power;               ///< energy model constants
+  /// The offload accelerator (`backend:`, a registered kind; the paper's FPGA matrix units).
+  std::shared_ptr<const OffloadAccelerator> backend = fpga_matrix_units();
+  cost::CostConfig cost;    ///< resource model knobs
+  cost::PowerConfig power;  ///< energy model constants
   SchedulerConfig scheduler;
   SystemConfig system;  ///< the whole-system DES: camera, queues, contention
   nlohmann::json to_json() const;

@@ -8,7 +8,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "arch/backend/backend_accelerator.hpp"
+#include "arch/backend/offload_accelerator.hpp"
 #include "arch/link/link.hpp"
 
 namespace edx::arch {
@@ -76,7 +76,7 @@ sim::Time ms_to_time(double ms) { return sim::seconds(ms * 1e-3); }
 class SystemSimulation {
  public:
   SystemSimulation(const std::vector<SystemFrameWork>& work, const FrontendConfig& frontend,
-                   const BackendConfig& backend, const LinkSpec& link, int host_cores,
+                   const OffloadAccelerator& backend, const LinkSpec& link, int host_cores,
                    const SystemConfig& system, bool accelerated, bool isolated,
                    const SystemTimelineOptions& timeline)
       : work_(work),
@@ -98,7 +98,8 @@ class SystemSimulation {
       frontend_.emplace(sim_, frontend);
       link_.emplace(sim_, link);
       if (contention_) {
-        backend_.emplace(sim_, backend);
+        backend_ = backend.instantiate(sim_);
+        backend_resources_ = backend.resource_names();
       } else {
         frontend_link_.emplace(sim_, link);  // transfer 1 alone on its link, as the analytical
       }
@@ -262,7 +263,7 @@ class SystemSimulation {
     } else {
       co_await sim_.delay(transfer_time(link_spec_, o.input_bytes));
       co_await sim_.delay(transfer_time(link_spec_, o.spill_read_bytes));
-      co_await sim_.delay(sim::seconds(o.plan->seconds));
+      co_await sim_.delay(sim::seconds(o.plan->compute_s));
       co_await sim_.delay(transfer_time(link_spec_, o.spill_write_bytes));
       co_await sim_.delay(transfer_time(link_spec_, o.output_bytes));
     }
@@ -379,10 +380,9 @@ class SystemSimulation {
         } else {
           r.resources.push_back({"link.wire", link_->wire_utilization(Direction::HostToFpga), 1.0});
         }
-        const BackendConfig& config = backend_->config();
-        for (std::size_t u = 0; u < config.units.size(); ++u) {
-          if (const sim::Resource* unit = backend_->unit(u)) {
-            use("backend." + config.units[u].name, *unit);
+        for (std::size_t i = 0; i < backend_resources_.size(); ++i) {
+          if (const sim::Resource* resource = backend_->resource(i)) {
+            use("backend." + backend_resources_[i], *resource);
           }
         }
       }
@@ -403,9 +403,10 @@ class SystemSimulation {
   std::size_t unbounded_;
   LinkSpec link_spec_;
   std::optional<FrontendAccelerator> frontend_;
-  std::optional<BackendAccelerator> backend_;
-  std::optional<DmaLink> link_;           ///< the platform's link (every transfer)
-  std::optional<DmaLink> frontend_link_;  ///< contention off: transfer 1 on a link of its own
+  std::unique_ptr<OffloadModel> backend_;       ///< the offload accelerator's DES model
+  std::vector<std::string> backend_resources_;  ///< its resource_names()
+  std::optional<DmaLink> link_;                 ///< the platform's link (every transfer)
+  std::optional<DmaLink> frontend_link_;        ///< contention off: transfer 1 on a link of its own
   sim::Resource cores_;
   sim::Resource admission_;  ///< isolated: one frame in the system
   sim::Event arrived_;
@@ -442,7 +443,7 @@ class SystemSimulation {
 }  // namespace
 
 SystemRun run_system(const std::vector<SystemFrameWork>& work, const FrontendConfig& frontend,
-                     const BackendConfig& backend, const LinkSpec& link, int host_cores,
+                     const OffloadAccelerator& backend, const LinkSpec& link, int host_cores,
                      const SystemConfig& system, bool accelerated, bool isolated,
                      const SystemTimelineOptions& timeline) {
   if (host_cores < 1) {

@@ -29,8 +29,9 @@
 #include <string>
 #include <vector>
 
-#include "arch/backend/kernel_replay.hpp"
+#include "arch/backend/offload_accelerator.hpp"
 #include "arch/frontend/frontend_model.hpp"
+#include "arch/link/link.hpp"
 #include "arch/platform/system_config.hpp"
 #include "sim_core/engine.hpp"
 
@@ -38,10 +39,10 @@ namespace edx::arch {
 
 /// One offloaded kernel invocation as the DES runs it.
 struct OffloadWork {
-  const KernelAccelResult* plan = nullptr;  ///< its ops on the backend units
-  std::int64_t input_bytes = 0;             ///< transfer 2
-  std::int64_t output_bytes = 0;            ///< transfer 3
-  std::string label;                        ///< "f<frame> <kernel>"
+  const OffloadPlan* plan = nullptr;  ///< its plan on the offload accelerator
+  std::int64_t input_bytes = 0;       ///< transfer 2
+  std::int64_t output_bytes = 0;      ///< transfer 3
+  std::string label;                  ///< "f<frame> <kernel>"
   /// Out of core (docs/MODEL.md, "SPM spills"): DRAM bytes its ops read before the units run
   /// and write after them, on the link (the accelerator's path to DRAM); 0 when it fits.
   std::int64_t spill_read_bytes = 0, spill_write_bytes = 0;
@@ -116,7 +117,7 @@ struct SystemTimelineOptions {
 /// baseline. `isolated`: one frame at a time, back to back; else streamed (platform.system).
 /// `frontend`, `backend`, `link`, `host_cores` come from the platform (see system_model).
 SystemRun run_system(const std::vector<SystemFrameWork>& work, const FrontendConfig& frontend,
-                     const BackendConfig& backend, const LinkSpec& link, int host_cores,
+                     const OffloadAccelerator& backend, const LinkSpec& link, int host_cores,
                      const SystemConfig& system, bool accelerated, bool isolated,
                      const SystemTimelineOptions& timeline = {});
 

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "arch/backend/kernel_replay.hpp"
+#include "arch/backend/offload_accelerator.hpp"
 #include "arch/link/frame_transfers.hpp"
 #include "arch/memory/bram.hpp"
 #include "common/atomic_file.hpp"
@@ -90,7 +91,8 @@ StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResu
   s.resources = run.resources;
   std::vector<double> latency;
   EnergyParts parts;
-  parts.backend.assign(platform.backend.units.size(), 0.0);
+  const std::vector<std::string> backend_resources = platform.backend->resource_names();
+  parts.backend.assign(backend_resources.size(), 0.0);
   for (std::size_t f = 0; f < run.frames.size(); ++f) {
     const SystemFrameTiming& t = run.frames[f];
     if (t.dropped) continue;
@@ -127,9 +129,8 @@ StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResu
       out.push_back(cost::unit_energy(name, busy_s(name), copies_s(name),
                                       parts.frontend[static_cast<std::size_t>(task)], power));
     }
-    for (std::size_t u = 0; u < platform.backend.units.size(); ++u) {
-      if (platform.backend.units[u].count == 0) continue;
-      const std::string name = "backend." + platform.backend.units[u].name;
+    for (std::size_t u = 0; u < backend_resources.size(); ++u) {
+      const std::string name = "backend." + backend_resources[u];
       out.push_back(cost::unit_energy(name, busy_s(name), copies_s(name), parts.backend[u], power));
     }
     const auto link = [&](const std::string& name, double j) {
@@ -170,7 +171,8 @@ StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResu
 /// streamed, and replaces the analytical latencies of `r`'s frames by the isolated runs'.
 /// `accel`, `transfers`: per accelerable invocation, in the order of r.decisions.
 void simulate_platform_des(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
-                           SystemResult& r, const std::vector<KernelAccelResult>& accel,
+                           SystemResult& r,
+                           const std::vector<std::unique_ptr<const OffloadPlan>>& accel,
                            const std::vector<KernelTransfer>& transfers,
                            const SystemSimOptions& options) {
   const PlatformHostTimes& host = r.frontend.host_times;
@@ -192,10 +194,10 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
         const KernelDecision& d = r.decisions[next];
         off = d.offloaded;
         if (off) {
-          w.offloads.push_back({&accel[next], transfers[next].input_bytes,
+          w.offloads.push_back({accel[next].get(), transfers[next].input_bytes,
                                 transfers[next].output_bytes,
                                 fmt::format("f{} {}", w.frame_id, d.kernel),
-                                accel[next].spill.read_bytes, accel[next].spill.write_bytes});
+                                accel[next]->spill.read_bytes, accel[next]->spill.write_bytes});
         }
         ++next;
       }
@@ -209,8 +211,8 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
     timeline_options = {&timeline, options.timeline_first, options.timeline_count};
   }
   const auto run = [&](bool accelerated, bool isolated, const SystemTimelineOptions& t) {
-    return run_system(work, platform.frontend, platform.backend, platform.link, platform.host.cores,
-                      platform.system, accelerated, isolated, t);
+    return run_system(work, platform.frontend, *platform.backend, platform.link,
+                      platform.host.cores, platform.system, accelerated, isolated, t);
   };
   for (VariantResult* v : {&r.baseline, &r.accelerated}) {
     const bool accelerated = v == &r.accelerated;
@@ -463,16 +465,16 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   // The study's mapping: frontend_study_key includes the host, so it is this platform's.
   const PlatformHostTimes& host = r.frontend.host_times;
   std::vector<KernelInvocation> invocations;
-  std::vector<KernelAccelResult> accel;
+  std::vector<std::unique_ptr<const OffloadPlan>> accel;
   std::vector<KernelTransfer> transfers;
   for (std::size_t f = 0; f < frames.size(); ++f) {
     const trace::FrameTrace& frame = frames[f];
     for (std::size_t k = 0; k < frame.kernels.size(); ++k) {
       const trace::KernelRecord& kernel = frame.kernels[k];
       if (!platform.scheduler.offloads(kernel.kernel) || !has_ops(kernel)) continue;
-      KernelAccelResult a = accelerate_kernel(kernel, platform.backend);
+      std::unique_ptr<const OffloadPlan> a = platform.backend->plan(kernel);
       KernelTransfer t =
-          kernel_transfer(kernel, platform.transfers, platform.backend.matrix_format());
+          kernel_transfer(kernel, platform.transfers, platform.backend->matrix_format());
       const double link_s = sim::to_seconds(kernel_transfer_time(platform.link, t));
       KernelDecision d;
       d.frame_id = frame.frame.frame_id;
@@ -480,11 +482,11 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       d.kernel = kernel.kernel;
       d.size = double(kernel.m);
       d.host_ms = host.kernel_ms[f][k];
-      d.compute_ms = 1e3 * a.seconds;
+      d.compute_ms = 1e3 * a->compute_s;
       d.transfer_ms = 1e3 * link_s;
-      d.fits_spm = a.fits_spm;
-      d.spill_ms = 1e3 * spill_seconds(a, platform.link);
-      d.spill_bytes = a.spill.bytes();
+      d.fits_spm = a->fits_local_memory;
+      d.spill_ms = 1e3 * spill_seconds(*a, platform.link);
+      d.spill_bytes = a->spill.bytes();
       d.accel_ms = d.compute_ms + d.transfer_ms + d.spill_ms;
       KernelInvocation inv;
       inv.frame_index = f;
@@ -512,6 +514,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   r.accelerated.variant = "accelerated";
   const std::int64_t extra_dram = r.frontend.memory.extra_dram_bytes_per_frame;
   std::size_t next = 0;  // index into decisions (frame order)
+  const std::size_t backend_resources = platform.backend->resource_names().size();
   std::vector<double> cpu_fe_end;
   double cpu_fe_clock = 0;
   for (std::size_t f = 0; f < frames.size(); ++f) {
@@ -538,8 +541,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     for (std::size_t t = 0; t < task_activity.size(); ++t) {
       acc.parts.frontend[t] = cost::dynamic_energy_j(task_activity[t], platform.power);
     }
-    const std::vector<MatrixUnitInstance>& units = platform.backend.units;
-    std::vector<cost::FrameActivity> unit_activity(units.size());
+    std::vector<cost::FrameActivity> resource_activity(backend_resources);
     double to_fpga_bytes = 0, to_host_bytes = acc.activity.link_bytes;
     double backend_ms = base.backend_ms, host_ms = base.backend_ms;
     for (; next < r.decisions.size() && r.decisions[next].frame_id == frame.frame.frame_id;
@@ -549,27 +551,28 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       ++acc.offloaded;
       backend_ms += d.accel_ms - d.host_ms;
       host_ms -= d.host_ms;
-      for (std::size_t u = 0; u < units.size(); ++u) {
-        // A busy copy-cycle is mac_lanes MACs of the unit's precision.
-        const double macs = double(accel[next].unit_busy_cycles[u]) * units[u].unit->mac_lanes();
-        const bool single = units[u].arithmetic() == cost::Arithmetic::kSingle;
-        (single ? acc.activity.single_macs : acc.activity.double_macs) += macs;
-        (single ? unit_activity[u].single_macs : unit_activity[u].double_macs) += macs;
+      // Its work on the accelerator's resources (MACs, local-memory bytes), frame and resource.
+      const std::vector<cost::FrameActivity>& work = accel[next]->activity;
+      for (std::size_t u = 0; u < work.size(); ++u) {
+        acc.activity.single_macs += work[u].single_macs;
+        acc.activity.double_macs += work[u].double_macs;
+        resource_activity[u].single_macs += work[u].single_macs;
+        resource_activity[u].double_macs += work[u].double_macs;
       }
-      for (const OpTiming& op : accel[next].ops) {
-        acc.activity.bram_bytes += double(op.spm_bytes);
-        unit_activity[op.unit].bram_bytes += double(op.spm_bytes);
+      for (std::size_t u = 0; u < work.size(); ++u) {
+        acc.activity.bram_bytes += work[u].bram_bytes;
+        resource_activity[u].bram_bytes += work[u].bram_bytes;
       }
       acc.activity.link_bytes += double(transfers[next].input_bytes + transfers[next].output_bytes);
       // Spill traffic: DRAM bytes carried by the link (kernel_replay.hpp: spill_seconds).
       acc.activity.dram_bytes += double(d.spill_bytes);
       acc.activity.link_bytes += double(d.spill_bytes);
-      to_fpga_bytes += double(transfers[next].input_bytes + accel[next].spill.read_bytes);
-      to_host_bytes += double(transfers[next].output_bytes + accel[next].spill.write_bytes);
+      to_fpga_bytes += double(transfers[next].input_bytes + accel[next]->spill.read_bytes);
+      to_host_bytes += double(transfers[next].output_bytes + accel[next]->spill.write_bytes);
     }
-    acc.parts.backend.resize(units.size());
-    for (std::size_t u = 0; u < units.size(); ++u) {
-      acc.parts.backend[u] = cost::dynamic_energy_j(unit_activity[u], platform.power);
+    acc.parts.backend.resize(resource_activity.size());
+    for (std::size_t u = 0; u < resource_activity.size(); ++u) {
+      acc.parts.backend[u] = cost::dynamic_energy_j(resource_activity[u], platform.power);
     }
     const auto bytes_j = [&](double bytes, double pj) { return 1e-12 * bytes * pj; };
     acc.parts.link_to_fpga = bytes_j(to_fpga_bytes, platform.power.link_pj_per_byte);
@@ -592,7 +595,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   std::vector<MemoryStructure> memories;
   for (const StructureUsage& s : r.frontend.memory.bram.structures) memories.push_back(s.structure);
   r.resources =
-      cost::build_resource_report(platform.frontend, platform.backend, platform.cost, memories,
+      cost::build_resource_report(platform.frontend, *platform.backend, platform.cost, memories,
                                   Device::by_name(platform.device), platform.scheduler.offload);
   return r;
 }
@@ -661,9 +664,9 @@ std::string format_system_result(const SystemResult& r) {
   }
   if (exceeding > 0) {
     text += fmt::format(
-        "spills     {} of {} accelerable invocations exceed the {} B SPM; {} offloaded out of "
-        "core, {:.2f} MiB of DRAM traffic\n",
-        exceeding, r.decisions.size(), r.config.backend.spm_bytes, spilled,
+        "spills     {} of {} accelerable invocations exceed the accelerator's {} B local memory; "
+        "{} offloaded out of core, {:.2f} MiB of DRAM traffic\n",
+        exceeding, r.decisions.size(), r.config.backend->local_memory_bytes(), spilled,
         static_cast<double>(spilled_bytes) / (1024.0 * 1024.0));
   }
   for (const KernelScheduleSummary& s : r.schedule) {

@@ -17,7 +17,8 @@
 // kernels:
 //   be_cpu(f) = t_host,backend(f)
 //   be_acc(f) = be_cpu(f) − Σ_{k∈O_f} t_host(k) + Σ_{k∈O_f} (t_accel(k) + t_link(k))
-// t_accel: Σ op cycles of the kernel on the backend units / clock (accelerate_kernel);
+// t_accel: the kernel's compute time on the offload accelerator (its plan; the paper's FPGA
+// matrix units: Σ op cycles on the backend units / clock, accelerate_kernel);
 // t_link: its inputs and results over an idle link (kernel_transfer_time), plus, for a kernel
 // whose operands exceed the backend SPM, its spill traffic (kernel_replay.hpp: spill_seconds).
 // Throughput (frames back to back): without FE/BE pipelining N / Σ_f e2e(f); with it, the backend

@@ -163,7 +163,7 @@ TEST(BackendAccelerator, KernelThatSpillsRunsItsOpsOnTheUnits) {
   BackendAccelerator accel(sim, c);
   const trace::KernelRecord k = kalman_gain(10, 8);
   const KernelAccelResult plan = accelerate_kernel(k, c);
-  ASSERT_FALSE(plan.fits_spm);
+  ASSERT_FALSE(plan.fits_local_memory);
   auto process = [&]() -> sim::Process { co_await accel.run(k); };
   sim.spawn(process(), "kalman");
   sim.run();

@@ -2,6 +2,7 @@
 // Fixtures shared by the backend accelerator tests: units small enough to check by hand, and a
 // Kalman-gain kernel with the ops the VIO backend records (workloads/backend/vio/ekf_update.cpp).
 #include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cstdint>
 #include <stdexcept>
@@ -9,10 +10,24 @@
 #include <utility>
 #include <vector>
 
+#include "arch/backend/accelerators/fpga_matrix_units.hpp"
 #include "arch/backend/backend_config.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch::testing {
+
+/// The parameters of a platform's offload accelerator of kind fpga_matrix_units (throws
+/// std::bad_cast for another kind).
+inline const BackendConfig& fpga_config(const OffloadAccelerator& accelerator) {
+  return dynamic_cast<const FpgaMatrixUnits&>(accelerator).config();
+}
+
+/// A `backend:` YAML map parsed as the platform parses it (kind fpga_matrix_units); errors name
+/// `where`.
+inline BackendConfig parse_backend(const YAML::Node& node, const std::string& where) {
+  YamlFields fields(node, where, "backend");
+  return fpga_config(*parse_component<OffloadAccelerator>(fields, kDefaultOffloadKind));
+}
 
 /// Replaces the parameters of instance `name` of `config` by `params` (YAML of its kind's keys,
 /// e.g. "{block: 8}"; keys not given take their defaults).

@@ -38,7 +38,7 @@ TEST(BackendKernelReplay, KalmanGainIsTheSumOfItsOps) {
   EXPECT_EQ(r.ops[5].cycles, 40);
   EXPECT_EQ(r.cycles, 96 + 96 + 203 + 249 + 249 + 40);
   EXPECT_EQ(r.cycles, kernel_cycles(k, c));
-  EXPECT_DOUBLE_EQ(r.seconds, static_cast<double>(r.cycles) / 100e6);
+  EXPECT_DOUBLE_EQ(r.compute_s, static_cast<double>(r.cycles) / 100e6);
   // Each op starts when the previous one ends.
   std::int64_t start = 0;
   for (const OpTiming& t : r.ops) {
@@ -56,10 +56,20 @@ TEST(BackendKernelReplay, KalmanGainIsTheSumOfItsOps) {
   EXPECT_FALSE(r.derived_ops);
   // The largest operand set: S = H (P H^T): H 80 + P H^T 80 + sym(10) 55 doubles (P H^T
   // takes 36 + 80 + 80, potrf 55, trsm 55 + 80, transpose 160).
-  EXPECT_EQ(r.spm_bytes_needed, 215 * 8);
-  EXPECT_TRUE(r.fits_spm);
-  EXPECT_EQ(r.spm.bytes, 215 * 8);
-  EXPECT_EQ(r.spm.depth_words, 215);  // one double a 64-bit word
+  EXPECT_EQ(r.local_bytes, 215 * 8);
+  EXPECT_TRUE(r.fits_local_memory);
+  // The work by resource (the five units, all present): a busy copy-cycle is the unit's MAC
+  // lanes (the 4x4 array's 16), in double precision; each op's SPM bytes go to its unit.
+  ASSERT_EQ(r.activity.size(), 5u);
+  EXPECT_DOUBLE_EQ(r.activity[0].double_macs, 192.0 * 16);
+  EXPECT_DOUBLE_EQ(r.activity[0].single_macs, 0.0);
+  EXPECT_DOUBLE_EQ(r.activity[2].double_macs, 0.0);  // no inverse
+  double bram = 0;
+  for (const cost::FrameActivity& a : r.activity) bram += a.bram_bytes;
+  std::int64_t spm = 0;
+  for (const OpTiming& t : r.ops) spm += t.spm_bytes;
+  EXPECT_DOUBLE_EQ(bram, double(spm));
+  EXPECT_DOUBLE_EQ(r.activity[3].bram_bytes, double(r.ops[5].spm_bytes));  // the transpose
 }
 
 TEST(BackendKernelReplay, DerivedOpsMatchRecordedOnes) {
@@ -71,7 +81,7 @@ TEST(BackendKernelReplay, DerivedOpsMatchRecordedOnes) {
   const KernelAccelResult b = accelerate_kernel(sizes_only, c);
   EXPECT_TRUE(b.derived_ops);
   EXPECT_EQ(a.cycles, b.cycles);
-  EXPECT_EQ(a.spm_bytes_needed, b.spm_bytes_needed);
+  EXPECT_EQ(a.local_bytes, b.local_bytes);
 }
 
 TEST(BackendKernelReplay, ProjectionWithoutOpsIsOneGemm) {
@@ -89,7 +99,7 @@ TEST(BackendKernelReplay, ProjectionWithoutOpsIsOneGemm) {
   // ⌈3/4⌉ x ⌈100/4⌉ = 25 tiles of 4 + 8 cycles.
   EXPECT_EQ(r.cycles, 300);
   // C 12 + X 400 + result 300 doubles.
-  EXPECT_EQ(r.spm_bytes_needed, 712 * 8);
+  EXPECT_EQ(r.local_bytes, 712 * 8);
 }
 
 TEST(BackendKernelReplay, MarginalizationWithoutOpsFollowsTheSlamBackend) {
@@ -120,15 +130,15 @@ TEST(BackendKernelReplay, UnitsOnTheirOwnClocks) {
   c.units[testing::unit_index(c, "substitution")].clock_mhz = 50;
   const KernelAccelResult r = accelerate_kernel(kalman_gain(10, 8), c);
   EXPECT_EQ(r.cycles, 933);
-  EXPECT_NEAR(r.seconds, 435 / 100e6 + 498 / 50e6, 1e-18);
+  EXPECT_NEAR(r.compute_s, 435 / 100e6 + 498 / 50e6, 1e-18);
 }
 
 TEST(BackendKernelReplay, AKernelWithAnOpNoUnitServesStaysOnTheHost) {
   BackendConfig c = small_config();
   c.units[testing::unit_index(c, "transpose")].count = 0;
   const KernelAccelResult r = accelerate_kernel(kalman_gain(10, 8), c);
-  EXPECT_FALSE(r.offloadable);
-  EXPECT_TRUE(std::isinf(r.seconds));
+  EXPECT_FALSE(r.runnable);
+  EXPECT_TRUE(std::isinf(r.compute_s));
   EXPECT_NE(r.message.find("no backend unit serves its transpose op"), std::string::npos)
       << r.message;
   EXPECT_FALSE(offloadable(kalman_gain(10, 8), c));
@@ -145,18 +155,18 @@ TEST(BackendKernelReplay, SpmOverflowIsFlaggedWithKernelBytesAndCapacity) {
   BackendConfig c = small_config();
   c.spm_bytes = 1000;
   const KernelAccelResult r = accelerate_kernel(kalman_gain(10, 8), c);
-  EXPECT_FALSE(r.fits_spm);
-  EXPECT_EQ(r.spm_bytes_needed, 1720);
+  EXPECT_FALSE(r.fits_local_memory);
+  EXPECT_EQ(r.local_bytes, 1720);
   EXPECT_NE(r.message.find("kalman_gain"), std::string::npos) << r.message;
   EXPECT_NE(r.message.find("1720 B"), std::string::npos) << r.message;
   EXPECT_NE(r.message.find("capacity 1000 B"), std::string::npos) << r.message;
   c.spm_bytes = 1720;  // exactly enough
-  EXPECT_TRUE(accelerate_kernel(kalman_gain(10, 8), c).fits_spm);
+  EXPECT_TRUE(accelerate_kernel(kalman_gain(10, 8), c).fits_local_memory);
   // Without the symmetric optimization S takes 100 doubles instead of 55.
   c.symmetric_optimization = false;
   const KernelAccelResult full = accelerate_kernel(kalman_gain(10, 8), c);
-  EXPECT_EQ(full.spm_bytes_needed, 260 * 8);
-  EXPECT_FALSE(full.fits_spm);
+  EXPECT_EQ(full.local_bytes, 260 * 8);
+  EXPECT_FALSE(full.fits_local_memory);
 }
 
 TEST(BackendKernelReplay, SpillingOpsStreamTheirTilesFromDram) {
@@ -182,7 +192,7 @@ TEST(BackendKernelReplay, SpillingOpsStreamTheirTilesFromDram) {
   //   trsm 10x8 twice (1080 B): in 55 + 80 = 135, out 80, W 8·55 = 440, 147 -> read 147
   //   transpose 10x8 (1280 B): in 80, out 80, W 0 -> read 80
   const KernelAccelResult r = accelerate_kernel(kalman_gain(10, 8), c);
-  EXPECT_FALSE(r.fits_spm);
+  EXPECT_FALSE(r.fits_local_memory);
   EXPECT_EQ(r.spilled_ops, 5);
   EXPECT_EQ(r.spill.read_bytes, (214 + 160 + 147 + 147 + 80) * 8);
   EXPECT_EQ(r.spill.write_bytes, (80 + 55 + 80 + 80 + 80) * 8);

@@ -166,7 +166,7 @@ TEST(BackendOpCycles, BlockedFactorizationUpdatesOnTheArray) {
 /// The backend of configs/edx_car.yaml.
 BackendConfig car_backend() {
   const std::string path = std::string(EDX_SOURCE_DIR) + "/configs/edx_car.yaml";
-  return BackendConfig::from_yaml(YAML::LoadFile(path)["backend"], path);
+  return testing::parse_backend(YAML::LoadFile(path)["backend"], path);
 }
 
 TEST(BackendOpCycles, CarKalmanGainSolveBlocked) {
@@ -251,7 +251,7 @@ TEST(BackendOpSpm, OperandBytes) {
 }
 
 TEST(BackendConfigYaml, ReadsFieldsAndNamesFileLineKey) {
-  const BackendConfig c = BackendConfig::from_yaml(
+  const BackendConfig c = testing::parse_backend(
       YAML::Load("clock_mhz: 200\nsymmetric_optimization: false\nspm_bytes: 4194304\n"
                  "units:\n  gemm: {block: 32, overlap_tiles: true}\n  inverse: {count: 0}\n"
                  "  substitution: {count: 0}\n"
@@ -277,7 +277,7 @@ TEST(BackendConfigYaml, ReadsFieldsAndNamesFileLineKey) {
 
   const auto error_of = [](const std::string& text) {
     try {
-      BackendConfig::from_yaml(YAML::Load(text), "car.yaml");
+      testing::parse_backend(YAML::Load(text), "car.yaml");
     } catch (const std::runtime_error& e) {
       return std::string(e.what());
     }
@@ -306,7 +306,7 @@ TEST(BackendConfigYaml, ReadsFieldsAndNamesFileLineKey) {
 }
 
 TEST(BackendConfigYaml, UnitPrecisionDefaultsToTheScalarFormat) {
-  const BackendConfig single = BackendConfig::from_yaml(
+  const BackendConfig single = testing::parse_backend(
       YAML::Load("scalar_bytes: 4\nunits: {gemm: {block: 2}, transpose: {precision: double}}\n"),
       "x.yaml");
   EXPECT_EQ(single.units[0].precision, "single");  // listed

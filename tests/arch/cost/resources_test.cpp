@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "arch/backend/accelerators/fpga_matrix_units.hpp"
 #include "arch/backend/matrix_unit.hpp"
 #include "arch/cost/resource_report.hpp"
 #include "arch/frontend/task_timing.hpp"
@@ -108,8 +109,8 @@ TEST(UnitCosts, GemmTwoByTwoDoubleByHand) {
   BackendConfig be;
   be.units = {array};
   be.units[0].count = 2;  // two arrays: twice the unit's resources in the report
-  const ResourceReport report =
-      build_resource_report(FrontendConfig{}, be, CostConfig{}, {}, Device::by_name("xc7v690t"));
+  const ResourceReport report = build_resource_report(
+      FrontendConfig{}, *fpga_matrix_units(be), CostConfig{}, {}, Device::by_name("xc7v690t"));
   for (const CostEntry& e : report.entries) {
     if (e.name == "gemm") {
       EXPECT_DOUBLE_EQ(e.shared.dsp, 2 * 4 * 14);

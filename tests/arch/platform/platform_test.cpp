@@ -6,6 +6,8 @@
 
 #include <string>
 
+#include "tests/arch/backend/backend_test_support.hpp"
+
 namespace edx::arch {
 namespace {
 
@@ -72,8 +74,9 @@ TEST(Platform, ReadsBackendCostPowerSchedulerAndHostBackendScale) {
       "p.yaml");
   EXPECT_DOUBLE_EQ(p.host.backend_suite_ms, 1.5);
   EXPECT_EQ(p.host.backend_provenance, "measured");
-  EXPECT_EQ(p.backend.units[0].unit->tile(), 8);
-  EXPECT_EQ(p.backend.units[1].to_json(), BackendConfig{}.units[1].to_json());
+  EXPECT_EQ(testing::fpga_config(*p.backend).units[0].unit->tile(), 8);
+  EXPECT_EQ(testing::fpga_config(*p.backend).units[1].to_json(),
+            BackendConfig{}.units[1].to_json());
   EXPECT_EQ(p.cost.ns_modes, 2);
   EXPECT_DOUBLE_EQ(p.power.host_active_w, 20);
   EXPECT_EQ(p.scheduler.policy, OffloadPolicy::kOracle);
@@ -117,15 +120,16 @@ TEST(Platform, ShippedConfigsLoad) {
   const Platform drone = Platform::load(std::string(EDX_SOURCE_DIR) + "/configs/edx_drone.yaml");
   // The Table III DSP budget on Edx-Car; a smaller array and SPM on Edx-Drone.
   const auto unit = [](const Platform& p, const char* name) {
-    return p.backend.to_json()["units"][name];
+    return p.backend->params_json()["units"][name];
   };
   EXPECT_EQ(unit(car, "gemm")["block"], 4);
   EXPECT_EQ(unit(car, "decomposition")["block"], 1);
   EXPECT_LT(unit(drone, "gemm")["block"], unit(car, "gemm")["block"]);
-  EXPECT_LT(drone.backend.spm_bytes, car.backend.spm_bytes);
+  EXPECT_LT(testing::fpga_config(*drone.backend).spm_bytes,
+            testing::fpga_config(*car.backend).spm_bytes);
   // The same unit design on both (Sec. VII-A: "almost the same" implementations).
   for (const Platform* p : {&car, &drone}) {
-    EXPECT_EQ(p->backend.units.size(), 5u) << p->name;
+    EXPECT_EQ(testing::fpga_config(*p->backend).units.size(), 5u) << p->name;
     EXPECT_EQ(unit(*p, "gemm")["overlap_tiles"], true) << p->name;
     EXPECT_EQ(unit(*p, "decomposition")["blocked"], true) << p->name;
     EXPECT_EQ(unit(*p, "substitution")["blocked"], true) << p->name;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "bench/stretch.hpp"
+#include "tests/arch/backend/backend_test_support.hpp"
 #include "tests/arch/sweep/sweep_fixture.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "workloads/trace/reader.hpp"
@@ -47,7 +48,7 @@ std::string error_of(F&& f) {
 // ---- extends ----
 
 TEST(Extends, ChildOverridesParentRecursivelyByMap) {
-  testing::TempDir dir;
+  edx::testing::TempDir dir;
   write(dir.path() / "base.yaml",
         "name: base\ndescription: the parent\nfrontend:\n  clock_mhz: 100\n  units: {MO: "
         "{comparators: 8}}\n"
@@ -56,16 +57,16 @@ TEST(Extends, ChildOverridesParentRecursivelyByMap) {
         "extends: base.yaml\nname: mid\nbackend: {units: {gemm: {block: 8}}}\n");
   write(dir.path() / "leaf.yaml", "extends: mid.yaml\nfrontend: {clock_mhz: 200}\n");
   const Platform p = Platform::load(dir.path() / "leaf.yaml");
-  EXPECT_EQ(p.name, "mid");                                          // from mid
-  EXPECT_EQ(p.description, "the parent");                            // from base
-  EXPECT_DOUBLE_EQ(p.frontend.clock_mhz, 200);                       // leaf over base
-  EXPECT_EQ(p.frontend.to_json()["units"]["MO"]["comparators"], 8);  // base, beside the leaf's
-  EXPECT_EQ(p.backend.units[0].unit->tile(), 8);                     // mid over base
-  EXPECT_DOUBLE_EQ(p.backend.clock_mhz, 120);                        // base
+  EXPECT_EQ(p.name, "mid");                                              // from mid
+  EXPECT_EQ(p.description, "the parent");                                // from base
+  EXPECT_DOUBLE_EQ(p.frontend.clock_mhz, 200);                           // leaf over base
+  EXPECT_EQ(p.frontend.to_json()["units"]["MO"]["comparators"], 8);      // base, beside the leaf's
+  EXPECT_EQ(testing::fpga_config(*p.backend).units[0].unit->tile(), 8);  // mid over base
+  EXPECT_DOUBLE_EQ(testing::fpga_config(*p.backend).clock_mhz, 120);     // base
 }
 
 TEST(Extends, MissingParentAndCyclesAreFileLineErrors) {
-  testing::TempDir dir;
+  edx::testing::TempDir dir;
   write(dir.path() / "a.yaml", "name: a\nextends: nowhere.yaml\n");
   EXPECT_THAT(error_of([&] { Platform::load(dir.path() / "a.yaml"); }),
               AllOf(StartsWith((dir.path() / "a.yaml").string() + ":2: platform.extends: "),
@@ -80,11 +81,13 @@ TEST(Extends, MissingParentAndCyclesAreFileLineErrors) {
 }
 
 TEST(Extends, ErrorsNameTheFileAndLineThatWroteTheKey) {
-  testing::TempDir dir;
+  edx::testing::TempDir dir;
   write(dir.path() / "base.yaml",
         "name: base\nbackend:\n  clock_mhz: 100\n  units:\n    gemm: {block: zero}\n");
   write(dir.path() / "ok.yaml", "extends: base.yaml\nbackend: {units: {gemm: {block: 4}}}\n");
-  EXPECT_EQ(Platform::load(dir.path() / "ok.yaml").backend.units[0].unit->tile(), 4);  // overridden
+  EXPECT_EQ(
+      testing::fpga_config(*Platform::load(dir.path() / "ok.yaml").backend).units[0].unit->tile(),
+      4);  // overridden
   write(dir.path() / "child.yaml", "extends: base.yaml\nfrontend:\n  clock_mhz: 10\n");
   EXPECT_THAT(error_of([&] { Platform::load(dir.path() / "child.yaml"); }),
               StartsWith((dir.path() / "base.yaml").string() + ":5: backend.units.gemm.block: "));
@@ -106,13 +109,13 @@ constexpr const char* kBase =
     "backend: {clock_mhz: 100, spm_bytes: 67108864, units: {gemm: {block: 2}}}\n"
     "scheduler: {policy: oracle, training_fraction: 0}\n";
 
-SweepSpec spec_of(const testing::TempDir& dir, const std::string& body) {
+SweepSpec spec_of(const edx::testing::TempDir& dir, const std::string& body) {
   write(dir.path() / "base.yaml", kBase);
   return SweepSpec::parse("base: base.yaml\n" + body, "s.yaml", dir.path());
 }
 
 TEST(SweepSpec, GridRangesAndLogRanges) {
-  testing::TempDir dir;
+  edx::testing::TempDir dir;
   const SweepSpec s = spec_of(dir,
                               "parameters:\n"
                               "  backend.units.gemm.block: {values: [1, 2, 4]}\n"
@@ -131,10 +134,10 @@ TEST(SweepSpec, GridRangesAndLogRanges) {
   EXPECT_EQ(grid.at(44).choice, (std::vector<std::size_t>{2, 4, 2}));
   EXPECT_THROW(grid.at(45), std::out_of_range);
   const Platform p = sweep_platform(s, grid.at(4));
-  EXPECT_EQ(p.backend.units[0].unit->tile(), 1);
-  EXPECT_DOUBLE_EQ(p.backend.clock_mhz, 125);
+  EXPECT_EQ(testing::fpga_config(*p.backend).units[0].unit->tile(), 1);
+  EXPECT_DOUBLE_EQ(testing::fpga_config(*p.backend).clock_mhz, 125);
   EXPECT_DOUBLE_EQ(p.link.link.bandwidth_gb_per_s, 10);
-  EXPECT_EQ(p.backend.spm_bytes, 67108864);  // the base's other keys stay
+  EXPECT_EQ(testing::fpga_config(*p.backend).spm_bytes, 67108864);  // the base's other keys stay
 
   const SweepSpec frac = spec_of(dir,
                                  "parameters:\n  link.bandwidth_gb_per_s: {range: {from: 1.2, to: "
@@ -143,7 +146,7 @@ TEST(SweepSpec, GridRangesAndLogRanges) {
 }
 
 TEST(SweepSpec, RandomSamplingIsDistinctAndReproducible) {
-  testing::TempDir dir;
+  edx::testing::TempDir dir;
   const std::string params =
       "parameters:\n  backend.units.gemm.block: {values: [1, 2, 4, 8]}\n"
       "  backend.clock_mhz: {range: {from: 100, to: 300, step: 10}}\n"
@@ -167,7 +170,7 @@ TEST(SweepSpec, RandomSamplingIsDistinctAndReproducible) {
 
 TEST(SweepSpec, HugeGridsAreRefusedOrSampledWithoutEnumeratingThem) {
   // Three parameters of 1000 values each: 10^9 grid points (issue 21: this hung and took GBs).
-  testing::TempDir dir;
+  edx::testing::TempDir dir;
   const std::string params =
       "parameters:\n"
       "  backend.clock_mhz: {range: {from: 1, to: 1000, step: 1}}\n"
@@ -199,7 +202,7 @@ TEST(SweepSpec, HugeGridsAreRefusedOrSampledWithoutEnumeratingThem) {
 }
 
 TEST(SweepSpec, BadInputIsOneLineWithFileLineAndKey) {
-  testing::TempDir dir;
+  edx::testing::TempDir dir;
   const auto err = [&](const std::string& body) { return error_of([&] { spec_of(dir, body); }); };
   const std::string obj = "objectives: [{minimize: dsp}]\n";
   EXPECT_EQ(err("parameters:\n  backend.units.gemm.block: {values: []}\n" + obj),
@@ -243,7 +246,7 @@ TEST(Pareto, NonDominatedPointsOfHandMadeSets) {
 // ---- running, resume, export ----
 
 TEST(Sweep, RunsStoresResumesAndExports) {
-  testing::TempDir dir;
+  edx::testing::TempDir dir;
   const std::filesystem::path trace = write_sweep_trace(dir.path() / "t.db");
   const SweepSpec spec = spec_of(dir,
                                  "name: blocks\ntrace: t.db\n"
@@ -289,20 +292,20 @@ TEST(Sweep, RunsStoresResumesAndExports) {
   }
   // CSV of the sweep's points and of a table.
   EXPECT_EQ(export_csv(dir.path() / "r.db", "", "blocks", dir.path() / "p.csv"), 4u);
-  const std::string csv = testing::read_file(dir.path() / "p.csv");
+  const std::string csv = edx::testing::read_file(dir.path() / "p.csv");
   EXPECT_THAT(csv, StartsWith("point,run_id,backend.units.gemm.block,dsp,e2e_latency_mean,feasible,"
                               "pareto\n0," +
                               third.points[0].run_id + ",1,"));
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);
   EXPECT_EQ(export_csv(dir.path() / "r.db", "throughput", "", dir.path() / "t.csv"), 8u);
-  EXPECT_THAT(testing::read_file(dir.path() / "t.csv"),
+  EXPECT_THAT(edx::testing::read_file(dir.path() / "t.csv"),
               StartsWith("run_id,variant,fps_without_pipelining,fps_with_pipelining\n"));
   EXPECT_THAT(error_of([&] { export_csv(dir.path() / "r.db", "nope", "", dir.path() / "x.csv"); }),
               HasSubstr("--table: no table 'nope'"));
 }
 
 TEST(Sweep, AFailureBeforeTheFirstPointLeavesNoNewDatabase) {
-  testing::TempDir dir;
+  edx::testing::TempDir dir;
   write_sweep_trace(dir.path() / "t.db");
   // A JSON-pointer objective that names nothing is found only on the first result.
   const SweepSpec spec =
@@ -321,7 +324,7 @@ TEST(Sweep, AFailureBeforeTheFirstPointLeavesNoNewDatabase) {
 }
 
 TEST(Sweep, OneProcessRunsASweepOnADatabaseAtATime) {
-  testing::TempDir dir;
+  edx::testing::TempDir dir;
   write_sweep_trace(dir.path() / "t.db");
   const SweepSpec spec = spec_of(dir,
                                  "name: blocks\ntrace: t.db\n"
@@ -376,7 +379,7 @@ TEST(Sweep, DISABLED_ExamplesAndThroughput) {
   for (const char* name : {"gemm_block", "frontend_lanes", "link_bandwidth"}) {
     const SweepSpec spec = SweepSpec::load(std::filesystem::path(EDX_SOURCE_DIR) / "sweeps" /
                                            (name + std::string(".yaml")));
-    testing::TempDir dir;
+    edx::testing::TempDir dir;
     SweepOptions options;
     options.db = dir.path() / "b.db";
     options.jobs = 2;

@@ -10,6 +10,7 @@
 
 #include "arch/frontend/task_timing.hpp"
 #include "arch/system/system_model.hpp"
+#include "tests/arch/backend/backend_test_support.hpp"
 #include "tests/arch/system/hand_tasks.hpp"
 
 namespace edx::arch {
@@ -63,7 +64,7 @@ const trace::TraceMeta kMeta = {
 
 TEST(CustomUnits, ANewBackendKindAndFrontendKindSimulateEndToEnd) {
   const Platform p = custom_platform(1);
-  EXPECT_EQ(p.backend.units[0].unit->kind(), "vector_mac");
+  EXPECT_EQ(testing::fpga_config(*p.backend).units[0].unit->kind(), "vector_mac");
   EXPECT_EQ(p.frontend.unit(trace::Task::FD).unit->kind(), "harris_detector");
   // Both kinds are in the platform's JSON (and so in its config hash) with their parameters.
   EXPECT_EQ(p.to_json()["backend"]["units"]["gemm"]["lanes"], 4);

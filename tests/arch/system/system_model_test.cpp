@@ -13,6 +13,7 @@
 
 #include "arch/results/results_db.hpp"
 #include "arch/system/result_rows.hpp"
+#include "tests/arch/backend/backend_test_support.hpp"
 #include "tests/arch/system/hand_tasks.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -38,6 +39,14 @@ Platform test_platform(const std::string& policy) {
       "scheduler: {policy: " +
           policy + ", training_fraction: 0.25}\n",
       "test.yaml");
+}
+
+/// `backend` (kind fpga_matrix_units) with an SPM of `bytes`.
+std::shared_ptr<const OffloadAccelerator> with_spm(const OffloadAccelerator& backend,
+                                                   std::int64_t bytes) {
+  BackendConfig config = testing::fpga_config(backend);
+  config.spm_bytes = bytes;
+  return fpga_matrix_units(config);
 }
 
 trace::FrameTrace frame(std::int64_t id, BackendMode mode, std::int64_t backend_ns) {
@@ -165,7 +174,8 @@ TEST(SystemModel, NeverAndAlwaysPolicies) {
 
 TEST(SystemModel, KernelThatDoesNotFitTheSpmSpillsToDram) {
   Platform p = test_platform("always");
-  p.backend.spm_bytes = 4096;  // frame 0's gemm 3x100x4 needs (12 + 400 + 300) x 8 = 5696 B
+  // Frame 0's gemm 3x100x4 needs (12 + 400 + 300) x 8 = 5696 B.
+  p.backend = with_spm(*p.backend, 4096);
   p.power.dram_pj_per_byte = 2.0;
   const SystemResult r = simulate_system(p, three_frames(), kMeta, "t");
   const KernelDecision& d = r.decisions[0];
@@ -182,7 +192,7 @@ TEST(SystemModel, KernelThatDoesNotFitTheSpmSpillsToDram) {
   EXPECT_NEAR(r.accelerated.frames[0].backend_ms, be0 + 5e-6, 5e-6 + 1e-9);
   // Energy: the spill's 5696 B are DRAM bytes (2 pJ each) carried by the link (1 pJ each).
   Platform fits = p;
-  fits.backend.spm_bytes = 67108864;
+  fits.backend = with_spm(*fits.backend, 67108864);
   const SystemResult in_core = simulate_system(fits, three_frames(), kMeta, "t");
   const auto dynamic_j = [](const FrameResult& f) {
     return f.energy.compute_j + f.energy.memory_j + f.energy.link_j;
@@ -269,7 +279,7 @@ TEST(SystemModel, TheSchedulerSeesTheSpillCost) {
   frames[0].kernels[0].host_ns = 8'000;
   Platform p = test_platform("oracle");
   EXPECT_TRUE(simulate_system(p, frames, kMeta, "t").decisions[0].offloaded);
-  p.backend.spm_bytes = 4096;
+  p.backend = with_spm(*p.backend, 4096);
   const SystemResult r = simulate_system(p, frames, kMeta, "t");
   EXPECT_FALSE(r.decisions[0].fits_spm);
   EXPECT_FALSE(r.decisions[0].offloaded);
@@ -328,7 +338,7 @@ TEST(SystemModel, EachKernelTrainsOnItsOwnInvocationsWhateverTheModeOrder) {
 }
 
 TEST(ResultsDatabase, HoldsEveryTableAndReplacesARerun) {
-  testing::TempDir dir;
+  edx::testing::TempDir dir;
   const auto path = dir.path() / "results.db";
   const SystemResult r = simulate_system(test_platform("oracle"), three_frames(), kMeta, "t.db");
   write_results(path, result_rows(r));
@@ -369,7 +379,7 @@ TEST(ResultsDatabase, HoldsEveryTableAndReplacesARerun) {
 }
 
 TEST(ResultsDatabase, FailedWriteLeavesNothing) {
-  testing::TempDir dir;
+  edx::testing::TempDir dir;
   const auto path = dir.path() / "bad.db";
   {  // An older file whose frames table has other columns: the insert fails.
     SQLite::Database db(path.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
