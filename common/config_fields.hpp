@@ -6,7 +6,7 @@
 //   check_fields   the same checks on a struct built in code (validate()),
 //   fields_to_json struct -> JSON (results databases, `edx simulate --json`),
 //   reference_rows the reference of every key (`edx config --reference`, docs/CONFIG.md).
-// Rules between fields (host_idle_w <= host_active_w) stay in each struct's validate().
+// Rules between fields (a host's idle_w <= active_w) stay in each struct's validate().
 #include <yaml-cpp/yaml.h>
 
 #include <cstdint>

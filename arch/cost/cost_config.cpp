@@ -55,10 +55,6 @@ const FieldList<PowerConfig>& PowerConfig::fields() {
   static const FieldList<C> list = {
       field("fpga_static_w", &C::fpga_static_w, "W", "FPGA static power (assumed, XPE order)",
             non_negative),
-      field("host_active_w", &C::host_active_w, "W", "host package power while it computes",
-            non_negative),
-      field("host_idle_w", &C::host_idle_w, "W",
-            "host package power while it waits (<= host_active_w)", non_negative),
       field("int8_op_pj", &C::int8_op_pj, "pJ", "8-bit add at 45 nm (Horowitz 2014)", non_negative),
       field("fixed_mac_pj", &C::fixed_mac_pj, "pJ", "16-bit multiply + 32-bit add at 45 nm",
             non_negative),
@@ -84,15 +80,17 @@ const FieldList<PowerConfig>& PowerConfig::fields() {
   return list;
 }
 
-void PowerConfig::validate() const {
-  check_fields(*this, "power", fields());
-  require_field(host_idle_w <= host_active_w, "power", "host_idle_w",
-                "a power in [0, host_active_w] W");
-}
+void PowerConfig::validate() const { check_fields(*this, "power", fields()); }
 
 nlohmann::json PowerConfig::to_json() const { return fields_to_json(*this, fields()); }
 
 PowerConfig PowerConfig::from_yaml(const YAML::Node& node, const std::string& where) {
+  // Keys of `power:` that became the host processor's own (issue 40).
+  static const std::map<std::string, std::string> moved = {
+      {"host_active_w", "host.active_w"},
+      {"host_idle_w", "host.idle_w"},
+  };
+  YamlFields(node, where, "power").refuse_moved(moved);
   return parse_section<PowerConfig>(node, where, "power");
 }
 

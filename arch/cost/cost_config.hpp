@@ -44,12 +44,11 @@ struct CostConfig {
   static CostConfig from_yaml(const YAML::Node& node, const std::string& where);
 };
 
-/// `power:` section: static and dynamic power of host and FPGA, energies per operation and per
-/// byte (docs/MODEL.md gives each one's source or marks it assumed).
+/// `power:` section: static and dynamic power of the FPGA, energies per operation and per byte,
+/// the calibration hooks (docs/MODEL.md gives each one's source or marks it assumed). The host's
+/// power is the host processor's own (`host:`, arch/host/host_processor.hpp).
 struct PowerConfig {
-  double fpga_static_w = 0.8;   ///< assumed: XPE-order static power of a large 28 nm device
-  double host_active_w = 15.0;  ///< host package power while it computes (Kaby Lake U TDP)
-  double host_idle_w = 2.0;     ///< assumed: package power while it waits
+  double fpga_static_w = 0.8;  ///< assumed: XPE-order static power of a large 28 nm device
   // Per-operation energies at 45 nm (Horowitz, ISSCC 2014), scaled by fpga_energy_factor.
   double int8_op_pj = 0.03;          ///< 8-bit add
   double fixed_mac_pj = 1.0;         ///< 16-bit multiply + 32-bit add (between 8- and 32-bit mult)
@@ -73,6 +72,7 @@ struct PowerConfig {
   static const FieldList<PowerConfig>& fields();
   void validate() const;  ///< throws std::runtime_error "power.<field>: expected ..."
   nlohmann::json to_json() const;
+  /// Errors name file, line and key; a key that moved to the host is refused with where it went.
   static PowerConfig from_yaml(const YAML::Node& node, const std::string& where);
 };
 

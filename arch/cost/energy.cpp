@@ -27,13 +27,13 @@ nlohmann::json FrameEnergy::to_json() const {
           {"memory_j", memory_j},           {"link_j", link_j}, {"total_j", total_j}};
 }
 
-FrameEnergy frame_energy(const FrameActivity& a, const PowerConfig& p) {
+FrameEnergy frame_energy(const FrameActivity& a, const PowerConfig& p, const HostPower& host) {
   a.validate();
   p.validate();
   FrameEnergy e;
   e.fpga_static_j = a.fpga_present ? p.fpga_static_w * a.frame_s : 0.0;
   e.host_j = p.host_power_scale *
-             (p.host_active_w * a.host_busy_s + p.host_idle_w * (a.frame_s - a.host_busy_s));
+             (host.active_w * a.host_busy_s + host.idle_w * (a.frame_s - a.host_busy_s));
   dynamic_parts(a, p, e);
   e.total_j = e.fpga_static_j + e.host_j + e.compute_j + e.memory_j + e.link_j;
   return e;

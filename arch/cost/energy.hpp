@@ -6,10 +6,11 @@
 //     + s_fpga·f_fpga·(n_int8·e_int8 + n_fixed·e_fixed + n_single·e_single + n_double·e_double)
 //     + b_bram·e_bram + b_dram·e_dram + b_link·e_link
 //
-// with the constants of PowerConfig (s_host = host_power_scale, s_fpga = fpga_dynamic_scale,
-// f_fpga = fpga_energy_factor; energies in pJ). The paper's Edx-Car figures (1.9 J -> 0.5 J per
-// frame, −73.7 %, Sec. VII-C) are paper-check targets (reports/paper_targets.yaml); nothing is
-// calibrated on them.
+// with the host's package power (HostPower: P_host_active = active_w, P_host_idle = idle_w, the
+// host processor's own, `host:`) and the constants of PowerConfig (s_host = host_power_scale,
+// s_fpga = fpga_dynamic_scale, f_fpga = fpga_energy_factor; energies in pJ). The paper's Edx-Car
+// figures (1.9 J -> 0.5 J per frame, −73.7 %, Sec. VII-C) are paper-check targets
+// (reports/paper_targets.yaml); nothing is calibrated on them.
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "arch/cost/cost_config.hpp"
 #include "arch/cost/energy_activity.hpp"
 #include "arch/cost/resource_report.hpp"
+#include "arch/host/host_processor.hpp"
 
 namespace edx::arch::cost {
 
@@ -30,7 +32,8 @@ struct FrameEnergy {
   nlohmann::json to_json() const;
 };
 
-FrameEnergy frame_energy(const FrameActivity& activity, const PowerConfig& power);
+FrameEnergy frame_energy(const FrameActivity& activity, const PowerConfig& power,
+                         const HostPower& host);
 
 /// The work-proportional part of frame_energy (compute + memory + link), J: what a unit's ops
 /// and bytes cost, without static or host power. `activity` need not have a frame time.

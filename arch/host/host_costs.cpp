@@ -303,9 +303,9 @@ struct MeasuredRow {
 };
 
 std::vector<MeasuredRow> measured_rows(const CostFitInput& input) {
-  HostConfig unit;  // suite times of 1 ms: the mapping's factors are 1 / S_trace(f) in ms
+  SuiteTimes unit;  // suite times of 1 ms: the mapping's factors are 1 / S_trace(f) in ms
   unit.suite = trace::host_speed_of(*input.meta, input.name).suite;
-  unit.frontend_suite_ms = unit.backend_suite_ms = 1;
+  unit.frontend_ms = unit.backend_ms = 1;
   const HostMapping mapping = map_host(unit, *input.meta, input.name);
   std::vector<MeasuredRow> rows;
   for (const trace::FrameTrace& frame : *input.frames) {

@@ -8,8 +8,8 @@
 // ops, m·n², ...; one list per task and kernel kind, host_costs.cpp), c the kind's costs in ns
 // per unit of work on a host whose reference-suite part (frontend for tasks, backend for
 // kernels; docs/TRACE.md "Host speed") takes 1 ms, and S_part the target host's suite time in
-// ms (HostConfig). The costs are fitted once (`edx host-costs fit`) by least squares on traces'
-// measured CPU times, each over its frame's local suite time, and committed
+// ms (SuiteTimes, host_model.hpp). The costs are fitted once (`edx host-costs fit`) by least
+// squares on traces' measured CPU times, each over its frame's local suite time, and committed
 // (configs/host/host_costs.yaml): every later trace is costed from its work alone, so the same
 // work gives the same host times on any machine under any load.
 #include <yaml-cpp/yaml.h>

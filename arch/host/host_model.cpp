@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "common/yaml_fields.hpp"
 #include "arch/host/host_costs.hpp"
 
 namespace edx::arch {
@@ -47,47 +46,6 @@ HostTimeSource parse_host_times(const std::string& text) {
   throw std::invalid_argument("expected modeled or measured, got '" + text + "'");
 }
 
-const FieldList<HostConfig>& HostConfig::fields() {
-  using C = HostConfig;
-  static const FieldList<C> list = {
-      field("name", &C::name, "", "the target host CPU"),
-      field("suite", &C::suite, "",
-            "reference-suite version the suite times are for (a trace's must match)",
-            Bounds::at_least(1)),
-      field("frontend_suite_ms", &C::frontend_suite_ms, "ms",
-            "the reference suite's frontend part on this host, CPU time (0 with "
-            "backend_suite_ms 0: the trace host is the target)",
-            Bounds::at_least(0)),
-      field("provenance", &C::provenance, "", "where frontend_suite_ms comes from"),
-      field("backend_suite_ms", &C::backend_suite_ms, "ms",
-            "the reference suite's backend part on this host, CPU time", Bounds::at_least(0)),
-      field("backend_provenance", &C::backend_provenance, "", "where backend_suite_ms comes from"),
-      enum_field(
-          "times", &C::times, {"modeled", "measured"},
-          [](HostTimeSource t) { return std::string(to_string(t)); },
-          [](const std::string& text) { return parse_host_times(text); },
-          "host times from the op-count model of the trace's work (modeled: the same on any "
-          "tracing machine) or the trace's measured CPU times (measured); either is mapped by "
-          "the suite times"),
-      field("cores", &C::cores, "", "cores the DES gives the host's threads", Bounds::at_least(1)),
-  };
-  return list;
-}
-
-void HostConfig::validate() const {
-  check_fields(*this, "host", fields());
-  if ((frontend_suite_ms > 0) != (backend_suite_ms > 0)) {
-    require_field(false, "host", frontend_suite_ms > 0 ? "backend_suite_ms" : "frontend_suite_ms",
-                  "both suite times or neither (neither: the trace host is the target)");
-  }
-}
-
-nlohmann::json HostConfig::to_json() const { return fields_to_json(*this, fields()); }
-
-HostConfig HostConfig::from_yaml(const YAML::Node& node, const std::string& where) {
-  return parse_section<HostConfig>(node, where, "host");
-}
-
 double HostMapping::scale(const Part& part, std::int64_t frame_id) {
   if (part.per_frame.empty()) return part.overall;
   const auto last = static_cast<std::int64_t>(part.per_frame.size()) - 1;
@@ -102,7 +60,7 @@ nlohmann::json HostMapping::to_json() const {
           {"per_frame", !frontend_.per_frame.empty()}};
 }
 
-HostMapping map_host(const HostConfig& host, const trace::TraceMeta& trace_meta,
+HostMapping map_host(const SuiteTimes& host, const trace::TraceMeta& trace_meta,
                      const std::string& trace_name) {
   HostMapping m;
   if (host.identity()) return m;
@@ -111,7 +69,7 @@ HostMapping map_host(const HostConfig& host, const trace::TraceMeta& trace_meta,
     throw std::runtime_error(fmt::format(
         "{}: host speed measured with reference suite v{}, but host '{}' states suite v{} times "
         "(re-trace with the matching edx, or restate the host)",
-        trace_name, traced.suite, host.name, host.suite));
+        trace_name, traced.suite, host.host, host.suite));
   }
   // t_platform(f) = t_trace(f) x S_platform / S_trace(f) (host_model.hpp).
   const auto part = [&](double platform_ms, double overall_ms, const std::vector<double>& samples) {
@@ -124,19 +82,19 @@ HostMapping map_host(const HostConfig& host, const trace::TraceMeta& trace_meta,
     }
     return p;
   };
-  m.frontend_ = part(host.frontend_suite_ms, traced.frontend_ms, traced.frontend_samples_ms);
-  m.backend_ = part(host.backend_suite_ms, traced.backend_ms, traced.backend_samples_ms);
+  m.frontend_ = part(host.frontend_ms, traced.frontend_ms, traced.frontend_samples_ms);
+  m.backend_ = part(host.backend_ms, traced.backend_ms, traced.backend_samples_ms);
   const std::string local = traced.sample_frames.empty()
                                 ? ""
                                 : fmt::format(", each frame by its {} nearest of {} samples",
                                               std::min(kLocalSamples, traced.sample_frames.size()),
                                               traced.sample_frames.size());
-  m.frontend_basis_ =
-      fmt::format("x{:.4g} = {:.4g} ms / {:.4g} ms on the suite v{}{} ({})", m.frontend_.overall,
-                  host.frontend_suite_ms, traced.frontend_ms, host.suite, local, host.provenance);
-  m.backend_basis_ = fmt::format("x{:.4g} = {:.4g} ms / {:.4g} ms on the suite v{}{} ({})",
-                                 m.backend_.overall, host.backend_suite_ms, traced.backend_ms,
-                                 host.suite, local, host.backend_provenance);
+  m.frontend_basis_ = fmt::format("x{:.4g} = {:.4g} ms / {:.4g} ms on the suite v{}{} ({})",
+                                  m.frontend_.overall, host.frontend_ms, traced.frontend_ms,
+                                  host.suite, local, host.frontend_provenance);
+  m.backend_basis_ =
+      fmt::format("x{:.4g} = {:.4g} ms / {:.4g} ms on the suite v{}{} ({})", m.backend_.overall,
+                  host.backend_ms, traced.backend_ms, host.suite, local, host.backend_provenance);
   return m;
 }
 
@@ -146,12 +104,13 @@ nlohmann::json PlatformHostTimes::to_json() const {
   return j;
 }
 
-PlatformHostTimes PlatformHostTimes::of(const HostConfig& host,
-                                        const std::vector<trace::FrameTrace>& frames,
-                                        const trace::TraceMeta& trace_meta,
-                                        const std::string& trace_name, const HostCostModel* costs) {
+PlatformHostTimes PlatformHostTimes::suite_scaled(const SuiteTimes& host, HostTimeSource source,
+                                                  const std::vector<trace::FrameTrace>& frames,
+                                                  const trace::TraceMeta& trace_meta,
+                                                  const std::string& trace_name,
+                                                  const HostCostModel* costs) {
   PlatformHostTimes t;
-  const bool modeled = host.times == HostTimeSource::kModeled && !host.identity();
+  const bool modeled = source == HostTimeSource::kModeled && !host.identity();
   t.source = modeled ? HostTimeSource::kModeled : HostTimeSource::kMeasured;
   if (modeled) {
     if (costs == nullptr) costs = &HostCostModel::bundled();
@@ -159,21 +118,21 @@ PlatformHostTimes PlatformHostTimes::of(const HostConfig& host,
       throw std::runtime_error(fmt::format(
           "host '{}' states suite v{} times, but the host cost table is for suite v{} (re-fit "
           "it: edx host-costs fit)",
-          host.name, host.suite, costs->suite));
+          host.host, host.suite, costs->suite));
     }
     // t = S_platform x sum_j c_j x_j: the factors are the suite times themselves (ms per
     // suite-ms), applied to ns per suite-ms.
-    t.mapping.frontend_.overall = host.frontend_suite_ms;
-    t.mapping.backend_.overall = host.backend_suite_ms;
+    t.mapping.frontend_.overall = host.frontend_ms;
+    t.mapping.backend_.overall = host.backend_ms;
     const std::string basis =
         "x{:.5g} ms on the suite v{} over the op-count host model of the trace's work "
         "(configs/host/host_costs.yaml{}) ({})";
     // The bundled table is named by its path; another one (a test's) also by its provenance.
     const std::string table = costs == &HostCostModel::bundled() ? "" : ": " + costs->provenance;
-    t.mapping.frontend_basis_ = fmt::format(fmt::runtime(basis), host.frontend_suite_ms, host.suite,
-                                            table, host.provenance);
-    t.mapping.backend_basis_ = fmt::format(fmt::runtime(basis), host.backend_suite_ms, host.suite,
-                                           table, host.backend_provenance);
+    t.mapping.frontend_basis_ = fmt::format(fmt::runtime(basis), host.frontend_ms, host.suite,
+                                            table, host.frontend_provenance);
+    t.mapping.backend_basis_ = fmt::format(fmt::runtime(basis), host.backend_ms, host.suite, table,
+                                           host.backend_provenance);
   } else {
     t.mapping = map_host(host, trace_meta, trace_name);
   }

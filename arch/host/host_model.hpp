@@ -1,7 +1,8 @@
 #pragma once
-// The host CPU of a platform (DESIGN.md, "Host CPU"; docs/MODEL.md, "Host CPU"): the host time
-// of every frontend task and backend kernel on the platform's CPU (PlatformHostTimes), from one
-// of two sources (`host.times`):
+// A trace's host times on a host processor (DESIGN.md, "Host CPU"; docs/MODEL.md, "Host CPU"):
+// the host time of every frontend task and backend kernel on a CPU given by its times on the
+// reference suite (SuiteTimes; the `suite_scaled` host kind, host_processor.hpp), from one of two
+// sources (`host.times`):
 //
 //   modeled (the default):  t(row) = S_platform x sum_j c_j x_j(row)      (host_costs.hpp)
 //   measured:               t_platform(f) = t_trace(f) x S_platform / S_trace(f)
@@ -16,19 +17,13 @@
 // while tracing (meta host_speed): the median of the kLocalSamples samples taken nearest frame f,
 // so that a tracing machine whose speed drifts during the trace (another tenant, a frequency
 // change) is measured beside the frames it slowed; a trace without per-sample data uses its
-// overall medians. A platform that declares no suite times replays the trace's host times as
-// they are.
-//
-//   host: {name: ..., times: modeled, suite: 1, frontend_suite_ms: 172.1, provenance: "...",
-//          backend_suite_ms: 40.1, backend_provenance: "..."}
-#include <yaml-cpp/yaml.h>
-
+// overall medians. A host that declares no suite times replays the trace's host times as they
+// are.
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include "common/config_fields.hpp"
 #include "workloads/trace/host_speed.hpp"
 
 namespace edx::arch {
@@ -47,33 +42,16 @@ const char* to_string(HostTimeSource times);
 /// Throws std::invalid_argument on anything but "modeled" or "measured".
 HostTimeSource parse_host_times(const std::string& text);
 
-struct HostConfig {
-  std::string name = "trace host";
-  /// Reference-suite version the times below are for (trace::kHostSpeedSuite when written).
+/// A host's times on the reference suite (docs/TRACE.md "Host speed"): S_platform, the factor
+/// of its modeled times and the map of measured ones. Both parts 0: the trace host is the target.
+struct SuiteTimes {
+  std::string host;  ///< the host's name (errors, bases)
+  /// Reference-suite version the times are for (a trace's and the cost table's must match).
   int suite = trace::kHostSpeedSuite;
-  /// The suite's frontend part on this host, CPU ms; 0 (with backend_suite_ms 0): this host is
-  /// the tracing machine itself.
-  double frontend_suite_ms = 0;
-  /// Where frontend_suite_ms comes from.
-  std::string provenance = "identity: the trace host is the target";
-  /// The suite's backend part on this host, CPU ms.
-  double backend_suite_ms = 0;
-  std::string backend_provenance = "identity: the trace host is the target";
-  /// Modeled (default) or measured host times; a host without suite times replays the
-  /// trace's measured times as they are (the trace host is the target).
-  HostTimeSource times = HostTimeSource::kModeled;
-  /// Cores the whole-system DES gives the host's threads (the baseline's frontend thread and
-  /// the backend thread); 2, the fewest that run both side by side, unless the platform says.
-  int cores = 2;
-
-  bool identity() const { return frontend_suite_ms == 0 && backend_suite_ms == 0; }
-  /// Every key of `host:` (docs/CONFIG.md).
-  static const FieldList<HostConfig>& fields();
-  /// Throws "host.<key>: expected ..." (both suite times or neither).
-  void validate() const;
-  nlohmann::json to_json() const;
-  /// `host:` section; errors name `where` (file:line) and the key. Both suite times or neither.
-  static HostConfig from_yaml(const YAML::Node& node, const std::string& where);
+  double frontend_ms = 0;  ///< the suite's frontend part on this host, CPU ms
+  double backend_ms = 0;   ///< its backend part
+  std::string frontend_provenance, backend_provenance;  ///< where each comes from
+  bool identity() const { return frontend_ms == 0 && backend_ms == 0; }
 };
 
 /// The factors a trace's host times are multiplied by on a platform, per frame.
@@ -91,7 +69,7 @@ class HostMapping {
   nlohmann::json to_json() const;
 
  private:
-  friend HostMapping map_host(const HostConfig&, const trace::TraceMeta&, const std::string&);
+  friend HostMapping map_host(const SuiteTimes&, const trace::TraceMeta&, const std::string&);
   friend struct PlatformHostTimes;
   /// One part's factors: at the overall median, and per frame id (empty: the overall one).
   struct Part {
@@ -107,17 +85,12 @@ class HostMapping {
 /// The mapping of a trace (its meta) onto `host`. Throws std::runtime_error naming `trace_name`
 /// when the platform states suite times and the trace has no usable host_speed, or the two
 /// suite versions differ.
-HostMapping map_host(const HostConfig& host, const trace::TraceMeta& trace_meta,
+HostMapping map_host(const SuiteTimes& host, const trace::TraceMeta& trace_meta,
                      const std::string& trace_name);
 
 struct HostCostModel;
 
-/// A trace's host times on a platform's host (ms), the one place arch reads host time from:
-///   modeled (host.times, the default): t = S_platform × Σ_j c_j x_j(row) (host_costs.hpp), a
-///     frame's frontend the sum over its tasks plus the frontend rest, its backend the sum over
-///     its kernels plus its mode's backend rest;
-///   measured: t = t_trace × S_platform / S_trace(f) (map_host);
-///   a host without suite times: the trace's times as they are.
+/// A trace's host times on a platform's host (ms): what HostProcessor::host_times answers.
 struct PlatformHostTimes {
   std::vector<double> frontend_ms;             ///< per frame, the whole frontend
   std::vector<double> backend_ms;              ///< per frame, kernels and the rest
@@ -126,12 +99,20 @@ struct PlatformHostTimes {
   HostTimeSource source = HostTimeSource::kMeasured;
   nlohmann::json to_json() const;
 
+  /// The times on a host of suite times `host`, from `source`:
+  ///   modeled: t = S_platform × Σ_j c_j x_j(row) (host_costs.hpp), a frame's frontend the sum
+  ///     over its tasks plus the frontend rest, its backend the sum over its kernels plus its
+  ///     mode's backend rest;
+  ///   measured: t = t_trace × S_platform / S_trace(f) (map_host);
+  ///   a host without suite times (either source): the trace's times as they are.
   /// `costs`: the cost table of modeled times (nullptr: the bundled one). Throws
   /// std::runtime_error naming `trace_name` (map_host's errors; a row the cost table has no
   /// costs for; a cost table of another suite version than the host's).
-  static PlatformHostTimes of(const HostConfig& host, const std::vector<trace::FrameTrace>& frames,
-                              const trace::TraceMeta& trace_meta, const std::string& trace_name,
-                              const HostCostModel* costs = nullptr);
+  static PlatformHostTimes suite_scaled(const SuiteTimes& host, HostTimeSource source,
+                                        const std::vector<trace::FrameTrace>& frames,
+                                        const trace::TraceMeta& trace_meta,
+                                        const std::string& trace_name,
+                                        const HostCostModel* costs = nullptr);
 };
 
 }  // namespace edx::arch

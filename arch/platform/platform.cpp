@@ -51,7 +51,7 @@ nlohmann::json SchedulerConfig::to_json() const { return fields_to_json(*this, f
 
 void Platform::validate() const {
   check_fields(*this, "platform", fields());
-  host.validate();
+  if (host == nullptr) throw std::runtime_error("host: no host processor");
   frontend.validate();
   link.validate();
   transfers.validate();
@@ -82,7 +82,7 @@ std::vector<ReferenceRow> Platform::reference() {
     for (ReferenceRow& row : more) rows.push_back(std::move(row));
   };
   add(reference_rows("", fields()));
-  add(reference_rows("host", HostConfig::fields()));
+  add(component_reference<HostProcessor>("host", kDefaultHostKind));
   add(FrontendConfig::reference());
   add(component_reference<OffloadAccelerator>("backend", kDefaultOffloadKind));
   add(LinkSpec::reference());
@@ -98,7 +98,7 @@ nlohmann::json Platform::to_json() const {
   return {{"name", name},
           {"description", description},
           {"device", device},
-          {"host", host.to_json()},
+          {"host", component_json(*host)},
           {"frontend", frontend.to_json()},
           {"link", link.to_json()},
           {"transfers", transfers.to_json()},
@@ -125,10 +125,13 @@ std::string config_reference_markdown() {
          "instance names its `kind`, has the instance keys (`count`, `clock_mhz`, ...) and its "
          "kind's own keys, listed per kind below. A section's `units` map is read over the "
          "paper's units: a listed instance overrides the default of its name (its kind kept "
-         "unless given), a new name adds a unit. A kind is one source file registering itself "
-         "(arch/frontend/units/, arch/backend/units/; docs/MODEL.md, \"Components\"). The "
-         "`backend:` section is the offload accelerator, itself a kind (`backend.kind`, by "
-         "default the paper's `fpga_matrix_units`: the keys below).\n" +
+         "unless given), a new name adds a unit. The host (`host:`) is one instance of a "
+         "registered host processor kind, named by `host.kind` (optional; default "
+         "`suite_scaled`), its keys listed per kind below; the `backend:` section is the offload "
+         "accelerator, itself a kind (`backend.kind`, by default the paper's `fpga_matrix_units`). "
+         "A kind is one source file registering itself (arch/frontend/units/, "
+         "arch/backend/units/, arch/backend/accelerators/, arch/host/processors/; docs/MODEL.md, "
+         "\"Components\").\n" +
          render_reference(Platform::reference());
 }
 
@@ -225,7 +228,8 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   } catch (const std::runtime_error& e) {
     top.fail("device", e.what());
   }
-  p.host = HostConfig::from_yaml(root["host"], where);
+  YamlFields host(root["host"], where, "host");
+  p.host = parse_component<HostProcessor>(host, kDefaultHostKind);
   p.frontend = FrontendConfig::from_yaml(root["frontend"], where);
   if (root["link"]) p.link = LinkSpec::from_yaml(root["link"], where);
   p.transfers = FrameTransferConfig::from_yaml(root["transfers"], where);

@@ -5,8 +5,8 @@
 //   name: edx_car
 //   description: ...
 //   device: xc7v690t
-//   host: {frontend_suite_ms: 71.2, provenance: "...", backend_suite_ms: 21.9,
-//          backend_provenance: "..."}         HostConfig (arch/host)
+//   host: {kind: suite_scaled, frontend_suite_ms: 71.2, ...,
+//          active_w: 15}                        HostProcessor (arch/host; kind optional)
 //   frontend: {clock_mhz: 150, ...}             FrontendConfig
 //   backend: {kind: fpga_matrix_units, units: {gemm: {block: 4}}, ...}
 //                                               OffloadAccelerator (arch/backend)
@@ -36,7 +36,7 @@
 #include "arch/backend/offload_accelerator.hpp"
 #include "arch/cost/cost_config.hpp"
 #include "arch/frontend/frontend_config.hpp"
-#include "arch/host/host_model.hpp"
+#include "arch/host/host_processor.hpp"
 #include "arch/link/frame_transfers.hpp"
 #include "arch/link/link.hpp"
 #include "arch/platform/system_config.hpp"
@@ -75,11 +75,16 @@ struct PlatformSource {
   void set(const std::string& key, const YAML::Node& value, const std::string& origin);
 };
 
+/// The host processor kind of a `host:` section without `kind:`.
+inline constexpr const char* kDefaultHostKind = "suite_scaled";
+
 struct Platform {
   std::string name;
   std::string description;
   std::string device = "xc7v690t";  ///< the FPGA (arch/memory/bram.hpp Device::by_name)
-  HostConfig host;
+  /// The host CPU (`host:`): its times, cores and power.
+  std::shared_ptr<const HostProcessor> host =
+      ComponentRegistry<HostProcessor>::instance().make(kDefaultHostKind);
   FrontendConfig frontend;
   LinkSpec link = LinkSpec::pcie3_x8();  ///< host <-> FPGA
   FrameTransferConfig transfers;         ///< what crosses the link per frame

@@ -146,8 +146,7 @@ void prepare_context(SweepContext& context, const std::shared_ptr<const LoadedTr
                     context.store.string()));
   }
   if (!given) return;
-  PlatformHostTimes::of(Platform::parse(context.base).host, given->frames, given->meta,
-                        given->name);
+  Platform::parse(context.base).host->host_times(given->frames, given->meta, given->name);
   context.workloads[0].trace = given->name;
   context.set_trace(0, given);
 }

@@ -47,7 +47,7 @@ nlohmann::json FrontendStudy::to_json() const {
   nlohmann::json util = nlohmann::json::object();
   for (const auto& [unit, u] : utilization) util[unit] = u;
   return {{"platform", platform},
-          {"host", host.to_json()},
+          {"host", component_json(*host)},
           {"host_mapping", host_times.to_json()},
           {"frames", frames},
           {"resolution", fmt::format("{}x{}", width, height)},
@@ -88,7 +88,7 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   FrontendStudy study;
   study.platform = platform.name;
   study.host = platform.host;
-  study.host_times = PlatformHostTimes::of(platform.host, frames, trace_meta, trace_name);
+  study.host_times = platform.host->host_times(frames, trace_meta, trace_name);
   study.frames = frames.size();
   std::tie(study.width, study.height) = parse_wxh(resolution->second, trace_name);
   const std::int64_t level0 = static_cast<std::int64_t>(study.width) * study.height;
@@ -153,7 +153,7 @@ std::string format_frontend_study(const FrontendStudy& s) {
   row("  SM (MO..DR)", s.sm_ms);
   row("  TM (DC..LSS)", s.tm_ms);
   text += fmt::format("speedup    {:.2f}x\n", s.speedup);
-  text += fmt::format("CPU        {}: {} host time {}\n", s.host.name,
+  text += fmt::format("CPU        {}: {} host time {}\n", s.host->display_name(),
                       to_string(s.host_times.source), s.host_times.mapping.frontend_basis());
   text += fmt::format(
       "throughput CPU {:.1f} FPS; accelerator {:.1f} FPS without FE/SM pipelining, "

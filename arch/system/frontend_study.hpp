@@ -4,6 +4,7 @@
 // and its FE/SM/TM breakdown, throughput without and with FE/SM pipelining, unit utilizations.
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -26,7 +27,7 @@ struct Distribution {
 
 struct FrontendStudy {
   std::string platform;
-  HostConfig host;               ///< the CPU baseline's host
+  std::shared_ptr<const HostProcessor> host;  ///< the CPU baseline's host
   PlatformHostTimes host_times;  ///< this trace's host times on that host (frontend and backend)
   std::size_t frames = 0;
   int width = 0, height = 0;

@@ -67,10 +67,10 @@ void finish_variant(VariantResult& v, const std::vector<double>& fe_end_ms) {
 }
 
 /// Energy of a frame from its activity, period and host busy time (docs/MODEL.md, "Energy").
-void set_energy(FrameResult& f, const cost::PowerConfig& power) {
+void set_energy(FrameResult& f, const Platform& platform) {
   f.activity.frame_s = std::max(1e-3 * f.e2e_ms, 1e-12);
   f.activity.host_busy_s = std::min(1e-3 * f.host_busy_ms, f.activity.frame_s);
-  f.energy = cost::frame_energy(f.activity, power);
+  f.energy = cost::frame_energy(f.activity, platform.power, platform.host->power());
 }
 
 /// The streamed run's summary. Energy (docs/MODEL.md, "Energy per resource"): over the run's
@@ -78,7 +78,7 @@ void set_energy(FrameResult& f, const cost::PowerConfig& power) {
 /// frames' work energy over its busy time and P_idle = fpga_idle_fraction · P_active; each link
 /// direction its bytes' energy (idle power 0); the host package
 /// s_host·(P_active·min(B, T) + P_idle·(T − min(B, T))), B the cores' busy time (the package
-/// draws host_active_w at most); the device static P_static·T; DRAM its bytes' energy.
+/// draws its active power at most); the device static P_static·T; DRAM its bytes' energy.
 /// energy_j = Σ / processed frames.
 StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResult>& frames,
                                double sensor_fps, const Platform& platform) {
@@ -157,8 +157,9 @@ StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResu
   host.name = "host.cores";
   host.busy_s = std::min(1e-3 * run.host_busy_ms, span);
   host.idle_s = span - host.busy_s;
-  host.active_w = power.host_power_scale * power.host_active_w;
-  host.idle_w = power.host_power_scale * power.host_idle_w;
+  const HostPower package = platform.host->power();
+  host.active_w = power.host_power_scale * package.active_w;
+  host.idle_w = power.host_power_scale * package.idle_w;
   host.energy_j = host.busy_s * host.active_w + host.idle_s * host.idle_w;
   out.push_back(host);
   double total = 0;
@@ -212,7 +213,7 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
   }
   const auto run = [&](bool accelerated, bool isolated, const SystemTimelineOptions& t) {
     return run_system(work, platform.frontend, *platform.backend, platform.link,
-                      platform.host.cores, platform.system, accelerated, isolated, t);
+                      platform.host->cores(), platform.system, accelerated, isolated, t);
   };
   for (VariantResult* v : {&r.baseline, &r.accelerated}) {
     const bool accelerated = v == &r.accelerated;
@@ -419,7 +420,7 @@ std::string trace_hash(std::size_t frames, const trace::TraceMeta& trace_meta) {
 }
 
 std::string frontend_study_key(const Platform& platform) {
-  return nlohmann::json{{"host", platform.host.to_json()},
+  return nlohmann::json{{"host", component_json(*platform.host)},
                         {"frontend", platform.frontend.to_json()},
                         {"link", platform.link.to_json()},
                         {"transfers", platform.transfers.to_json()},
@@ -587,8 +588,8 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   if (options.model == SystemModelKind::kDes) {
     simulate_platform_des(platform, frames, r, accel, transfers, options);
   }
-  for (FrameResult& f : r.baseline.frames) set_energy(f, platform.power);
-  for (FrameResult& f : r.accelerated.frames) set_energy(f, platform.power);
+  for (FrameResult& f : r.baseline.frames) set_energy(f, platform);
+  for (FrameResult& f : r.accelerated.frames) set_energy(f, platform);
   finish_variant(r.baseline, cpu_fe_end);
   finish_variant(r.accelerated, r.frontend.frame_pipelined_end_ms);
 

@@ -16,8 +16,7 @@ using ::testing::HasSubstr;
 TEST(FrameEnergy, HandComputedFrame) {
   PowerConfig p;
   p.fpga_static_w = 1.0;
-  p.host_active_w = 10.0;
-  p.host_idle_w = 2.0;
+  const HostPower host{10.0, 2.0};
   p.double_mac_pj = 20.0;
   p.int8_op_pj = 0.1;
   p.fpga_energy_factor = 10.0;
@@ -32,7 +31,7 @@ TEST(FrameEnergy, HandComputedFrame) {
   a.dram_bytes = 2e6;
   a.bram_bytes = 1e7;
   a.link_bytes = 1e5;
-  const FrameEnergy e = frame_energy(a, p);
+  const FrameEnergy e = frame_energy(a, p, host);
   EXPECT_DOUBLE_EQ(e.fpga_static_j, 0.05);                               // 1 W x 50 ms
   EXPECT_DOUBLE_EQ(e.host_j, 10 * 0.02 + 2 * 0.03);                      // busy 20 ms, idle 30 ms
   EXPECT_NEAR(e.compute_j, 10 * (1e6 * 20 + 1e8 * 0.1) * 1e-12, 1e-15);  // 3e-4 J
@@ -43,14 +42,12 @@ TEST(FrameEnergy, HandComputedFrame) {
 
 TEST(FrameEnergy, NoFpgaNoStaticAndScalesApply) {
   PowerConfig p;
-  p.host_active_w = 16.0;
-  p.host_idle_w = 16.0;
   p.host_power_scale = 0.5;
   FrameActivity cpu;
   cpu.frame_s = 0.1;
   cpu.host_busy_s = 0.1;
   cpu.fpga_present = false;
-  const FrameEnergy e = frame_energy(cpu, p);
+  const FrameEnergy e = frame_energy(cpu, p, HostPower{16.0, 16.0});
   EXPECT_DOUBLE_EQ(e.fpga_static_j, 0);
   EXPECT_DOUBLE_EQ(e.total_j, 0.5 * 16 * 0.1);
 }
@@ -59,7 +56,7 @@ TEST(FrameEnergy, RejectsAHostBusierThanTheFrame) {
   FrameActivity a;
   a.frame_s = 0.01;
   a.host_busy_s = 0.02;
-  EXPECT_THROW(frame_energy(a, {}), std::runtime_error);
+  EXPECT_THROW(frame_energy(a, {}, {}), std::runtime_error);
 }
 
 TEST(CostYaml, ReadsFieldsOverDefaults) {
@@ -102,8 +99,11 @@ TEST(CostYaml, ErrorsNameFileLineAndKey) {
                "cost.frontend_arithmetic: moved: now frontend.units.IF.arithmetic and "
                "frontend.units.LSS.arithmetic");
   expect_error("s:\n  fpga_static_w: -1\n", true, "car.yaml:2: power.fpga_static_w");
-  expect_error("s:\n  host_active_w: 5\n  host_idle_w: 6\n", true,
-               "car.yaml:3: power.host_idle_w: expected a power in [0, host_active_w] W");
+  // The host's power is the host processor's own (host.active_w, host.idle_w).
+  expect_error("s:\n  fpga_static_w: 1\n  host_active_w: 5\n", true,
+               "car.yaml:3: power.host_active_w: moved: now host.active_w (docs/CONFIG.md)");
+  expect_error("s:\n  host_idle_w: 1\n", true,
+               "car.yaml:2: power.host_idle_w: moved: now host.idle_w (docs/CONFIG.md)");
   expect_error("s:\n  fpga_energy_factor: [1]\n", true,
                "car.yaml:2: power.fpga_energy_factor: expected a number > 0, got 'a list'");
   expect_error("s:\n  fpga_idle_fraction: 1.5\n", true,

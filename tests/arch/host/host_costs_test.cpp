@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <random>
 
-#include "arch/host/host_model.hpp"
+#include "arch/host/host_processor.hpp"
 #include "workloads/trace/reader.hpp"
 
 namespace edx::arch {
@@ -115,10 +115,10 @@ TEST(HostCosts, ACostThatComesOutNegativeIsDroppedAndTheKindRefitted) {
 TEST(HostCosts, ModeledTimesAreTheCostsTimesTheWorkTimesTheHostsSuiteTime) {
   const std::vector<FrameTrace> frames = synthetic_frames(40, 3);
   const HostCostModel model = fit_host_costs({{"s.db", &frames, &kMeta}}, "test");
-  HostConfig host;
-  host.frontend_suite_ms = 100;  // twice the tracing machine's 50 ms
-  host.backend_suite_ms = 20;    // four times its 5 ms
-  const PlatformHostTimes t = PlatformHostTimes::of(host, frames, kMeta, "s.db", &model);
+  // Suite times twice the tracing machine's 50 ms and four times its 5 ms.
+  const auto host =
+      make_host_processor("suite_scaled", "{frontend_suite_ms: 100, backend_suite_ms: 20}");
+  const PlatformHostTimes t = host->host_times(frames, kMeta, "s.db", &model);
   EXPECT_EQ(t.source, HostTimeSource::kModeled);
   for (std::size_t f = 0; f < frames.size(); ++f) {
     // The times were made exactly of the costs, so modeled = measured × the suite-time ratio.
@@ -151,20 +151,20 @@ TEST(HostCosts, ModeledTimesNeverReadTheMeasuredOnes) {
   }
   trace::TraceMeta other = reader.meta();
   other["host_speed"] = R"({"suite": 1, "frontend_ms": 400.0, "backend_ms": 70.0, "samples": 3})";
-  HostConfig host;
-  host.frontend_suite_ms = 170.03;
-  host.backend_suite_ms = 48.01;
-  const PlatformHostTimes a = PlatformHostTimes::of(host, frames, reader.meta(), "a");
-  const PlatformHostTimes b = PlatformHostTimes::of(host, scrambled, other, "b");
+  const std::string suite_times = "frontend_suite_ms: 170.03, backend_suite_ms: 48.01";
+  const auto host = make_host_processor("suite_scaled", "{" + suite_times + "}");
+  const PlatformHostTimes a = host->host_times(frames, reader.meta(), "a");
+  const PlatformHostTimes b = host->host_times(scrambled, other, "b");
   EXPECT_EQ(a.frontend_ms, b.frontend_ms);
   EXPECT_EQ(a.backend_ms, b.backend_ms);
   EXPECT_EQ(a.kernel_ms, b.kernel_ms);
   double total = 0;
   for (double ms : a.frontend_ms) total += ms;
   EXPECT_GT(total, 0.0);
-  host.times = HostTimeSource::kMeasured;
-  const PlatformHostTimes ma = PlatformHostTimes::of(host, frames, reader.meta(), "a");
-  const PlatformHostTimes mb = PlatformHostTimes::of(host, scrambled, other, "b");
+  const auto measured =
+      make_host_processor("suite_scaled", "{times: measured, " + suite_times + "}");
+  const PlatformHostTimes ma = measured->host_times(frames, reader.meta(), "a");
+  const PlatformHostTimes mb = measured->host_times(scrambled, other, "b");
   EXPECT_EQ(ma.source, HostTimeSource::kMeasured);
   EXPECT_NE(ma.frontend_ms, mb.frontend_ms);
 }
@@ -224,10 +224,10 @@ TEST(HostCosts, ErrorsNameTheFileLineAndKey) {
   const std::vector<FrameTrace> frames = synthetic_frames(30, 5);
   HostCostModel model = fit_host_costs({{"s.db", &frames, &kMeta}}, "test");
   model.backend.erase("solve");
-  HostConfig host;
-  host.frontend_suite_ms = host.backend_suite_ms = 1;
+  const auto host =
+      make_host_processor("suite_scaled", "{frontend_suite_ms: 1, backend_suite_ms: 1}");
   try {
-    PlatformHostTimes::of(host, frames, kMeta, "s.db", &model);
+    host->host_times(frames, kMeta, "s.db", &model);
     ADD_FAILURE() << "no error";
   } catch (const std::runtime_error& e) {
     EXPECT_THAT(e.what(), HasSubstr("s.db: frame 0: the host cost table (suite v1) has no costs "

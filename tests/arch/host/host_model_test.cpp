@@ -12,12 +12,12 @@ using ::testing::HasSubstr;
 
 trace::TraceMeta meta_with(const std::string& host_speed) { return {{"host_speed", host_speed}}; }
 
-HostConfig host(double frontend_ms, double backend_ms) {
-  HostConfig h;
-  h.name = "target";
-  h.frontend_suite_ms = frontend_ms;
-  h.backend_suite_ms = backend_ms;
-  h.provenance = "measured";
+SuiteTimes host(double frontend_ms, double backend_ms) {
+  SuiteTimes h;
+  h.host = "target";
+  h.frontend_ms = frontend_ms;
+  h.backend_ms = backend_ms;
+  h.frontend_provenance = "measured";
   return h;
 }
 
@@ -44,7 +44,7 @@ TEST(HostModel, AMachineTwiceAsFastGivesTheSamePlatformTimes) {
 }
 
 TEST(HostModel, NoSuiteTimesReplaysTheTraceAsItIsAndNeedsNoHostSpeed) {
-  const HostMapping m = map_host(HostConfig{}, trace::TraceMeta{}, "t.db");
+  const HostMapping m = map_host(SuiteTimes{}, trace::TraceMeta{}, "t.db");
   EXPECT_EQ(m.frontend_scale(3), 1.0);
   EXPECT_EQ(m.backend_scale(3), 1.0);
 }
@@ -89,7 +89,7 @@ TEST(HostModel, EachFrameIsMappedByTheNineSamplesNearestIt) {
 }
 
 TEST(HostModel, ErrorsNameTheTraceAndWhatIsWrong) {
-  const auto error_of = [](const trace::TraceMeta& meta, HostConfig h) -> std::string {
+  const auto error_of = [](const trace::TraceMeta& meta, SuiteTimes h) -> std::string {
     try {
       map_host(h, meta, "t.db");
     } catch (const std::runtime_error& e) {
@@ -114,7 +114,7 @@ TEST(HostModel, ErrorsNameTheTraceAndWhatIsWrong) {
                 "backend_samples_ms": [1, 1]})"),
                        host(1, 1)),
               HasSubstr("expected every sample > 0 ms"));
-  HostConfig v2 = host(1, 1);
+  SuiteTimes v2 = host(1, 1);
   v2.suite = 2;
   EXPECT_THAT(
       error_of(meta_with(R"({"suite": 1, "frontend_ms": 1, "backend_ms": 1, "samples": 1})"), v2),

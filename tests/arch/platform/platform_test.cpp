@@ -29,8 +29,8 @@ TEST(Platform, ReadsFieldsOverTheDefaults) {
       "  clock_mhz: 200\n  pipeline_fe_sm: false\n  units: {MO: {comparators: 8}}\n",
       "p.yaml");
   EXPECT_EQ(p.name, "car");
-  EXPECT_DOUBLE_EQ(p.host.frontend_suite_ms, 2.5);
-  EXPECT_EQ(p.host.provenance, "calibrated");
+  EXPECT_EQ(p.host->params_json()["frontend_suite_ms"], 2.5);
+  EXPECT_EQ(p.host->params_json()["provenance"], "calibrated");
   EXPECT_DOUBLE_EQ(p.frontend.clock_mhz, 200);
   EXPECT_FALSE(p.frontend.pipeline_fe_sm);
   EXPECT_EQ(p.frontend.to_json()["units"]["MO"]["comparators"], 8);
@@ -69,16 +69,16 @@ TEST(Platform, ReadsBackendCostPowerSchedulerAndHostBackendScale) {
   const Platform p = Platform::parse(
       "name: car\nhost:\n  frontend_suite_ms: 3\n  backend_suite_ms: 1.5\n"
       "  backend_provenance: measured\n"
-      "backend:\n  units: {gemm: {block: 8}}\ncost:\n  ns_modes: 2\npower:\n  host_active_w: 20\n"
+      "backend:\n  units: {gemm: {block: 8}}\ncost:\n  ns_modes: 2\npower:\n  fpga_static_w: 2\n"
       "scheduler:\n  policy: oracle\n  training_fraction: 0.5\n",
       "p.yaml");
-  EXPECT_DOUBLE_EQ(p.host.backend_suite_ms, 1.5);
-  EXPECT_EQ(p.host.backend_provenance, "measured");
+  EXPECT_EQ(p.host->params_json()["backend_suite_ms"], 1.5);
+  EXPECT_EQ(p.host->params_json()["backend_provenance"], "measured");
   EXPECT_EQ(testing::fpga_config(*p.backend).units[0].unit->tile(), 8);
   EXPECT_EQ(testing::fpga_config(*p.backend).units[1].to_json(),
             BackendConfig{}.units[1].to_json());
   EXPECT_EQ(p.cost.ns_modes, 2);
-  EXPECT_DOUBLE_EQ(p.power.host_active_w, 20);
+  EXPECT_DOUBLE_EQ(p.power.fpga_static_w, 2);
   EXPECT_EQ(p.scheduler.policy, OffloadPolicy::kOracle);
   EXPECT_DOUBLE_EQ(p.scheduler.training_fraction, 0.5);
   EXPECT_EQ(p.to_json()["scheduler"]["policy"], "oracle");
@@ -91,8 +91,8 @@ TEST(Platform, BadKeysOfTheNewSectionsNameFileLineAndKey) {
   EXPECT_THAT(error_of("name: car\nbackend:\n  units:\n    gemm:\n      block: big\n"),
               HasSubstr("p.yaml:5: backend.units.gemm.block: expected an integer"));
   EXPECT_EQ(error_of("name: car\ncost:\n  colour: red\n"), "p.yaml:3: cost.colour: unknown key");
-  EXPECT_THAT(error_of("name: car\npower:\n  host_active_w: hot\n"),
-              HasSubstr("p.yaml:3: power.host_active_w: expected a number"));
+  EXPECT_THAT(error_of("name: car\npower:\n  fpga_static_w: hot\n"),
+              HasSubstr("p.yaml:3: power.fpga_static_w: expected a number"));
   EXPECT_THAT(
       error_of("name: car\nscheduler:\n  policy: sometimes\n"),
       HasSubstr("p.yaml:3: scheduler.policy: expected never, always, regression or oracle"));
@@ -136,13 +136,17 @@ TEST(Platform, ShippedConfigsLoad) {
   }
   // Both hosts state suite times of this build's suite (docs/MODEL.md, Host CPU); the drone's
   // TX1 is one factor k slower than the car's Kaby Lake on both parts.
+  const auto suite_ms = [](const Platform& p, const char* part) {
+    return p.host->params_json()[part].get<double>();
+  };
   for (const Platform* p : {&car, &drone}) {
-    EXPECT_EQ(p->host.suite, trace::kHostSpeedSuite) << p->name;
-    EXPECT_FALSE(p->host.identity()) << p->name;
+    EXPECT_EQ(p->host->kind(), "suite_scaled") << p->name;
+    EXPECT_EQ(p->host->params_json()["suite"], trace::kHostSpeedSuite) << p->name;
+    EXPECT_GT(suite_ms(*p, "frontend_suite_ms"), 0.0) << p->name;
   }
-  EXPECT_GT(drone.host.frontend_suite_ms, car.host.frontend_suite_ms);
-  EXPECT_NEAR(drone.host.frontend_suite_ms / car.host.frontend_suite_ms,
-              drone.host.backend_suite_ms / car.host.backend_suite_ms, 5e-3);
+  EXPECT_GT(suite_ms(drone, "frontend_suite_ms"), suite_ms(car, "frontend_suite_ms"));
+  EXPECT_NEAR(suite_ms(drone, "frontend_suite_ms") / suite_ms(car, "frontend_suite_ms"),
+              suite_ms(drone, "backend_suite_ms") / suite_ms(car, "backend_suite_ms"), 5e-3);
 }
 
 TEST(Platform, MissingFileIsNamed) {

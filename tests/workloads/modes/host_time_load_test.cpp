@@ -12,7 +12,7 @@
 #include <filesystem>
 #include <thread>
 
-#include "arch/host/host_model.hpp"
+#include "arch/host/host_processor.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "workloads/datasets/synthetic/generator.hpp"
 #include "workloads/modes/host_load_study.hpp"
@@ -39,10 +39,10 @@ TEST(HostClock, ThreadCpuTimeDoesNotCountSleep) {
 /// on Edx-Car's host.
 arch::PlatformHostTimes modeled_times(const fs::path& trace_file) {
   const trace::TraceReader reader(trace_file);
-  arch::HostConfig host;  // Edx-Car's suite times
-  host.frontend_suite_ms = 170.03;
-  host.backend_suite_ms = 48.01;
-  return arch::PlatformHostTimes::of(host, reader.read_all(), reader.meta(), trace_file.string());
+  const auto host =  // Edx-Car's suite times
+      arch::make_host_processor("suite_scaled",
+                                "{frontend_suite_ms: 170.03, backend_suite_ms: 48.01}");
+  return host->host_times(reader.read_all(), reader.meta(), trace_file.string());
 }
 
 TEST(HostClock, TraceHostTimesDoNotMoveWithTheMachinesLoad) {

@@ -1,0 +1,56 @@
+#pragma once
+// A host processor (docs/MODEL.md, "Host CPU" and "Components"): the CPU a platform's software
+// runs on, the baseline's whole pipeline and the accelerated system's work not offloaded. One
+// interface, its kinds beside it in arch/host/processors/ (one file each, registered there by
+// name), one instance per platform (`host:`, docs/CONFIG.md):
+//
+//   host: {kind: suite_scaled, name: ..., frontend_suite_ms: 176.41, ..., cores: 4,
+//          active_w: 15, idle_w: 2}
+//
+// `kind` is optional (suite_scaled). A kind owns its parameters, how a trace's recorded work or
+// measured CPU times become host times on it, the cores the system DES gives its threads, and its
+// package power (the energy model, arch/cost/energy.hpp).
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "arch/common/registry.hpp"
+#include "arch/host/host_model.hpp"
+#include "workloads/trace/records.hpp"
+
+namespace edx::arch {
+
+/// The host package's power, W (docs/MODEL.md, "Energy"): while any of its cores computes, and
+/// while all of them wait (idle_w <= active_w). The package draws active_w at most, however
+/// many cores are busy.
+struct HostPower {
+  double active_w = 0;
+  double idle_w = 0;
+};
+
+class HostProcessor : public Component {
+ public:
+  static constexpr const char* kKindName = "host processor";
+  /// The processor as reports name it ("Intel Kaby Lake, 4 cores, 1.6 GHz").
+  virtual std::string display_name() const = 0;
+  /// A trace's host times on this processor, per frame (its frontend, its backend, each kernel
+  /// row), ms. `costs`: the op-count model's cost table (host_costs.hpp; nullptr: the bundled
+  /// one). Throws std::runtime_error naming `trace_name` when the trace cannot be mapped onto it.
+  virtual PlatformHostTimes host_times(const std::vector<trace::FrameTrace>& frames,
+                                       const trace::TraceMeta& trace_meta,
+                                       const std::string& trace_name,
+                                       const HostCostModel* costs = nullptr) const = 0;
+  /// Cores the whole-system DES gives the host's threads (>= 1).
+  virtual int cores() const = 0;
+  /// Its package power (before power.host_power_scale).
+  virtual HostPower power() const = 0;
+};
+
+/// The host processor of kind `kind` with `params` (YAML text of its keys, e.g.
+/// "{cores: 1}") over its defaults: code and tests that build a host without a platform file.
+/// Errors name "code" and the key.
+std::shared_ptr<const HostProcessor> make_host_processor(std::string_view kind,
+                                                         const std::string& params = "{}");
+
+}  // namespace edx::arch
