@@ -40,6 +40,7 @@ class YamlFields {
   [[noreturn]] void fail(const std::string& key, const std::string& message) const;
   /// The dotted path of the map ("frontend").
   const std::string& prefix() const { return prefix_; }
+  const std::string& where() const { return where_; }
 
  private:
   YAML::Node node_;

@@ -49,7 +49,7 @@ struct KernelAccelResult {
   std::string message;                  ///< why it spills ("" when it fits)
   int spilled_ops = 0;                  ///< ops run out of core
   SpillTraffic spill;                   ///< Σ op_spill_traffic over its ops (DRAM bytes)
-  /// The SPM sized for this kernel's largest op (one region), mapped to BRAM.
+  /// The SPM sized for this kernel's largest op (one region).
   ScratchpadSizing spm;
   std::vector<OpTiming> ops;
 };
@@ -65,6 +65,6 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel, const Bac
 /// transfer_time(spill.read_bytes) + transfer_time(spill.write_bytes), serialized with the
 /// kernel's compute (the conservative reading: no tile prefetch overlaps the units). Seconds;
 /// 0 when the kernel fits.
-double spill_seconds(const KernelAccelResult& plan, const LinkSpec& link);
+double spill_seconds(const KernelAccelResult& plan, const Link& link);
 
 }  // namespace edx::arch

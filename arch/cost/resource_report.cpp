@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 
 #include "arch/backend/op_timing.hpp"
@@ -20,17 +19,6 @@ CostEntry entry(std::string name, std::string group, std::string kind, const Res
 /// FE (time-shared between cameras) memories of the frontend plan, by name.
 bool is_fe_memory(const std::string& name) {
   return name.starts_with("fe.") || name.starts_with("fc.") || name == "fd_to_fc";
-}
-
-/// A memory's BRAM blocks, and the LUT muxes selecting among its stacked block rows.
-Resources memory_cost(const MemoryStructure& s, const CostConfig& cost) {
-  const BramMapping m = map_to_bram(s.width_bits, s.depth_words, cost.allow_bram18);
-  Resources r;
-  r.bram = m.blocks * double(s.count);
-  if (cost.memory_read_muxes && m.rows > 1) {
-    r.lut = double(s.count) * double(s.width_bits) * std::ceil((m.rows - 1) / 3.0);
-  }
-  return r;
 }
 
 CostTotals sum(const std::vector<CostEntry>& entries, const std::string& group,
@@ -118,7 +106,7 @@ std::vector<MemoryStructure> backend_memories(const BackendConfig& be) {
 }
 
 ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConfig& be,
-                                     const CostConfig& cost,
+                                     const CostConfig& cost, const OnChipMemory& memory,
                                      const std::vector<MemoryStructure>& frontend_memories,
                                      const Device& device,
                                      const std::vector<std::string>& offload) {
@@ -142,7 +130,7 @@ ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConf
   }
   for (const MemoryStructure& s : frontend_memories) {
     s.validate();
-    v.push_back(entry(s.name, "frontend", "memory", memory_cost(s, cost),
+    v.push_back(entry(s.name, "frontend", "memory", memory.cost(s),
                       is_fe_memory(s.name) ? fe_copies : modes));
   }
   // Table II: the non-shared design has one copy of a building block per kernel that uses it
@@ -160,7 +148,7 @@ ResourceReport build_resource_report(const FrontendConfig& fe, const BackendConf
   v.push_back(entry("misc", "backend", "unit", misc_cost(be), kernels(adders)));
   for (const MemoryStructure& s : backend_memories(be)) {
     v.push_back(
-        entry(s.name, "backend", "memory", memory_cost(s, cost), kernels(double(offload.size()))));
+        entry(s.name, "backend", "memory", memory.cost(s), kernels(double(offload.size()))));
   }
   const CostEntry fe_control =
       control_entry(v, "frontend", cost.frontend_lut_overhead, cost.frontend_ff_overhead);

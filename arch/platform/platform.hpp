@@ -9,7 +9,8 @@
 //          backend_provenance: "..."}         HostConfig (arch/host)
 //   frontend: {clock_mhz: 150, ...}             FrontendConfig
 //   backend: {gemm_block: 4, ...}               BackendConfig (arch/backend)
-//   link: {preset: pcie3_x8, ...}               LinkSpec
+//   link: {kind: dma, preset: pcie3_x8, ...}    Link (arch/link: a component kind)
+//   memory: {kind: bram, allow_bram18: true}    OnChipMemory (arch/memory: a component kind)
 //   transfers: {feature_id_bytes: 4, ...}       FrameTransferConfig
 //   cost: {...}  power: {...}                   cost::CostConfig, cost::PowerConfig
 //   scheduler: {policy: regression, training_fraction: 0.25}
@@ -36,6 +37,7 @@
 #include "arch/host/host_model.hpp"
 #include "arch/link/frame_transfers.hpp"
 #include "arch/link/link.hpp"
+#include "arch/memory/on_chip_memory.hpp"
 #include "arch/platform/system_config.hpp"
 #include "arch/scheduler/scheduler.hpp"
 
@@ -78,11 +80,15 @@ struct Platform {
   std::string device = "xc7v690t";  ///< the FPGA (arch/memory/bram.hpp Device::by_name)
   HostConfig host;
   FrontendConfig frontend;
-  LinkSpec link = LinkSpec::pcie3_x8();  ///< host <-> FPGA
-  FrameTransferConfig transfers;         ///< what crosses the link per frame
-  BackendConfig backend;                 ///< the backend accelerator's units and SPM
-  cost::CostConfig cost;                 ///< resource model knobs
-  cost::PowerConfig power;               ///< energy model constants
+  /// Host <-> FPGA (`link:`; default the dma kind's defaults, PCIe 3.0 x8).
+  std::shared_ptr<const Link> link = ComponentRegistry<Link>::instance().make(kDefaultLinkKind);
+  /// The accelerator's on-chip memory (`memory:`; default the bram kind's defaults).
+  std::shared_ptr<const OnChipMemory> memory =
+      ComponentRegistry<OnChipMemory>::instance().make(kDefaultMemoryKind);
+  FrameTransferConfig transfers;  ///< what crosses the link per frame
+  BackendConfig backend;          ///< the backend accelerator's units and SPM
+  cost::CostConfig cost;          ///< resource model knobs
+  cost::PowerConfig power;        ///< energy model constants
   SchedulerConfig scheduler;
   SystemConfig system;  ///< the whole-system DES: camera, queues, contention
   nlohmann::json to_json() const;

@@ -65,11 +65,16 @@ void finish_variant(VariantResult& v, const std::vector<double>& fe_end_ms) {
   }
 }
 
+/// The per-byte energies of the platform's on-chip memory and link (their kinds').
+cost::ByteEnergies byte_energies(const Platform& platform) {
+  return {platform.memory->pj_per_byte(), platform.link->pj_per_byte()};
+}
+
 /// Energy of a frame from its activity, period and host busy time (docs/MODEL.md, "Energy").
-void set_energy(FrameResult& f, const cost::PowerConfig& power) {
+void set_energy(FrameResult& f, const Platform& platform) {
   f.activity.frame_s = std::max(1e-3 * f.e2e_ms, 1e-12);
   f.activity.host_busy_s = std::min(1e-3 * f.host_busy_ms, f.activity.frame_s);
-  f.energy = cost::frame_energy(f.activity, power);
+  f.energy = cost::frame_energy(f.activity, platform.power, byte_energies(platform));
 }
 
 /// The streamed run's summary. Energy (docs/MODEL.md, "Energy per resource"): over the run's
@@ -141,7 +146,7 @@ StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResu
       e.energy_j = j;
       out.push_back(e);
     };
-    if (platform.link.link.full_duplex) {
+    if (platform.link->full_duplex()) {
       link("link.host_to_fpga", parts.link_to_fpga);
       link("link.fpga_to_host", parts.link_to_host);
     } else {
@@ -209,8 +214,8 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
     timeline_options = {&timeline, options.timeline_first, options.timeline_count};
   }
   const auto run = [&](bool accelerated, bool isolated, const SystemTimelineOptions& t) {
-    return run_system(work, platform.frontend, platform.backend, platform.link, platform.host.cores,
-                      platform.system, accelerated, isolated, t);
+    return run_system(work, platform.frontend, platform.backend, *platform.link,
+                      platform.host.cores, platform.system, accelerated, isolated, t);
   };
   for (VariantResult* v : {&r.baseline, &r.accelerated}) {
     const bool accelerated = v == &r.accelerated;
@@ -417,11 +422,10 @@ std::string trace_hash(std::size_t frames, const trace::TraceMeta& trace_meta) {
 }
 
 std::string frontend_study_key(const Platform& platform) {
-  return nlohmann::json{{"host", platform.host.to_json()},
-                        {"frontend", platform.frontend.to_json()},
-                        {"link", platform.link.to_json()},
-                        {"transfers", platform.transfers.to_json()},
-                        {"device", platform.device}}
+  return nlohmann::json{
+      {"host", platform.host.to_json()},           {"frontend", platform.frontend.to_json()},
+      {"link", component_json(*platform.link)},    {"memory", component_json(*platform.memory)},
+      {"transfers", platform.transfers.to_json()}, {"device", platform.device}}
       .dump();
 }
 
@@ -473,7 +477,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       KernelAccelResult a = accelerate_kernel(kernel, platform.backend);
       KernelTransfer t =
           kernel_transfer(kernel, platform.transfers, platform.backend.matrix_format());
-      const double link_s = sim::to_seconds(kernel_transfer_time(platform.link, t));
+      const double link_s = sim::to_seconds(kernel_transfer_time(*platform.link, t));
       KernelDecision d;
       d.frame_id = frame.frame.frame_id;
       d.kernel_seq = static_cast<int>(k);
@@ -483,7 +487,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       d.compute_ms = 1e3 * a.seconds;
       d.transfer_ms = 1e3 * link_s;
       d.fits_spm = a.fits_spm;
-      d.spill_ms = 1e3 * spill_seconds(a, platform.link);
+      d.spill_ms = 1e3 * spill_seconds(a, *platform.link);
       d.spill_bytes = a.spill.bytes();
       d.accel_ms = d.compute_ms + d.transfer_ms + d.spill_ms;
       KernelInvocation inv;
@@ -536,7 +540,8 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     acc.activity.link_bytes = double(r.frontend.frame_results_bytes[f]);
     // The same work by resource (docs/MODEL.md, "Energy per resource").
     for (std::size_t t = 0; t < task_activity.size(); ++t) {
-      acc.parts.frontend[t] = cost::dynamic_energy_j(task_activity[t], platform.power);
+      acc.parts.frontend[t] =
+          cost::dynamic_energy_j(task_activity[t], platform.power, byte_energies(platform));
     }
     const std::vector<MatrixUnitInstance>& units = platform.backend.units;
     std::vector<cost::FrameActivity> unit_activity(units.size());
@@ -569,11 +574,12 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     }
     acc.parts.backend.resize(units.size());
     for (std::size_t u = 0; u < units.size(); ++u) {
-      acc.parts.backend[u] = cost::dynamic_energy_j(unit_activity[u], platform.power);
+      acc.parts.backend[u] =
+          cost::dynamic_energy_j(unit_activity[u], platform.power, byte_energies(platform));
     }
     const auto bytes_j = [&](double bytes, double pj) { return 1e-12 * bytes * pj; };
-    acc.parts.link_to_fpga = bytes_j(to_fpga_bytes, platform.power.link_pj_per_byte);
-    acc.parts.link_to_host = bytes_j(to_host_bytes, platform.power.link_pj_per_byte);
+    acc.parts.link_to_fpga = bytes_j(to_fpga_bytes, platform.link->pj_per_byte());
+    acc.parts.link_to_host = bytes_j(to_host_bytes, platform.link->pj_per_byte());
     acc.parts.dram = bytes_j(acc.activity.dram_bytes, platform.power.dram_pj_per_byte);
     acc.backend_ms = std::max(0.0, backend_ms);
     acc.e2e_ms = acc.frontend_ms + acc.backend_ms;
@@ -584,16 +590,16 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   if (options.model == SystemModelKind::kDes) {
     simulate_platform_des(platform, frames, r, accel, transfers, options);
   }
-  for (FrameResult& f : r.baseline.frames) set_energy(f, platform.power);
-  for (FrameResult& f : r.accelerated.frames) set_energy(f, platform.power);
+  for (FrameResult& f : r.baseline.frames) set_energy(f, platform);
+  for (FrameResult& f : r.accelerated.frames) set_energy(f, platform);
   finish_variant(r.baseline, cpu_fe_end);
   finish_variant(r.accelerated, r.frontend.frame_pipelined_end_ms);
 
   std::vector<MemoryStructure> memories;
   for (const StructureUsage& s : r.frontend.memory.bram.structures) memories.push_back(s.structure);
-  r.resources =
-      cost::build_resource_report(platform.frontend, platform.backend, platform.cost, memories,
-                                  Device::by_name(platform.device), platform.scheduler.offload);
+  r.resources = cost::build_resource_report(
+      platform.frontend, platform.backend, platform.cost, *platform.memory, memories,
+      Device::by_name(platform.device), platform.scheduler.offload);
   return r;
 }
 
