@@ -79,10 +79,10 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
   return r;
 }
 
-double spill_seconds(const OffloadPlan& plan, const LinkSpec& link) {
+double spill_seconds(const OffloadPlan& plan, const Link& link) {
   if (plan.spill.bytes() == 0) return 0.0;
-  return sim::to_seconds(transfer_time(link, plan.spill.read_bytes) +
-                         transfer_time(link, plan.spill.write_bytes));
+  return sim::to_seconds(link.transfer_time(plan.spill.read_bytes) +
+                         link.transfer_time(plan.spill.write_bytes));
 }
 
 }  // namespace edx::arch

@@ -60,6 +60,6 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel, const Bac
 /// transfer_time(spill.read_bytes) + transfer_time(spill.write_bytes), serialized with the
 /// kernel's compute (the conservative reading: no tile prefetch overlaps the units). Seconds;
 /// 0 when the kernel fits.
-double spill_seconds(const OffloadPlan& plan, const LinkSpec& link);
+double spill_seconds(const OffloadPlan& plan, const Link& link);
 
 }  // namespace edx::arch

@@ -18,8 +18,9 @@
 //   static const FieldList<Params>& fields();   every key, once
 //   void validate() const;                      rules between fields (check_fields at least)
 // and may provide `static Params parse(YamlFields&)` when it reads more than its field list
-// (nested sections, presets; the registry still refuses the keys it leaves unread), with
-// `static std::vector<ReferenceRow> reference(section, heading)` listing those keys too.
+// (nested sections, presets); the registry still refuses the keys it leaves unread. Such a kind
+// lists those keys too with `static std::vector<ReferenceRow> reference(const std::string&
+// section, const std::string& title)` (its rows under `section`, in the table headed `title`).
 // and the implementation `explicit Impl(const Params&)` and `const Params& params() const`.
 #include <fmt/format.h>
 
@@ -147,11 +148,11 @@ ComponentEntry<Interface> component_entry(std::string name, std::string doc) {
     return std::make_shared<const Impl>(Params{});
   };
   e.reference = [name = e.name, doc = e.doc](const std::string& section) {
-    const std::string heading = fmt::format("`{}` of kind `{}`: {}", section, name, doc);
-    if constexpr (requires { Params::reference(section, heading); }) {
-      return Params::reference(section, heading);  // with its nested sections
+    const std::string title = fmt::format("`{}` of kind `{}`: {}", section, name, doc);
+    if constexpr (requires { Params::reference(section, title); }) {
+      return Params::reference(section, title);  // presets, nested sections
     } else {
-      return reference_rows(section, Params::fields(), Params{}, heading);
+      return reference_rows(section, Params::fields(), Params{}, title);
     }
   };
   return e;
@@ -227,6 +228,16 @@ std::vector<ReferenceRow> instance_reference(const std::string& section,
     for (ReferenceRow& row : entry->reference(at)) rows.push_back(std::move(row));
   }
   return rows;
+}
+
+/// An instance of implementation `kind` of `Interface` with `params` (YAML text of its keys, e.g.
+/// "{block: 8}") over its defaults: code and tests that build a component without a platform
+/// file. Errors name "code" and the keys under `prefix` ("link").
+template <class Interface>
+std::shared_ptr<const Interface> make_component(std::string_view kind, const std::string& params,
+                                                const std::string& prefix) {
+  YamlFields fields(YAML::Load(params), "code", prefix);
+  return ComponentRegistry<Interface>::instance().at(kind).parse(fields);
 }
 
 /// The JSON of an implementation's parameters (its params_json()).

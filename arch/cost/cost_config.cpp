@@ -19,9 +19,6 @@ const FieldList<CostConfig>& CostConfig::fields() {
             "control and glue LUTs as a fraction of the backend datapath's (calibrated)", fraction),
       field("backend_ff_overhead", &C::backend_ff_overhead, "",
             "control and glue FFs as a fraction of the backend datapath's (calibrated)", fraction),
-      field("memory_read_muxes", &C::memory_read_muxes, "",
-            "count the LUT muxes selecting among stacked BRAM rows"),
-      field("allow_bram18", &C::allow_bram18, "", "map small memories to BRAM18 halves"),
       field("ns_modes", &C::ns_modes, "", "modes of the no-sharing (N.S.) variant of Table III",
             Bounds::at_least(1)),
       field("ns_frontend_per_mode", &C::ns_frontend_per_mode, "",
@@ -39,11 +36,13 @@ void CostConfig::validate() const { check_fields(*this, "cost", fields()); }
 nlohmann::json CostConfig::to_json() const { return fields_to_json(*this, fields()); }
 
 CostConfig CostConfig::from_yaml(const YAML::Node& node, const std::string& where) {
-  // Keys of `cost:` that became the frontend units' own (2026-11-28).
+  // Keys of `cost:` that became a component kind's own: the frontend units', the memory's.
   static const std::map<std::string, std::string> moved = {
       {"frontend_arithmetic", "frontend.units.IF.arithmetic and frontend.units.LSS.arithmetic"},
       {"if_separable", "frontend.units.IF.separable"},
       {"fc_angle_bins", "frontend.units.FC.angle_bins"},
+      {"allow_bram18", "memory.allow_bram18 of the bram memory kind"},
+      {"memory_read_muxes", "memory.read_muxes of the bram memory kind"},
   };
   YamlFields(node, where, "cost").refuse_moved(moved);
   return parse_section<CostConfig>(node, where, "cost");
@@ -64,11 +63,7 @@ const FieldList<PowerConfig>& PowerConfig::fields() {
             non_negative),
       field("fpga_energy_factor", &C::fpga_energy_factor, "",
             "FPGA over ASIC dynamic energy (Kuon and Rose 2007: 7-14x)", Bounds::above(0)),
-      field("bram_pj_per_byte", &C::bram_pj_per_byte, "pJ/byte", "on-chip SRAM access",
-            non_negative),
       field("dram_pj_per_byte", &C::dram_pj_per_byte, "pJ/byte", "DRAM access", non_negative),
-      field("link_pj_per_byte", &C::link_pj_per_byte, "pJ/byte",
-            "host <-> FPGA link (assumed 10 pJ/bit)", non_negative),
       field("fpga_idle_fraction", &C::fpga_idle_fraction, "",
             "idle-but-clocked FPGA unit power over its busy power (assumed 0)",
             non_negative.at_most(1)),
@@ -85,10 +80,12 @@ void PowerConfig::validate() const { check_fields(*this, "power", fields()); }
 nlohmann::json PowerConfig::to_json() const { return fields_to_json(*this, fields()); }
 
 PowerConfig PowerConfig::from_yaml(const YAML::Node& node, const std::string& where) {
-  // Keys of `power:` that became the host processor's own (issue 40).
+  // Keys of `power:` that became the host processor's own and the memory's and link's (issue 40).
   static const std::map<std::string, std::string> moved = {
       {"host_active_w", "host.active_w"},
       {"host_idle_w", "host.idle_w"},
+      {"bram_pj_per_byte", "memory.pj_per_byte of the memory kind"},
+      {"link_pj_per_byte", "link.pj_per_byte of the link kind"},
   };
   YamlFields(node, where, "power").refuse_moved(moved);
   return parse_section<PowerConfig>(node, where, "power");

@@ -25,8 +25,6 @@ struct CostConfig {
   double frontend_ff_overhead = 0.350;
   double backend_lut_overhead = 0.480;
   double backend_ff_overhead = 1.963;
-  bool memory_read_muxes = true;  ///< count the LUT muxes selecting among stacked BRAM rows
-  bool allow_bram18 = true;       ///< map small memories to BRAM18 halves
   // The no-sharing ("N.S.") variant of Table III.
   int ns_modes = 3;                  ///< registration, VIO, SLAM: one frontend each
   bool ns_frontend_per_mode = true;  ///< replicate the whole frontend per mode
@@ -36,7 +34,8 @@ struct CostConfig {
   bool ns_backend_per_kernel = true;  ///< one set of units per kernel (Table II)
 
   /// Every key of `cost:` (docs/CONFIG.md). The units' arithmetic is each unit's own
-  /// (frontend.units.IF.arithmetic, backend.units.<name>.precision).
+  /// (frontend.units.IF.arithmetic, backend.units.<name>.precision); how memories map onto
+  /// blocks is the memory kind's (`memory:`).
   static const FieldList<CostConfig>& fields();
   void validate() const;  ///< throws std::runtime_error "cost.<field>: expected ..."
   nlohmann::json to_json() const;
@@ -55,10 +54,9 @@ struct PowerConfig {
   double single_mac_pj = 4.6;        ///< 32-bit FP mult 3.7 + add 0.9
   double double_mac_pj = 18.4;       ///< assumed 4x single (53-bit vs 24-bit mantissa multiplier)
   double fpga_energy_factor = 10.0;  ///< FPGA vs ASIC dynamic energy (Kuon and Rose 2007: 7-14x)
-  // Per-byte energies.
-  double bram_pj_per_byte = 1.25;   ///< 8 KB SRAM, 10 pJ per 64-bit access (Horowitz 2014)
+  // Per-byte energy of DRAM (the on-chip memory's and the link's are their kinds':
+  // memory.pj_per_byte, link.pj_per_byte).
   double dram_pj_per_byte = 160.0;  ///< 20 pJ/bit (Horowitz 2014: 1.3-2.6 nJ per 64 bits)
-  double link_pj_per_byte = 80.0;   ///< assumed 10 pJ/bit for PCIe 3.0 SerDes + controller
   /// Idle-but-clocked power of an FPGA unit (frontend task unit, backend matrix unit) as a
   /// fraction of its mean power while busy (docs/MODEL.md, "Energy per resource"). Assumed 0:
   /// fpga_static_w covers the device's leakage, and no source in the repo sizes a unit's clock

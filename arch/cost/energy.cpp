@@ -12,12 +12,13 @@ namespace {
 constexpr double kPico = 1e-12;
 
 /// compute_j, memory_j and link_j of `a` (frame_energy's work-proportional terms).
-void dynamic_parts(const FrameActivity& a, const PowerConfig& p, FrameEnergy& e) {
+void dynamic_parts(const FrameActivity& a, const PowerConfig& p, const ByteEnergies& b,
+                   FrameEnergy& e) {
   const double op_pj = a.int8_ops * p.int8_op_pj + a.fixed_macs * p.fixed_mac_pj +
                        a.single_macs * p.single_mac_pj + a.double_macs * p.double_mac_pj;
   e.compute_j = p.fpga_dynamic_scale * p.fpga_energy_factor * op_pj * kPico;
-  e.memory_j = (a.bram_bytes * p.bram_pj_per_byte + a.dram_bytes * p.dram_pj_per_byte) * kPico;
-  e.link_j = a.link_bytes * p.link_pj_per_byte * kPico;
+  e.memory_j = (a.bram_bytes * b.on_chip_pj_per_byte + a.dram_bytes * p.dram_pj_per_byte) * kPico;
+  e.link_j = a.link_bytes * b.link_pj_per_byte * kPico;
 }
 
 }  // namespace
@@ -27,21 +28,22 @@ nlohmann::json FrameEnergy::to_json() const {
           {"memory_j", memory_j},           {"link_j", link_j}, {"total_j", total_j}};
 }
 
-FrameEnergy frame_energy(const FrameActivity& a, const PowerConfig& p, const HostPower& host) {
+FrameEnergy frame_energy(const FrameActivity& a, const PowerConfig& p, const HostPower& host,
+                         const ByteEnergies& b) {
   a.validate();
   p.validate();
   FrameEnergy e;
   e.fpga_static_j = a.fpga_present ? p.fpga_static_w * a.frame_s : 0.0;
   e.host_j = p.host_power_scale *
              (host.active_w * a.host_busy_s + host.idle_w * (a.frame_s - a.host_busy_s));
-  dynamic_parts(a, p, e);
+  dynamic_parts(a, p, b, e);
   e.total_j = e.fpga_static_j + e.host_j + e.compute_j + e.memory_j + e.link_j;
   return e;
 }
 
-double dynamic_energy_j(const FrameActivity& a, const PowerConfig& p) {
+double dynamic_energy_j(const FrameActivity& a, const PowerConfig& p, const ByteEnergies& b) {
   FrameEnergy e;
-  dynamic_parts(a, p, e);
+  dynamic_parts(a, p, b, e);
   return e.compute_j + e.memory_j + e.link_j;
 }
 

@@ -7,8 +7,10 @@
 //     + b_bram·e_bram + b_dram·e_dram + b_link·e_link
 //
 // with the host's package power (HostPower: P_host_active = active_w, P_host_idle = idle_w, the
-// host processor's own, `host:`) and the constants of PowerConfig (s_host = host_power_scale,
-// s_fpga = fpga_dynamic_scale, f_fpga = fpga_energy_factor; energies in pJ). The paper's Edx-Car
+// host processor's own, `host:`), the constants of PowerConfig (s_host = host_power_scale,
+// s_fpga = fpga_dynamic_scale, f_fpga = fpga_energy_factor; energies in pJ) and the per-byte
+// energies of the platform's components (ByteEnergies: e_bram its memory kind's, e_link its link
+// kind's). The paper's Edx-Car
 // figures (1.9 J -> 0.5 J per frame, −73.7 %, Sec. VII-C) are paper-check targets
 // (reports/paper_targets.yaml); nothing is calibrated on them.
 #include <nlohmann/json.hpp>
@@ -22,6 +24,14 @@
 
 namespace edx::arch::cost {
 
+/// Energies per byte of the platform's components, pJ: e_bram of its on-chip memory
+/// (OnChipMemory::pj_per_byte, `memory.pj_per_byte`) and e_link of its link (Link::pj_per_byte,
+/// `link.pj_per_byte`). DRAM's is PowerConfig::dram_pj_per_byte.
+struct ByteEnergies {
+  double on_chip_pj_per_byte = 0;
+  double link_pj_per_byte = 0;
+};
+
 struct FrameEnergy {
   double fpga_static_j = 0;
   double host_j = 0;     ///< active + idle
@@ -33,11 +43,12 @@ struct FrameEnergy {
 };
 
 FrameEnergy frame_energy(const FrameActivity& activity, const PowerConfig& power,
-                         const HostPower& host);
+                         const HostPower& host, const ByteEnergies& bytes);
 
 /// The work-proportional part of frame_energy (compute + memory + link), J: what a unit's ops
 /// and bytes cost, without static or host power. `activity` need not have a frame time.
-double dynamic_energy_j(const FrameActivity& activity, const PowerConfig& power);
+double dynamic_energy_j(const FrameActivity& activity, const PowerConfig& power,
+                        const ByteEnergies& bytes);
 
 /// One resource's energy over a run (docs/MODEL.md, "Energy per resource"):
 ///   E = busy_s · active_w + idle_s · idle_w

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 
 namespace edx::arch::cost {
@@ -12,17 +11,6 @@ namespace {
 /// FE (time-shared between cameras) memories of the frontend plan, by name.
 bool is_fe_memory(const std::string& name) {
   return name.starts_with("fe.") || name.starts_with("fc.") || name == "fd_to_fc";
-}
-
-/// A memory's BRAM blocks, and the LUT muxes selecting among its stacked block rows.
-Resources memory_cost(const MemoryStructure& s, const CostConfig& cost) {
-  const BramMapping m = map_to_bram(s.width_bits, s.depth_words, cost.allow_bram18);
-  Resources r;
-  r.bram = m.blocks * double(s.count);
-  if (cost.memory_read_muxes && m.rows > 1) {
-    r.lut = double(s.count) * double(s.width_bits) * std::ceil((m.rows - 1) / 3.0);
-  }
-  return r;
 }
 
 CostTotals sum(const std::vector<CostEntry>& entries, const std::string& group,
@@ -86,7 +74,7 @@ nlohmann::json ResourceReport::to_json() const {
 }
 
 ResourceReport build_resource_report(const FrontendConfig& fe, const OffloadAccelerator& be,
-                                     const CostConfig& cost,
+                                     const CostConfig& cost, const OnChipMemory& memory,
                                      const std::vector<MemoryStructure>& frontend_memories,
                                      const Device& device,
                                      const std::vector<std::string>& offload) {
@@ -108,13 +96,13 @@ ResourceReport build_resource_report(const FrontendConfig& fe, const OffloadAcce
   }
   for (const MemoryStructure& s : frontend_memories) {
     s.validate();
-    v.push_back(CostEntry::replicated(s.name, "frontend", "memory", memory_cost(s, cost),
+    v.push_back(CostEntry::replicated(s.name, "frontend", "memory", memory.cost(s),
                                       is_fe_memory(s.name) ? fe_copies : modes));
   }
   // The offload accelerator's own entries (group "backend"; the N.S. copies per kernel).
   for (CostEntry& e :
        be.cost_entries({offload, cost.ns_backend_per_kernel,
-                        [&cost](const MemoryStructure& s) { return memory_cost(s, cost); }})) {
+                        [&memory](const MemoryStructure& s) { return memory.cost(s); }})) {
     v.push_back(std::move(e));
   }
   const CostEntry fe_control =

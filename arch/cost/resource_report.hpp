@@ -23,6 +23,7 @@
 #include "arch/cost/resources.hpp"
 #include "arch/frontend/frontend_config.hpp"
 #include "arch/memory/bram.hpp"
+#include "arch/memory/on_chip_memory.hpp"
 
 namespace edx::arch::cost {
 
@@ -45,14 +46,15 @@ struct ResourceReport {
   nlohmann::json to_json() const;
 };
 
-/// Builds the report. `frontend_memories`: the frontend memory plan's structures
+/// Builds the report. Memories cost what the platform's `memory` kind says (their blocks and
+/// read muxes). `frontend_memories`: the frontend memory plan's structures
 /// (FrontendMemoryPlan::bram.structures[i].structure), by their plan names (fe.L<l>..., fc...,
 /// fd_to_fc: FE; everything else: SM/TM/SPM).
 /// `be`: the offload accelerator, whose cost_entries() are the backend group. `offload`: the
 /// kernels it serves (scheduler.offload), whose use of each unit the N.S. variant replicates it
 /// for.
 ResourceReport build_resource_report(const FrontendConfig& fe, const OffloadAccelerator& be,
-                                     const CostConfig& cost,
+                                     const CostConfig& cost, const OnChipMemory& memory,
                                      const std::vector<MemoryStructure>& frontend_memories,
                                      const Device& device,
                                      const std::vector<std::string>& offload = paper_offload_set());

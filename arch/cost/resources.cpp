@@ -91,8 +91,8 @@ Datapath& Datapath::xors(double count, int bits) {
   return *this;
 }
 
-Datapath& Datapath::muxes(double count, int bits, int ways) {
-  r_.lut += count * bits * std::ceil((ways - 1) / 3.0);
+Datapath& Datapath::muxes(double count, std::int64_t bits, std::int64_t ways) {
+  r_.lut += count * double(bits) * std::ceil(double(ways - 1) / 3.0);
   return *this;
 }
 

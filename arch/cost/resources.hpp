@@ -20,6 +20,7 @@
 //
 // Floating-point operators come from Xilinx's Floating-Point Operator core (PG060); see
 // FpOperatorCost below.
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -101,7 +102,7 @@ class Datapath {
   Datapath& abs_diffs(double count, int bits);
   Datapath& reductions(double count, int inputs);
   Datapath& xors(double count, int bits);
-  Datapath& muxes(double count, int bits, int ways);
+  Datapath& muxes(double count, std::int64_t bits, std::int64_t ways);
   /// ⌊m/2⌋ adders per level, widths growing by one bit a level; returns the result width.
   int adder_tree(double count, int inputs, int bits);
   Datapath& popcounts(double count, int bits);

@@ -46,7 +46,7 @@ std::size_t find_span(const std::vector<TaskSpan>& spans, Task task, Image image
 }
 
 /// One frame of simulate_frontend, holding its frame buffer.
-Process run_frame(FrontendAccelerator& accelerator, DmaLink* link, FrontendFrameTiming& timing,
+Process run_frame(FrontendAccelerator& accelerator, LinkModel* link, FrontendFrameTiming& timing,
                   Lease buffer) {
   co_await accelerator.run_frame(timing, link);
   buffer.release();
@@ -54,7 +54,7 @@ Process run_frame(FrontendAccelerator& accelerator, DmaLink* link, FrontendFrame
 
 /// Hands frames to the accelerator in order: a frame buffer, then the frame once it has arrived
 /// (the whole-system DES dispatches the same way, so both order their events alike).
-Process dispatch_frames(Simulator& sim, FrontendAccelerator& accelerator, DmaLink* link,
+Process dispatch_frames(Simulator& sim, FrontendAccelerator& accelerator, LinkModel* link,
                         std::vector<FrontendFrameTiming>& frames) {
   std::vector<ProcessHandle> running;
   for (FrontendFrameTiming& timing : frames) {
@@ -80,7 +80,7 @@ FrontendAccelerator::FrontendAccelerator(sim::Simulator& sim, const FrontendConf
   }
 }
 
-sim::Task<void> FrontendAccelerator::run_frame(FrontendFrameTiming& timing, DmaLink* link) {
+sim::Task<void> FrontendAccelerator::run_frame(FrontendFrameTiming& timing, LinkModel* link) {
   Simulator& sim = *sim_;
   // A frame starts on a clock edge: its latency does not depend on when the previous one ended.
   if (clock_.next_edge(sim.now()) != sim.now()) co_await sim.cycles(clock_, 0);
@@ -171,8 +171,7 @@ FrontendSimResult simulate_frontend(const std::vector<trace::FrameTrace>& frames
   config.validate();
   Simulator sim;
   FrontendAccelerator accelerator(sim, config);
-  std::optional<DmaLink> link;
-  if (options.link) link.emplace(sim, *options.link);
+  const std::unique_ptr<LinkModel> link = options.link ? options.link->make_model(sim) : nullptr;
 
   FrontendSimResult result;
   result.frames.reserve(frames.size());
@@ -182,7 +181,7 @@ FrontendSimResult simulate_frontend(const std::vector<trace::FrameTrace>& frames
         prepare_frontend_frame(frames[f], level0_pixels, config, options.transfers));
     result.frames.back().arrival = period * f;
   }
-  sim.spawn(dispatch_frames(sim, accelerator, link ? &*link : nullptr, result.frames), "frames");
+  sim.spawn(dispatch_frames(sim, accelerator, link.get(), result.frames), "frames");
   sim.run();
 
   std::map<Task, sim::Time> busy;

@@ -61,7 +61,7 @@ struct FrontendSimResult {
 
 struct FrontendSimOptions {
   /// The host link the results cross; none: the frame ends when DR and LSS do.
-  std::optional<LinkSpec> link;
+  std::shared_ptr<const Link> link;
   FrameTransferConfig transfers;
   /// Frames [first, last) of the timeline written; empty: no timeline.
   std::optional<std::filesystem::path> timeline;
@@ -91,7 +91,7 @@ class FrontendAccelerator {
   /// Runs a prepared frame's task graph, then its results (transfer 1) over `link` (nullptr:
   /// the frame ends when DR and LSS do). Fills the spans, transfer_start and end of `timing`,
   /// which must outlive the task.
-  sim::Task<void> run_frame(FrontendFrameTiming& timing, DmaLink* link);
+  sim::Task<void> run_frame(FrontendFrameTiming& timing, LinkModel* link);
 
  private:
   sim::Simulator* sim_;

@@ -80,11 +80,18 @@ nlohmann::json FrontendMemoryPlan::to_json() const {
                    {"fifo_bytes", sb.fifo_bytes},
                    {"shift_register_bytes", sb.shift_register_bytes}});
   }
+  // Each FIFO's and the SPM's mapping of one copy, as the memory kind mapped it (bram).
+  const auto with_mapping = [this](nlohmann::json j, const MemoryStructure& s) {
+    for (const StructureUsage& u : bram.structures) {
+      if (u.structure.name == s.name) j["mapping"] = u.mapping.to_json();
+    }
+    return j;
+  };
   nlohmann::json fifo_list = nlohmann::json::array();
-  for (const FifoSizing& f : fifos) fifo_list.push_back(f.to_json());
+  for (const FifoSizing& f : fifos) fifo_list.push_back(with_mapping(f.to_json(), f.structure));
   return {{"stencil_buffers", sbs},
           {"fifos", fifo_list},
-          {"scratchpad", scratchpad.to_json()},
+          {"scratchpad", with_mapping(scratchpad.to_json(), scratchpad.structure)},
           {"dr_left", dr_left.to_json()},
           {"dr_right", dr_right.to_json()},
           {"sb_optimization", sb_optimization},
@@ -110,7 +117,8 @@ nlohmann::json FrontendMemoryPlan::to_json() const {
 
 FrontendMemoryPlan plan_frontend_memory(const std::vector<trace::FrameTrace>& frames,
                                         const FrontendSimResult& timing, int width, int height,
-                                        const FrontendConfig& c, const Device& device) {
+                                        const FrontendConfig& c, const Device& device,
+                                        const OnChipMemory& memory) {
   if (frames.empty() || timing.frames.size() != frames.size()) {
     throw std::runtime_error("frontend memory plan: the timing must cover the trace's frames");
   }
@@ -211,7 +219,7 @@ FrontendMemoryPlan plan_frontend_memory(const std::vector<trace::FrameTrace>& fr
   }
   plan.dram_bytes_per_frame = 2 * image_bytes + plan.extra_dram_bytes_per_frame;
   for (const StencilBuffer& sb : plan.stencil_buffers) {
-    for (const MemoryStructure& s : sb.bram_structures()) structures.push_back(s);
+    for (const MemoryStructure& s : sb.memory_structures()) structures.push_back(s);
   }
 
   // FIFOs for the lists streamed from one task to the next.
@@ -261,7 +269,7 @@ FrontendMemoryPlan plan_frontend_memory(const std::vector<trace::FrameTrace>& fr
   plan.spm_bytes = plan.scratchpad.bytes;
   structures.push_back(plan.scratchpad.structure);
 
-  plan.bram = check_bram("frontend", structures, device);
+  plan.bram = check_bram("frontend", structures, device, memory);
   return plan;
 }
 

@@ -38,6 +38,7 @@
 #include "arch/frontend/frontend_model.hpp"
 #include "arch/memory/bram.hpp"
 #include "arch/memory/fifo.hpp"
+#include "arch/memory/on_chip_memory.hpp"
 #include "arch/memory/scratchpad.hpp"
 #include "arch/memory/stencil_buffer.hpp"
 #include "workloads/trace/records.hpp"
@@ -64,14 +65,16 @@ struct FrontendMemoryPlan {
   /// of the left image when it is not on chip, and DR's re-reads when they come from DRAM.
   std::int64_t dram_bytes_per_frame = 0;
   std::int64_t extra_dram_bytes_per_frame = 0;  ///< the part of it beyond reading each image once
-  BramBudget bram;                              ///< every structure against the device
+  BramBudget bram;  ///< every structure, mapped by the memory kind, against the device
   nlohmann::json to_json() const;  ///< also the paper's units: sb_mb, spm_mb, ... (10^6 B)
 };
 
 /// Plans the memories for the frames of a trace and their DES timing (`timing`, from
-/// simulate_frontend on the same frames and config). `width` x `height`: the image size.
+/// simulate_frontend on the same frames and config). `width` x `height`: the image size. The
+/// structures are mapped onto `device`'s blocks by the platform's `memory` kind.
 FrontendMemoryPlan plan_frontend_memory(const std::vector<trace::FrameTrace>& frames,
                                         const FrontendSimResult& timing, int width, int height,
-                                        const FrontendConfig& config, const Device& device);
+                                        const FrontendConfig& config, const Device& device,
+                                        const OnChipMemory& memory);
 
 }  // namespace edx::arch

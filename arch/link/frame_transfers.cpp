@@ -101,8 +101,8 @@ FrameTransfers frontend_transfer(const trace::FrameTrace& frame, const FrameTran
   return t;
 }
 
-sim::Time kernel_transfer_time(const LinkSpec& link, const KernelTransfer& kernel) {
-  return transfer_time(link, kernel.input_bytes) + transfer_time(link, kernel.output_bytes);
+sim::Time kernel_transfer_time(const Link& link, const KernelTransfer& kernel) {
+  return link.transfer_time(kernel.input_bytes) + link.transfer_time(kernel.output_bytes);
 }
 
 }  // namespace edx::arch

@@ -99,6 +99,6 @@ FrameTransfers frontend_transfer(const trace::FrameTrace& frame, const FrameTran
 
 /// Inputs + results of one kernel on an idle link: transfer_time(in) + transfer_time(out)
 /// (what offloading that kernel adds to its compute time).
-sim::Time kernel_transfer_time(const LinkSpec& link, const KernelTransfer& kernel);
+sim::Time kernel_transfer_time(const Link& link, const KernelTransfer& kernel);
 
 }  // namespace edx::arch

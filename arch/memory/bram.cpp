@@ -6,6 +6,8 @@
 #include <cctype>
 #include <stdexcept>
 
+#include "arch/memory/on_chip_memory.hpp"
+
 namespace edx::arch {
 namespace {
 
@@ -143,7 +145,7 @@ nlohmann::json BramBudget::to_json() const {
 }
 
 BramBudget check_bram(const std::string& list_name, const std::vector<MemoryStructure>& structures,
-                      const Device& device, bool allow_bram18) {
+                      const Device& device, const OnChipMemory& memory) {
   if (device.bram36_blocks <= 0) {
     throw std::runtime_error(fmt::format("device '{}': bram36_blocks: expected > 0, got {}",
                                          device.name, device.bram36_blocks));
@@ -156,8 +158,8 @@ BramBudget check_bram(const std::string& list_name, const std::vector<MemoryStru
     s.validate();
     StructureUsage usage;
     usage.structure = s;
-    usage.mapping = map_to_bram(s.width_bits, s.depth_words, allow_bram18);
-    usage.blocks = usage.mapping.blocks * static_cast<double>(s.count);
+    usage.mapping = memory.mapping(s);
+    usage.blocks = memory.cost(s).bram;
     budget.total_blocks += usage.blocks;
     budget.structures.push_back(usage);
   }

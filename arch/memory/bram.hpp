@@ -1,6 +1,7 @@
 #pragma once
-// Mapping on-chip memory structures onto Xilinx 36 Kb block RAMs, and checking a design's
-// structures against a device (docs/MODEL.md, "Memories").
+// Mapping on-chip memory structures onto Xilinx 36 Kb block RAMs (the memory kind `bram`,
+// arch/memory/kinds/bram.cpp), and checking a design's structures, mapped by the platform's
+// memory kind, against a device (docs/MODEL.md, "Memories").
 //
 // A BRAM36 holds 36 Kb = 36864 bits = 4608 bytes including the parity bits (32 Kb = 4096 bytes
 // of data). It can be configured with these aspect ratios (width x depth), identical on 7-series
@@ -24,6 +25,8 @@
 #include <vector>
 
 namespace edx::arch {
+
+class OnChipMemory;
 
 /// One BRAM configuration: `width_bits` x `depth_words`.
 struct BramAspect {
@@ -72,7 +75,8 @@ struct MemoryStructure {
   nlohmann::json to_json() const;
 };
 
-/// How one instance of a structure maps onto BRAM.
+/// How one instance of a structure maps onto memory blocks (OnChipMemory::mapping; BRAM36
+/// blocks, the unit of the device's budget).
 struct BramMapping {
   BramAspect aspect;         ///< the chosen configuration
   std::int64_t columns = 0;  ///< ceil(width_bits / aspect.width_bits)
@@ -113,7 +117,7 @@ struct Device {
 struct StructureUsage {
   MemoryStructure structure;
   BramMapping mapping;  ///< of one instance
-  double blocks = 0.0;  ///< mapping.blocks x count
+  double blocks = 0.0;  ///< of all its copies: the memory kind's cost().bram
 };
 
 /// The BRAM use of a named list of structures on a device.
@@ -132,9 +136,10 @@ struct BramBudget {
   nlohmann::json to_json() const;
 };
 
-/// Maps every structure (fewest blocks each), totals them and checks the total against
-/// `device`. When it does not fit, `message` names the list, the device and both block counts.
+/// Maps every structure with `memory` (its mapping of one copy; its blocks of all copies),
+/// totals them and checks the total against `device`. When it does not fit, `message` names the
+/// list, the device and both block counts.
 BramBudget check_bram(const std::string& list_name, const std::vector<MemoryStructure>& structures,
-                      const Device& device, bool allow_bram18 = true);
+                      const Device& device, const OnChipMemory& memory);
 
 }  // namespace edx::arch

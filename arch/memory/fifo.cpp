@@ -22,10 +22,7 @@ nlohmann::json FifoSpec::to_json() const {
 }
 
 nlohmann::json FifoSizing::to_json() const {
-  return {{"spec", spec.to_json()},
-          {"bytes", bytes},
-          {"structure", structure.to_json()},
-          {"mapping", mapping.to_json()}};
+  return {{"spec", spec.to_json()}, {"bytes", bytes}, {"structure", structure.to_json()}};
 }
 
 FifoSizing size_fifo(const FifoSpec& spec) {
@@ -34,7 +31,6 @@ FifoSizing size_fifo(const FifoSpec& spec) {
   s.spec = spec;
   s.bytes = spec.entries * spec.entry_bytes;                                        // N * E
   s.structure = MemoryStructure{spec.name, 8 * spec.entry_bytes, spec.entries, 1};  // 8E x N
-  s.mapping = map_to_bram(s.structure.width_bits, s.structure.depth_words);
   return s;
 }
 

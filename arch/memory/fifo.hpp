@@ -1,7 +1,7 @@
 #pragma once
 // Sizing of a FIFO (paper Sec. V-C: "many stencil operations read from a list sequentially, for
-// which a FIFO is suitable", e.g. FC reading the points FD detected): N entries of E bytes,
-// mapped to BRAM as one structure of 8*E bits x N words.
+// which a FIFO is suitable", e.g. FC reading the points FD detected): N entries of E bytes, one
+// memory structure of 8*E bits x N words (the platform's memory kind maps it onto blocks).
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -23,11 +23,10 @@ struct FifoSizing {
   FifoSpec spec;
   std::int64_t bytes = 0;     ///< N * E
   MemoryStructure structure;  ///< 8*E bits x N words
-  BramMapping mapping;        ///< fewest blocks
   nlohmann::json to_json() const;
 };
 
-/// Sizes `spec` (validated first): bytes = N * E; BRAM structure 8*E bits x N words.
+/// Sizes `spec` (validated first): bytes = N * E; structure 8*E bits x N words.
 FifoSizing size_fifo(const FifoSpec& spec);
 
 }  // namespace edx::arch

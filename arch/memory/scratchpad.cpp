@@ -35,8 +35,7 @@ nlohmann::json ScratchpadSizing::to_json() const {
           {"bytes", bytes},
           {"words", words},
           {"depth_words", depth_words},
-          {"structure", structure.to_json()},
-          {"mapping", mapping.to_json()}};
+          {"structure", structure.to_json()}};
 }
 
 ScratchpadSizing size_scratchpad(const ScratchpadSpec& spec) {
@@ -50,7 +49,6 @@ ScratchpadSizing size_scratchpad(const ScratchpadSpec& spec) {
     s.depth_words += words;
   }
   s.structure = MemoryStructure{spec.name, spec.word_bits, s.depth_words, 1};
-  s.mapping = map_to_bram(s.structure.width_bits, s.structure.depth_words);
   return s;
 }
 

@@ -3,7 +3,7 @@
 // Sec. VI-A: "the SPMs need to accommodate the size of the entire input matrices"): a list of
 // named regions in one address space of `word_bits`-wide words. Each region starts on a word
 // boundary, so it takes ceil(8 * bytes / word_bits) words; the SPM is one structure of
-// word_bits x sum(words) mapped to BRAM.
+// word_bits x sum(words) (the platform's memory kind maps it onto blocks).
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -33,7 +33,6 @@ struct ScratchpadSizing {
   std::vector<std::int64_t> words;  ///< per region: ceil(8 * bytes / word_bits)
   std::int64_t depth_words = 0;     ///< sum of words
   MemoryStructure structure;        ///< word_bits x depth_words
-  BramMapping mapping;              ///< fewest blocks
   nlohmann::json to_json() const;
 };
 

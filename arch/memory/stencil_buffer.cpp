@@ -96,16 +96,10 @@ StencilBuffer size_stencil_buffer(const StencilBufferSpec& spec) {
   return sb;
 }
 
-std::vector<MemoryStructure> StencilBuffer::bram_structures() const {
+std::vector<MemoryStructure> StencilBuffer::memory_structures() const {
   return {MemoryStructure{spec.name + ".line_fifo", 8 * std::int64_t{spec.bytes_per_pixel},
                           fifo_depth_pixels, lines}};
 }
-
-BramMapping StencilBuffer::fifo_mapping() const {
-  return map_to_bram(8 * std::int64_t{spec.bytes_per_pixel}, fifo_depth_pixels);
-}
-
-double StencilBuffer::bram_blocks() const { return lines * fifo_mapping().blocks; }
 
 nlohmann::json StencilBuffer::to_json() const {
   return {{"spec", spec.to_json()},
@@ -114,9 +108,7 @@ nlohmann::json StencilBuffer::to_json() const {
           {"fifo_bytes", fifo_bytes},
           {"shift_register_pixels", shift_register_pixels},
           {"shift_register_bytes", shift_register_bytes},
-          {"feeds", feeds},
-          {"fifo_mapping", fifo_mapping().to_json()},
-          {"bram_blocks", bram_blocks()}};
+          {"feeds", feeds}};
 }
 
 void SbSharingInput::validate() const {

@@ -11,7 +11,8 @@
 //   shift registers  h_c * w_c pixels for consumer c (flip-flops, not BRAM)
 // FIFO i (0 = the first, fed by the input) writes into the shift register of consumer c iff
 // i < h_c: in the paper's example (4x3 and 3x3) FIFOs 0..2 feed both registers and FIFO 3 only
-// the 4x3 one. Each FIFO maps to BRAM as one structure of 8*b bits x W words.
+// the 4x3 one. Each FIFO is one memory structure of 8*b bits x W words (the platform's memory
+// kind maps it onto blocks).
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -51,12 +52,8 @@ struct StencilBuffer {
   /// feeds[i] lists the consumer indices whose shift register FIFO i writes into (i < h_c).
   std::vector<std::vector<int>> feeds;
 
-  /// The BRAM structures: L line FIFOs, each 8*b bits x W words (one MemoryStructure, count L).
-  std::vector<MemoryStructure> bram_structures() const;
-  /// BRAM mapping of one line FIFO (fewest blocks).
-  BramMapping fifo_mapping() const;
-  /// Blocks of all line FIFOs: L x fifo_mapping().blocks.
-  double bram_blocks() const;
+  /// Its memories: L line FIFOs, each 8*b bits x W words (one MemoryStructure, count L).
+  std::vector<MemoryStructure> memory_structures() const;
   nlohmann::json to_json() const;
 };
 

@@ -53,7 +53,9 @@ void Platform::validate() const {
   check_fields(*this, "platform", fields());
   if (host == nullptr) throw std::runtime_error("host: no host processor");
   frontend.validate();
-  link.validate();
+  if (!link || !memory) {
+    throw std::runtime_error("platform: expected a link and a memory component");
+  }
   transfers.validate();
   if (backend == nullptr) throw std::runtime_error("backend: no offload accelerator");
   cost.validate();
@@ -85,7 +87,8 @@ std::vector<ReferenceRow> Platform::reference() {
   add(component_reference<HostProcessor>("host", kDefaultHostKind));
   add(FrontendConfig::reference());
   add(component_reference<OffloadAccelerator>("backend", kDefaultOffloadKind));
-  add(LinkSpec::reference());
+  add(component_reference<Link>("link", kDefaultLinkKind));
+  add(component_reference<OnChipMemory>("memory", kDefaultMemoryKind));
   add(reference_rows("transfers", FrameTransferConfig::fields()));
   add(reference_rows("cost", cost::CostConfig::fields()));
   add(reference_rows("power", cost::PowerConfig::fields()));
@@ -100,7 +103,8 @@ nlohmann::json Platform::to_json() const {
           {"device", device},
           {"host", component_json(*host)},
           {"frontend", frontend.to_json()},
-          {"link", link.to_json()},
+          {"link", component_json(*link)},
+          {"memory", component_json(*memory)},
           {"transfers", transfers.to_json()},
           {"backend", component_json(*backend)},
           {"cost", cost.to_json()},
@@ -118,8 +122,7 @@ std::string config_reference_markdown() {
          "output. What each value means for the model, and where it comes from, is in "
          "[MODEL.md](MODEL.md); the Edx-Car and Edx-Drone values are in `configs/`.\n\n"
          "Unknown keys, a key written twice and a value outside what its key accepts are errors "
-         "naming the file, line and key. `link.preset` sets the link's and DMA's keys before the "
-         "others are read; the defaults below are `pcie3_x8`'s.\n\n"
+         "naming the file, line and key.\n\n"
          "The frontend's and the backend's units are instances of registered unit kinds "
          "(`frontend.units.<task>`, one per task of the graph; `backend.units.<name>`): each "
          "instance names its `kind`, has the instance keys (`count`, `clock_mhz`, ...) and its "
@@ -129,9 +132,12 @@ std::string config_reference_markdown() {
          "registered host processor kind, named by `host.kind` (optional; default "
          "`suite_scaled`), its keys listed per kind below; the `backend:` section is the offload "
          "accelerator, itself a kind (`backend.kind`, by default the paper's `fpga_matrix_units`). "
-         "A kind is one source file registering itself (arch/frontend/units/, "
-         "arch/backend/units/, arch/backend/accelerators/, arch/host/processors/; docs/MODEL.md, "
-         "\"Components\").\n" +
+         "The link (`link:`) and the on-chip memory (`memory:`) are one component each: `kind` "
+         "names it (default `dma` and `bram`) and the other keys are that kind's. The `dma` "
+         "link's `preset` sets its keys before the others are read; its defaults below are "
+         "`pcie3_x8`'s. A kind is one source file registering itself (arch/frontend/units/, "
+         "arch/backend/units/, arch/backend/accelerators/, arch/host/processors/, "
+         "arch/link/kinds/, arch/memory/kinds/; docs/MODEL.md, \"Components\").\n" +
          render_reference(Platform::reference());
 }
 
@@ -216,12 +222,12 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   YamlFields top(root, where, "platform");
   parse_fields(top, p, Platform::fields());
   // Sections are parsed by their own structs; mark them read here.
-  for (const char* section : {"host", "frontend", "backend", "link", "transfers", "cost", "power",
-                              "scheduler", "system"}) {
+  for (const char* section : {"host", "frontend", "backend", "link", "memory", "transfers", "cost",
+                              "power", "scheduler", "system"}) {
     if (root[section] && !root[section].IsMap()) top.fail(section, "expected a map of keys");
   }
-  top.finish_except(
-      {"host", "frontend", "backend", "link", "transfers", "cost", "power", "scheduler", "system"});
+  top.finish_except({"host", "frontend", "backend", "link", "memory", "transfers", "cost", "power",
+                     "scheduler", "system"});
   if (p.name.empty()) top.fail("name", "required: the platform's name");
   try {
     Device::by_name(p.device);
@@ -231,7 +237,10 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   YamlFields host(root["host"], where, "host");
   p.host = parse_component<HostProcessor>(host, kDefaultHostKind);
   p.frontend = FrontendConfig::from_yaml(root["frontend"], where);
-  if (root["link"]) p.link = LinkSpec::from_yaml(root["link"], where);
+  YamlFields link(root["link"], where, "link");
+  p.link = parse_component<Link>(link, kDefaultLinkKind);
+  YamlFields memory(root["memory"], where, "memory");
+  p.memory = parse_component<OnChipMemory>(memory, kDefaultMemoryKind);
   p.transfers = FrameTransferConfig::from_yaml(root["transfers"], where);
   YamlFields backend(root["backend"], where, "backend");
   p.backend = parse_component<OffloadAccelerator>(backend, kDefaultOffloadKind);

@@ -10,7 +10,8 @@
 //   frontend: {clock_mhz: 150, ...}             FrontendConfig
 //   backend: {kind: fpga_matrix_units, units: {gemm: {block: 4}}, ...}
 //                                               OffloadAccelerator (arch/backend)
-//   link: {preset: pcie3_x8, ...}               LinkSpec
+//   link: {kind: dma, preset: pcie3_x8, ...}    Link (arch/link: a component kind)
+//   memory: {kind: bram, allow_bram18: true}    OnChipMemory (arch/memory: a component kind)
 //   transfers: {feature_id_bytes: 4, ...}       FrameTransferConfig
 //   cost: {...}  power: {...}                   cost::CostConfig, cost::PowerConfig
 //   scheduler: {policy: regression, training_fraction: 0.25}
@@ -39,6 +40,7 @@
 #include "arch/host/host_processor.hpp"
 #include "arch/link/frame_transfers.hpp"
 #include "arch/link/link.hpp"
+#include "arch/memory/on_chip_memory.hpp"
 #include "arch/platform/system_config.hpp"
 #include "arch/scheduler/scheduler.hpp"
 
@@ -86,8 +88,12 @@ struct Platform {
   std::shared_ptr<const HostProcessor> host =
       ComponentRegistry<HostProcessor>::instance().make(kDefaultHostKind);
   FrontendConfig frontend;
-  LinkSpec link = LinkSpec::pcie3_x8();  ///< host <-> FPGA
-  FrameTransferConfig transfers;         ///< what crosses the link per frame
+  /// Host <-> FPGA (`link:`; default the dma kind's defaults, PCIe 3.0 x8).
+  std::shared_ptr<const Link> link = ComponentRegistry<Link>::instance().make(kDefaultLinkKind);
+  /// The accelerator's on-chip memory (`memory:`; default the bram kind's defaults).
+  std::shared_ptr<const OnChipMemory> memory =
+      ComponentRegistry<OnChipMemory>::instance().make(kDefaultMemoryKind);
+  FrameTransferConfig transfers;  ///< what crosses the link per frame
   /// The offload accelerator (`backend:`, a registered kind; the paper's FPGA matrix units).
   std::shared_ptr<const OffloadAccelerator> backend = fpga_matrix_units();
   cost::CostConfig cost;    ///< resource model knobs

@@ -134,7 +134,7 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   study.fps_with_pipelining = overlapped.throughput_fps;
   study.utilization = overlapped.utilization;
   study.memory = plan_frontend_memory(frames, overlapped, study.width, study.height, pipelined,
-                                      Device::by_name(platform.device));
+                                      Device::by_name(platform.device), *platform.memory);
   return study;
 }
 

@@ -76,7 +76,7 @@ sim::Time ms_to_time(double ms) { return sim::seconds(ms * 1e-3); }
 class SystemSimulation {
  public:
   SystemSimulation(const std::vector<SystemFrameWork>& work, const FrontendConfig& frontend,
-                   const OffloadAccelerator& backend, const LinkSpec& link, int host_cores,
+                   const OffloadAccelerator& backend, const Link& link, int host_cores,
                    const SystemConfig& system, bool accelerated, bool isolated,
                    const SystemTimelineOptions& timeline)
       : work_(work),
@@ -85,6 +85,7 @@ class SystemSimulation {
         isolated_(isolated),
         contention_(system.contention),
         unbounded_(work.size() + 2),
+        link_kind_(&link),
         cores_(sim_, contention_ ? static_cast<std::size_t>(host_cores) : unbounded_, "host.cores"),
         admission_(sim_, isolated ? 1 : unbounded_, "admission"),
         arrived_(sim_, "camera"),
@@ -96,15 +97,14 @@ class SystemSimulation {
     system.validate();
     if (accelerated_) {
       frontend_.emplace(sim_, frontend);
-      link_.emplace(sim_, link);
+      link_ = link.make_model(sim_);
       if (contention_) {
         backend_ = backend.instantiate(sim_);
         backend_resources_ = backend.resource_names();
       } else {
-        frontend_link_.emplace(sim_, link);  // transfer 1 alone on its link, as the analytical
+        frontend_link_ = link.make_model(sim_);  // transfer 1 alone on its link, as the analytical
       }
     }
-    link_spec_ = link;
     frames_.resize(work.size());
     fe_.resize(work.size());
     admissions_.resize(work.size());
@@ -187,7 +187,7 @@ class SystemSimulation {
   }
 
   sim::Process accelerator_frame(std::size_t f, sim::Lease buffer) {
-    co_await frontend_->run_frame(fe_[f], contention_ ? &*link_ : &*frontend_link_);
+    co_await frontend_->run_frame(fe_[f], contention_ ? link_.get() : frontend_link_.get());
     finish_frontend_frame(fe_[f]);
     frames_[f].start = fe_[f].start;
     frames_[f].frontend_end = sim_.now();
@@ -261,11 +261,11 @@ class SystemSimulation {
       }
       co_await link_->transfer(o.output_bytes, Direction::FpgaToHost, label(o, " out"));
     } else {
-      co_await sim_.delay(transfer_time(link_spec_, o.input_bytes));
-      co_await sim_.delay(transfer_time(link_spec_, o.spill_read_bytes));
+      co_await sim_.delay(link_kind_->transfer_time(o.input_bytes));
+      co_await sim_.delay(link_kind_->transfer_time(o.spill_read_bytes));
       co_await sim_.delay(sim::seconds(o.plan->compute_s));
-      co_await sim_.delay(transfer_time(link_spec_, o.spill_write_bytes));
-      co_await sim_.delay(transfer_time(link_spec_, o.output_bytes));
+      co_await sim_.delay(link_kind_->transfer_time(o.spill_write_bytes));
+      co_await sim_.delay(link_kind_->transfer_time(o.output_bytes));
     }
   }
 
@@ -372,7 +372,7 @@ class SystemSimulation {
       }
       use("frontend.frame_buffers", frontend_->frame_buffers());
       if (contention_) {
-        if (link_spec_.link.full_duplex) {
+        if (link_kind_->full_duplex()) {
           r.resources.push_back(
               {"link.host_to_fpga", link_->wire_utilization(Direction::HostToFpga), 1.0});
           r.resources.push_back(
@@ -401,12 +401,12 @@ class SystemSimulation {
   SystemConfig system_;
   bool accelerated_, isolated_, contention_;
   std::size_t unbounded_;
-  LinkSpec link_spec_;
+  const Link* link_kind_;  ///< the platform's link kind (outlives the run)
   std::optional<FrontendAccelerator> frontend_;
   std::unique_ptr<OffloadModel> backend_;       ///< the offload accelerator's DES model
   std::vector<std::string> backend_resources_;  ///< its resource_names()
-  std::optional<DmaLink> link_;                 ///< the platform's link (every transfer)
-  std::optional<DmaLink> frontend_link_;        ///< contention off: transfer 1 on a link of its own
+  std::unique_ptr<LinkModel> link_;             ///< the platform's link (every transfer)
+  std::unique_ptr<LinkModel> frontend_link_;  ///< contention off: transfer 1 on a link of its own
   sim::Resource cores_;
   sim::Resource admission_;  ///< isolated: one frame in the system
   sim::Event arrived_;
@@ -443,7 +443,7 @@ class SystemSimulation {
 }  // namespace
 
 SystemRun run_system(const std::vector<SystemFrameWork>& work, const FrontendConfig& frontend,
-                     const OffloadAccelerator& backend, const LinkSpec& link, int host_cores,
+                     const OffloadAccelerator& backend, const Link& link, int host_cores,
                      const SystemConfig& system, bool accelerated, bool isolated,
                      const SystemTimelineOptions& timeline) {
   if (host_cores < 1) {

@@ -117,7 +117,7 @@ struct SystemTimelineOptions {
 /// baseline. `isolated`: one frame at a time, back to back; else streamed (platform.system).
 /// `frontend`, `backend`, `link`, `host_cores` come from the platform (see system_model).
 SystemRun run_system(const std::vector<SystemFrameWork>& work, const FrontendConfig& frontend,
-                     const OffloadAccelerator& backend, const LinkSpec& link, int host_cores,
+                     const OffloadAccelerator& backend, const Link& link, int host_cores,
                      const SystemConfig& system, bool accelerated, bool isolated,
                      const SystemTimelineOptions& timeline = {});
 

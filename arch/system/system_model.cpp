@@ -66,11 +66,17 @@ void finish_variant(VariantResult& v, const std::vector<double>& fe_end_ms) {
   }
 }
 
+/// The per-byte energies of the platform's on-chip memory and link (their kinds').
+cost::ByteEnergies byte_energies(const Platform& platform) {
+  return {platform.memory->pj_per_byte(), platform.link->pj_per_byte()};
+}
+
 /// Energy of a frame from its activity, period and host busy time (docs/MODEL.md, "Energy").
 void set_energy(FrameResult& f, const Platform& platform) {
   f.activity.frame_s = std::max(1e-3 * f.e2e_ms, 1e-12);
   f.activity.host_busy_s = std::min(1e-3 * f.host_busy_ms, f.activity.frame_s);
-  f.energy = cost::frame_energy(f.activity, platform.power, platform.host->power());
+  f.energy = cost::frame_energy(f.activity, platform.power, platform.host->power(),
+                                byte_energies(platform));
 }
 
 /// The streamed run's summary. Energy (docs/MODEL.md, "Energy per resource"): over the run's
@@ -142,7 +148,7 @@ StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResu
       e.energy_j = j;
       out.push_back(e);
     };
-    if (platform.link.link.full_duplex) {
+    if (platform.link->full_duplex()) {
       link("link.host_to_fpga", parts.link_to_fpga);
       link("link.fpga_to_host", parts.link_to_host);
     } else {
@@ -212,7 +218,7 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
     timeline_options = {&timeline, options.timeline_first, options.timeline_count};
   }
   const auto run = [&](bool accelerated, bool isolated, const SystemTimelineOptions& t) {
-    return run_system(work, platform.frontend, *platform.backend, platform.link,
+    return run_system(work, platform.frontend, *platform.backend, *platform.link,
                       platform.host->cores(), platform.system, accelerated, isolated, t);
   };
   for (VariantResult* v : {&r.baseline, &r.accelerated}) {
@@ -422,7 +428,8 @@ std::string trace_hash(std::size_t frames, const trace::TraceMeta& trace_meta) {
 std::string frontend_study_key(const Platform& platform) {
   return nlohmann::json{{"host", component_json(*platform.host)},
                         {"frontend", platform.frontend.to_json()},
-                        {"link", platform.link.to_json()},
+                        {"link", component_json(*platform.link)},
+                        {"memory", component_json(*platform.memory)},
                         {"transfers", platform.transfers.to_json()},
                         {"device", platform.device}}
       .dump();
@@ -476,7 +483,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       std::unique_ptr<const OffloadPlan> a = platform.backend->plan(kernel);
       KernelTransfer t =
           kernel_transfer(kernel, platform.transfers, platform.backend->matrix_format());
-      const double link_s = sim::to_seconds(kernel_transfer_time(platform.link, t));
+      const double link_s = sim::to_seconds(kernel_transfer_time(*platform.link, t));
       KernelDecision d;
       d.frame_id = frame.frame.frame_id;
       d.kernel_seq = static_cast<int>(k);
@@ -486,7 +493,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
       d.compute_ms = 1e3 * a->compute_s;
       d.transfer_ms = 1e3 * link_s;
       d.fits_spm = a->fits_local_memory;
-      d.spill_ms = 1e3 * spill_seconds(*a, platform.link);
+      d.spill_ms = 1e3 * spill_seconds(*a, *platform.link);
       d.spill_bytes = a->spill.bytes();
       d.accel_ms = d.compute_ms + d.transfer_ms + d.spill_ms;
       KernelInvocation inv;
@@ -540,7 +547,8 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     acc.activity.link_bytes = double(r.frontend.frame_results_bytes[f]);
     // The same work by resource (docs/MODEL.md, "Energy per resource").
     for (std::size_t t = 0; t < task_activity.size(); ++t) {
-      acc.parts.frontend[t] = cost::dynamic_energy_j(task_activity[t], platform.power);
+      acc.parts.frontend[t] =
+          cost::dynamic_energy_j(task_activity[t], platform.power, byte_energies(platform));
     }
     std::vector<cost::FrameActivity> resource_activity(backend_resources);
     double to_fpga_bytes = 0, to_host_bytes = acc.activity.link_bytes;
@@ -573,11 +581,12 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     }
     acc.parts.backend.resize(resource_activity.size());
     for (std::size_t u = 0; u < resource_activity.size(); ++u) {
-      acc.parts.backend[u] = cost::dynamic_energy_j(resource_activity[u], platform.power);
+      acc.parts.backend[u] =
+          cost::dynamic_energy_j(resource_activity[u], platform.power, byte_energies(platform));
     }
     const auto bytes_j = [&](double bytes, double pj) { return 1e-12 * bytes * pj; };
-    acc.parts.link_to_fpga = bytes_j(to_fpga_bytes, platform.power.link_pj_per_byte);
-    acc.parts.link_to_host = bytes_j(to_host_bytes, platform.power.link_pj_per_byte);
+    acc.parts.link_to_fpga = bytes_j(to_fpga_bytes, platform.link->pj_per_byte());
+    acc.parts.link_to_host = bytes_j(to_host_bytes, platform.link->pj_per_byte());
     acc.parts.dram = bytes_j(acc.activity.dram_bytes, platform.power.dram_pj_per_byte);
     acc.backend_ms = std::max(0.0, backend_ms);
     acc.e2e_ms = acc.frontend_ms + acc.backend_ms;
@@ -595,9 +604,9 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
 
   std::vector<MemoryStructure> memories;
   for (const StructureUsage& s : r.frontend.memory.bram.structures) memories.push_back(s.structure);
-  r.resources =
-      cost::build_resource_report(platform.frontend, *platform.backend, platform.cost, memories,
-                                  Device::by_name(platform.device), platform.scheduler.offload);
+  r.resources = cost::build_resource_report(
+      platform.frontend, *platform.backend, platform.cost, *platform.memory, memories,
+      Device::by_name(platform.device), platform.scheduler.offload);
   return r;
 }
 

@@ -80,7 +80,9 @@ TEST(ConfigCommand, ResolvesAPlatformFileToJson) {
   EXPECT_EQ(j["name"], "edx_drone");
   EXPECT_EQ(j["backend"]["units"]["gemm"]["block"], 2);
   EXPECT_EQ(j["backend"]["scalar_bytes"], 8);
-  EXPECT_EQ(j["link"]["link"]["name"], "axi4");
+  EXPECT_EQ(j["link"]["kind"], "dma");
+  EXPECT_EQ(j["link"]["name"], "axi4");
+  EXPECT_EQ(j["memory"]["kind"], "bram");
   EXPECT_EQ(j["system"]["drop"], "oldest");  // a default filled in
 }
 

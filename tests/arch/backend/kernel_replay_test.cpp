@@ -211,14 +211,14 @@ TEST(BackendKernelReplay, SpillTimeIsTheTrafficOnTheLink) {
   c.spm_bytes = 1000;
   const KernelAccelResult r =
       accelerate_kernel(testing::kernel_of("gemm", {OpRecord{Op::Gemm, 12, 12, 12, 0, 0}}), c);
-  const LinkSpec link = LinkSpec::pcie3_x8();
+  const auto link = make_component<Link>("dma", "{preset: pcie3_x8}", "link");
   const double expected_ns = (1000 + 4608 / 7.9 + 500) + (1000 + 1152 / 7.9 + 500);
-  EXPECT_NEAR(spill_seconds(r, link), expected_ns * 1e-9, 2e-12);
+  EXPECT_NEAR(spill_seconds(r, *link), expected_ns * 1e-9, 2e-12);
   c.spm_bytes = 3456;  // exactly fits: no spill
   EXPECT_EQ(
       spill_seconds(
           accelerate_kernel(testing::kernel_of("gemm", {OpRecord{Op::Gemm, 12, 12, 12, 0, 0}}), c),
-          link),
+          *link),
       0.0);
 }
 

@@ -21,8 +21,7 @@ TEST(FrameEnergy, HandComputedFrame) {
   p.int8_op_pj = 0.1;
   p.fpga_energy_factor = 10.0;
   p.dram_pj_per_byte = 100.0;
-  p.bram_pj_per_byte = 1.0;
-  p.link_pj_per_byte = 50.0;
+  const ByteEnergies bytes{/*on_chip_pj_per_byte=*/1.0, /*link_pj_per_byte=*/50.0};
   FrameActivity a;
   a.frame_s = 0.05;
   a.host_busy_s = 0.02;
@@ -31,7 +30,7 @@ TEST(FrameEnergy, HandComputedFrame) {
   a.dram_bytes = 2e6;
   a.bram_bytes = 1e7;
   a.link_bytes = 1e5;
-  const FrameEnergy e = frame_energy(a, p, host);
+  const FrameEnergy e = frame_energy(a, p, host, bytes);
   EXPECT_DOUBLE_EQ(e.fpga_static_j, 0.05);                               // 1 W x 50 ms
   EXPECT_DOUBLE_EQ(e.host_j, 10 * 0.02 + 2 * 0.03);                      // busy 20 ms, idle 30 ms
   EXPECT_NEAR(e.compute_j, 10 * (1e6 * 20 + 1e8 * 0.1) * 1e-12, 1e-15);  // 3e-4 J
@@ -47,7 +46,7 @@ TEST(FrameEnergy, NoFpgaNoStaticAndScalesApply) {
   cpu.frame_s = 0.1;
   cpu.host_busy_s = 0.1;
   cpu.fpga_present = false;
-  const FrameEnergy e = frame_energy(cpu, p, HostPower{16.0, 16.0});
+  const FrameEnergy e = frame_energy(cpu, p, HostPower{16.0, 16.0}, {});
   EXPECT_DOUBLE_EQ(e.fpga_static_j, 0);
   EXPECT_DOUBLE_EQ(e.total_j, 0.5 * 16 * 0.1);
 }
@@ -56,7 +55,7 @@ TEST(FrameEnergy, RejectsAHostBusierThanTheFrame) {
   FrameActivity a;
   a.frame_s = 0.01;
   a.host_busy_s = 0.02;
-  EXPECT_THROW(frame_energy(a, {}, {}), std::runtime_error);
+  EXPECT_THROW(frame_energy(a, {}, {}, {}), std::runtime_error);
 }
 
 TEST(CostYaml, ReadsFieldsOverDefaults) {
@@ -108,6 +107,20 @@ TEST(CostYaml, ErrorsNameFileLineAndKey) {
                "car.yaml:2: power.fpga_energy_factor: expected a number > 0, got 'a list'");
   expect_error("s:\n  fpga_idle_fraction: 1.5\n", true,
                "car.yaml:2: power.fpga_idle_fraction: expected a number in [0, 1], got '1.5'");
+  // The keys that became the memory's and the link's kinds' own name where they went.
+  expect_error("s:\n  ns_modes: 2\n  allow_bram18: false\n", false,
+               "car.yaml:3: cost.allow_bram18: moved: now memory.allow_bram18 of the bram memory "
+               "kind (docs/CONFIG.md)");
+  expect_error(
+      "s:\n  memory_read_muxes: false\n", false,
+      "car.yaml:2: cost.memory_read_muxes: moved: now memory.read_muxes of the bram memory "
+      "kind (docs/CONFIG.md)");
+  expect_error("s:\n  bram_pj_per_byte: 1.25\n", true,
+               "car.yaml:2: power.bram_pj_per_byte: moved: now memory.pj_per_byte of the memory "
+               "kind (docs/CONFIG.md)");
+  expect_error("s:\n  link_pj_per_byte: 80\n", true,
+               "car.yaml:2: power.link_pj_per_byte: moved: now link.pj_per_byte of the link kind "
+               "(docs/CONFIG.md)");
 }
 
 TEST(ResourceEnergy, BusyAndIdleTimesTimesTheirPowers) {
@@ -124,11 +137,12 @@ TEST(ResourceEnergy, BusyAndIdleTimesTimesTheirPowers) {
   EXPECT_NEAR(unit_energy("u", 0.004, 0.010, 0.002, PowerConfig{}).energy_j, 0.002, 1e-15);
   // Never busy: no power either way.
   EXPECT_EQ(unit_energy("u", 0.0, 0.010, 0.0, p).energy_j, 0.0);
-  // dynamic_energy_j is frame_energy's work part: 1000 double MACs x 18.4 pJ x 10 + 8 BRAM bytes.
+  // dynamic_energy_j is frame_energy's work part: 1000 double MACs x 18.4 pJ x 10 + 8 on-chip
+  // bytes x 1.25 pJ.
   FrameActivity a;
   a.double_macs = 1000;
   a.bram_bytes = 8;
-  EXPECT_NEAR(dynamic_energy_j(a, PowerConfig{}), 1e-12 * (184000 + 10), 1e-18);
+  EXPECT_NEAR(dynamic_energy_j(a, PowerConfig{}, {1.25, 0.0}), 1e-12 * (184000 + 10), 1e-18);
 }
 
 TEST(PowerYaml, ReadsFieldsAndPrintsThem) {

@@ -13,6 +13,7 @@
 
 #include "tests/arch/backend/backend_test_support.hpp"
 #include "tests/arch/frontend/frontend_test_support.hpp"
+#include "tests/arch/memory/memory_test_support.hpp"
 
 namespace edx::arch::cost {
 namespace {
@@ -37,8 +38,7 @@ const CostEntry& find(const ResourceReport& r, const std::string& name) {
 TEST(ResourceReport, MemoriesComeInAsBramBlocksWithTheirReadMuxes) {
   const std::vector<MemoryStructure> memories = {{"frontend_spm", 64, 322000, 1},
                                                  {"fe.L0.line_fifo", 8, 1280, 7}};
-  const ResourceReport r =
-      build_resource_report({}, *fpga_matrix_units(), {}, memories, Device::xc7v690t());
+  const ResourceReport r = build_resource_report({}, *fpga_matrix_units(), {}, bram(), memories, Device::xc7v690t());
   const CostEntry& spm = find(r, "frontend_spm");
   // 512 x 72: one column, ⌈322000 / 512⌉ = 629 rows; a 629:1 mux of 64 bits.
   EXPECT_DOUBLE_EQ(spm.shared.bram, 629);
@@ -50,11 +50,19 @@ TEST(ResourceReport, MemoriesComeInAsBramBlocksWithTheirReadMuxes) {
   // 4K x 9 (parity bits used as data): ⌈256/9⌉ = 29 columns x 10 rows = 290 BRAM36.
   EXPECT_DOUBLE_EQ(find(r, "backend_spm").shared.bram, 290);
   EXPECT_DOUBLE_EQ(find(r, "backend_spm").shared.lut, 256 * 3);  // 10:1 muxes
+
+  // The memory kind's parameters: no read muxes; no BRAM18 halves (2K x 9 BRAM18 -> 4K x 9
+  // BRAM36, one block each line FIFO).
+  const ResourceReport plain = build_resource_report(
+      {}, *fpga_matrix_units(), {}, bram("{read_muxes: false, allow_bram18: false}"), memories, Device::xc7v690t());
+  EXPECT_DOUBLE_EQ(find(plain, "frontend_spm").shared.lut, 0);
+  EXPECT_DOUBLE_EQ(find(plain, "frontend_spm").shared.bram, 629);
+  EXPECT_DOUBLE_EQ(find(plain, "fe.L0.line_fifo").shared.bram, 7);
 }
 
 TEST(ResourceReport, TotalsAreTheSumsOfTheEntriesAndUtilizationIsOverTheDevice) {
-  const ResourceReport r = build_resource_report({}, *fpga_matrix_units(), {},
-                                                 car_frontend_memories(), Device::xc7v690t());
+  const ResourceReport r =
+      build_resource_report({}, *fpga_matrix_units(), {}, bram(), car_frontend_memories(), Device::xc7v690t());
   Resources sum, fe;
   for (const CostEntry& e : r.entries) {
     sum += e.shared;
@@ -78,7 +86,7 @@ TEST(ResourceReport, TotalsAreTheSumsOfTheEntriesAndUtilizationIsOverTheDevice) 
 
 TEST(ResourceReport, ASmallDeviceDoesNotFit) {
   Device tiny{"tiny", 10, 1000, 1000, 10, "test"};
-  const ResourceReport r = build_resource_report({}, *fpga_matrix_units(), {}, {}, tiny);
+  const ResourceReport r = build_resource_report({}, *fpga_matrix_units(), {}, bram(), {}, tiny);
   EXPECT_FALSE(r.fits);
   EXPECT_GT(r.utilization.lut, 1.0);
 }
@@ -87,8 +95,8 @@ TEST(ResourceReport, NoSharingIsAtLeastSharedForEveryResource) {
   CostConfig cost;
   cost.frontend_lut_overhead = 0.5;
   cost.backend_ff_overhead = 0.25;
-  const ResourceReport r = build_resource_report({}, *fpga_matrix_units(), cost,
-                                                 car_frontend_memories(), Device::xc7v690t());
+  const ResourceReport r =
+      build_resource_report({}, *fpga_matrix_units(), cost, bram(), car_frontend_memories(), Device::xc7v690t());
   for (const CostEntry& e : r.entries) {
     for (int i = 0; i < 4; ++i) EXPECT_GE(e.ns[i], e.shared[i]) << e.name;
   }
@@ -101,12 +109,11 @@ TEST(ResourceReport, NoSharingIsAtLeastSharedForEveryResource) {
 TEST(ResourceReport, NoSharingCopiesFollowCamerasModesAndTableII) {
   CostConfig cost;
   EXPECT_DOUBLE_EQ(
-      find(build_resource_report({}, *fpga_matrix_units(), cost, {}, Device::xc7v690t()), "FD")
-          .ns_copies,
+      find(build_resource_report({}, *fpga_matrix_units(), cost, bram(), {}, Device::xc7v690t()), "FD").ns_copies,
       3);  // default: one frontend per mode
   cost.ns_fe_per_camera = true;
-  const ResourceReport r = build_resource_report({}, *fpga_matrix_units(), cost,
-                                                 car_frontend_memories(), Device::xc7v690t());
+  const ResourceReport r =
+      build_resource_report({}, *fpga_matrix_units(), cost, bram(), car_frontend_memories(), Device::xc7v690t());
   EXPECT_DOUBLE_EQ(find(r, "FD").ns_copies, 6);  // 2 cameras x 3 modes
   EXPECT_DOUBLE_EQ(find(r, "fc.L0.line_fifo").ns_copies, 6);
   EXPECT_DOUBLE_EQ(find(r, "MO").ns_copies, 3);
@@ -119,8 +126,8 @@ TEST(ResourceReport, NoSharingCopiesFollowCamerasModesAndTableII) {
   cost.ns_fe_per_camera = false;
   cost.ns_frontend_per_mode = false;
   cost.ns_backend_per_kernel = false;
-  const ResourceReport shared = build_resource_report({}, *fpga_matrix_units(), cost,
-                                                      car_frontend_memories(), Device::xc7v690t());
+  const ResourceReport shared =
+      build_resource_report({}, *fpga_matrix_units(), cost, bram(), car_frontend_memories(), Device::xc7v690t());
   for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(shared.total.ns[i], shared.total.shared[i]);
 }
 
@@ -133,9 +140,9 @@ TEST(ResourceReport, ControlOverheadIsAFractionOfTheGroupDatapath) {
   with.backend_ff_overhead = 0.5;
   const auto memories = car_frontend_memories();
   const ResourceReport a =
-      build_resource_report({}, *fpga_matrix_units(), base, memories, Device::xc7v690t());
+      build_resource_report({}, *fpga_matrix_units(), base, bram(), memories, Device::xc7v690t());
   const ResourceReport b =
-      build_resource_report({}, *fpga_matrix_units(), with, memories, Device::xc7v690t());
+      build_resource_report({}, *fpga_matrix_units(), with, bram(), memories, Device::xc7v690t());
   EXPECT_DOUBLE_EQ(b.frontend.shared.lut, 2 * a.frontend.shared.lut);
   EXPECT_DOUBLE_EQ(b.frontend.shared.ff, a.frontend.shared.ff);
   EXPECT_DOUBLE_EQ(b.backend.shared.ff, 1.5 * a.backend.shared.ff);
@@ -193,12 +200,12 @@ ResourceReport calibrated_car_report(const std::string& variant, CostConfig base
   CostConfig datapath_only = base;
   datapath_only.frontend_lut_overhead = datapath_only.frontend_ff_overhead = 0;
   datapath_only.backend_lut_overhead = datapath_only.backend_ff_overhead = 0;
-  const ResourceReport raw = build_resource_report(car_frontend, *car_backend, datapath_only,
+  const ResourceReport raw = build_resource_report(car_frontend, *car_backend, datapath_only, bram(),
                                                    memories, Device::xc7v690t());
   const CostConfig calibrated = calibrate_control_overheads(raw, base);
   if (calibrated_out) *calibrated_out = calibrated;
-  const ResourceReport r =
-      build_resource_report(car_frontend, *car_backend, calibrated, memories, Device::xc7v690t());
+  const ResourceReport r = build_resource_report(car_frontend, *car_backend, calibrated, bram(),
+                                                 memories, Device::xc7v690t());
   fmt::print(
       "== {}: control overheads (calibrated) frontend LUT {:.3f} FF {:.3f}, backend LUT "
       "{:.3f} FF {:.3f}\n",

@@ -8,6 +8,7 @@
 
 #include "sim_core/clock.hpp"
 #include "tests/arch/frontend/frontend_test_support.hpp"
+#include "tests/arch/memory/memory_test_support.hpp"
 
 namespace edx::arch {
 namespace {
@@ -68,7 +69,7 @@ TEST(FrontendMemoryPlan, SizesEveryStructureFromTheTraceAndTheTiming) {
   const FrontendConfig c = config();
   const FrontendSimResult timing = simulate_frontend(frames, kWidth * kHeight, c);
   const FrontendMemoryPlan plan =
-      plan_frontend_memory(frames, timing, kWidth, kHeight, c, Device::xc7v690t());
+      plan_frontend_memory(frames, timing, kWidth, kHeight, c, Device::xc7v690t(), bram());
 
   // Line FIFOs: fe.L0 7 lines, fc.L0 31, dc.L0 5 (pyrDown), dr.left 11, dr.right 11; 100 px each.
   ASSERT_EQ(plan.stencil_buffers.size(), 5u);
@@ -125,7 +126,7 @@ TEST(FrontendMemoryPlan, SizesEveryStructureFromTheTraceAndTheTiming) {
   FrontendConfig from_dram = c;
   from_dram.dr_reread = "dram";
   const FrontendMemoryPlan reread =
-      plan_frontend_memory(frames, timing, kWidth, kHeight, from_dram, Device::xc7v690t());
+      plan_frontend_memory(frames, timing, kWidth, kHeight, from_dram, Device::xc7v690t(), bram());
   EXPECT_EQ(reread.extra_dram_bytes_per_frame, 2 * image);
   EXPECT_EQ(reread.spm_bytes, plan.spm_bytes);
 
@@ -134,7 +135,7 @@ TEST(FrontendMemoryPlan, SizesEveryStructureFromTheTraceAndTheTiming) {
   FrontendConfig in_dram = c;
   in_dram.input_buffering = "dram";
   const FrontendMemoryPlan dram =
-      plan_frontend_memory(frames, timing, kWidth, kHeight, in_dram, Device::xc7v690t());
+      plan_frontend_memory(frames, timing, kWidth, kHeight, in_dram, Device::xc7v690t(), bram());
   EXPECT_EQ(dram.input_buffer_bytes, 0);
   EXPECT_EQ(dram.spm_bytes, 2 * image + lists);
   EXPECT_EQ(dram.extra_dram_bytes_per_frame, 2 * image + image);
@@ -162,7 +163,7 @@ TEST(FrontendMemoryPlan, WithoutTheOptimizationDrSharesTheFeatureExtractionBuffe
   c.sb_optimization = false;
   const FrontendSimResult timing = simulate_frontend(frames, kWidth * kHeight, c);
   const FrontendMemoryPlan plan =
-      plan_frontend_memory(frames, timing, kWidth, kHeight, c, Device::xc7v690t());
+      plan_frontend_memory(frames, timing, kWidth, kHeight, c, Device::xc7v690t(), bram());
   EXPECT_EQ(plan.stencil_buffers.size(), 3u);  // no DR buffers of its own
   EXPECT_EQ(plan.sb_bytes, plan.sb_bytes_without_optimization);
   EXPECT_EQ(plan.extra_dram_bytes_per_frame, 0);  // DR reads FD/IF's SB: nothing re-read
@@ -177,7 +178,7 @@ TEST(FrontendMemoryPlan, AStructureTooBigForTheDeviceIsReported) {
   const FrontendConfig c = config();
   const FrontendSimResult timing = simulate_frontend(frames, kWidth * kHeight, c);
   const FrontendMemoryPlan plan =
-      plan_frontend_memory(frames, timing, kWidth, kHeight, c, Device::zu9eg());
+      plan_frontend_memory(frames, timing, kWidth, kHeight, c, Device::zu9eg(), bram());
   EXPECT_FALSE(plan.bram.fits);
   EXPECT_NE(plan.bram.message.find("ZU9EG has 912"), std::string::npos) << plan.bram.message;
 }

@@ -169,14 +169,13 @@ namespace {
 TEST(KernelTransferTime, InputsAndResultsAreOneDmaTransferEach) {
   // AXI4 at 1.2 GB/s with no setup or latency: 1200 B take 1 us. A projection of 297 points:
   // in (12 + 1188) x 8 = 9600 B (8 us), out 4752 B (3.96 us).
-  LinkSpec axi = LinkSpec::axi4();
-  axi.link.latency_ns = 0;
-  axi.dma.setup_ns = 0;
+  const auto axi =
+      make_component<Link>("dma", "{preset: axi4, latency_ns: 0, dma: {setup_ns: 0}}", "link");
   const KernelTransfer t = kernel_transfer(kernel("projection", 297, 0), {}, kFormat);
   ASSERT_EQ(t.input_bytes, 9600);
   ASSERT_EQ(t.output_bytes, 4752);
-  EXPECT_EQ(kernel_transfer_time(axi, t), sim::ns(11960));
-  EXPECT_EQ(transfer_time(axi, 1200), sim::us(1));
+  EXPECT_EQ(kernel_transfer_time(*axi, t), sim::ns(11960));
+  EXPECT_EQ(axi->transfer_time(1200), sim::us(1));
 }
 
 }  // namespace

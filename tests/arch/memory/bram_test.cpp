@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "tests/arch/memory/memory_test_support.hpp"
+
 namespace edx::arch {
 namespace {
 
@@ -97,7 +99,7 @@ TEST(BramBudget, TotalsStructuresAndChecksTheDevice) {
       {"line_fifo", 8, 640, 4},       // 4 x 0.5
       {"descriptors", 256, 1000, 1},  // 512x72: 4 x 2 = 8; 1K x 36: 8; BRAM18 1K x 18: 15 x 0.5
   };
-  const BramBudget fits = check_bram("frontend", structures, Device::zu9eg());
+  const BramBudget fits = check_bram("frontend", structures, Device::zu9eg(), bram());
   EXPECT_DOUBLE_EQ(fits.structures[0].blocks, 2.0);
   EXPECT_DOUBLE_EQ(fits.structures[1].blocks, 7.5);
   EXPECT_DOUBLE_EQ(fits.total_blocks, 9.5);
@@ -107,7 +109,7 @@ TEST(BramBudget, TotalsStructuresAndChecksTheDevice) {
 
   const std::vector<MemoryStructure> big = {{"frame_buffer", 8, 1280 * 720, 8}};
   // 8 x 921600: 9-bit 4K aspect -> 225 blocks; BRAM18 2K x 9 -> 450 halves = 225; x 8 = 1800.
-  const BramBudget overflow = check_bram("double-buffered images", big, Device::xc7v690t());
+  const BramBudget overflow = check_bram("double-buffered images", big, Device::xc7v690t(), bram());
   EXPECT_DOUBLE_EQ(overflow.total_blocks, 1800.0);
   EXPECT_FALSE(overflow.fits);
   EXPECT_NE(overflow.message.find("double-buffered images"), std::string::npos);
@@ -116,8 +118,8 @@ TEST(BramBudget, TotalsStructuresAndChecksTheDevice) {
 }
 
 TEST(BramBudget, RejectsBadStructures) {
-  EXPECT_THROW(check_bram("x", {{"neg", 8, 10, -1}}, Device::zu9eg()), std::runtime_error);
-  EXPECT_THROW(check_bram("x", {{"", 8, 10, 1}}, Device::zu9eg()), std::runtime_error);
+  EXPECT_THROW(check_bram("x", {{"neg", 8, 10, -1}}, Device::zu9eg(), bram()), std::runtime_error);
+  EXPECT_THROW(check_bram("x", {{"", 8, 10, 1}}, Device::zu9eg(), bram()), std::runtime_error);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// FIFO and scratchpad sizing and their BRAM mapping.
+// FIFO and scratchpad sizing and their structures' BRAM mapping (the memory kind `bram`).
 #include <gtest/gtest.h>
 
 #include <stdexcept>
@@ -6,6 +6,7 @@
 
 #include "arch/memory/fifo.hpp"
 #include "arch/memory/scratchpad.hpp"
+#include "tests/arch/memory/memory_test_support.hpp"
 
 namespace edx::arch {
 namespace {
@@ -16,11 +17,11 @@ TEST(FifoSizing, BytesAndBram) {
   EXPECT_EQ(small.bytes, 1024);
   EXPECT_EQ(small.structure.width_bits, 32);
   EXPECT_EQ(small.structure.depth_words, 256);
-  EXPECT_DOUBLE_EQ(small.mapping.blocks, 0.5);
+  EXPECT_DOUBLE_EQ(bram().mapping(small.structure).blocks, 0.5);
   // 5000 entries of 8 bytes: 64 x 5000 -> 10 blocks (512 x 72: 1 x 10; 1K x 36: 2 x 5).
   const FifoSizing big = size_fifo({"points", 5000, 8});
   EXPECT_EQ(big.bytes, 40000);
-  EXPECT_DOUBLE_EQ(big.mapping.blocks, 10.0);
+  EXPECT_DOUBLE_EQ(bram().mapping(big.structure).blocks, 10.0);
 }
 
 TEST(FifoSizing, RejectsEmptyFifos) {
@@ -44,7 +45,7 @@ TEST(ScratchpadSizing, RegionsRoundUpToWords) {
   EXPECT_EQ(s.words, (std::vector<std::int64_t>{13, 8, 1}));  // ceil(800/64), 512/64, ceil(8/64)
   EXPECT_EQ(s.depth_words, 22);
   EXPECT_EQ(s.structure.width_bits, 64);
-  EXPECT_DOUBLE_EQ(s.mapping.blocks, 1.0);  // one 512 x 72
+  EXPECT_DOUBLE_EQ(bram().mapping(s.structure).blocks, 1.0);  // one 512 x 72
 
   // A 30-pose MSCKF covariance (n = 15 + 6 x 30 = 195 doubles square): 195^2 x 8 = 304200 B
   // -> 38025 words of 64 bits -> 512 x 72: 75 rows; 1K x 36: 2 x 38 = 76 -> 75 blocks.
@@ -52,7 +53,7 @@ TEST(ScratchpadSizing, RegionsRoundUpToWords) {
   cov.regions = {{"P", 195 * 195 * 8}};
   const ScratchpadSizing c = size_scratchpad(cov);
   EXPECT_EQ(c.depth_words, 38025);
-  EXPECT_DOUBLE_EQ(c.mapping.blocks, 75.0);
+  EXPECT_DOUBLE_EQ(bram().mapping(c.structure).blocks, 75.0);
 }
 
 TEST(ScratchpadSizing, RejectsNegativeRegions) {

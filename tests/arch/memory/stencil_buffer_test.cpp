@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/arch/memory/memory_test_support.hpp"
+
 namespace edx::arch {
 namespace {
 
@@ -29,15 +31,15 @@ TEST(StencilBuffer, PaperExampleOfFig11) {
   // The first three FIFOs write to both shift registers, the last only to the first.
   const std::vector<std::vector<int>> feeds = {{0, 1}, {0, 1}, {0, 1}, {0}};
   EXPECT_EQ(sb.feeds, feeds);
-  // Each FIFO: 8 bits x 640 words -> one 2K x 9 BRAM18 half.
-  EXPECT_DOUBLE_EQ(sb.fifo_mapping().blocks, 0.5);
-  EXPECT_DOUBLE_EQ(sb.bram_blocks(), 2.0);
-  const std::vector<MemoryStructure> structures = sb.bram_structures();
+  const std::vector<MemoryStructure> structures = sb.memory_structures();
   ASSERT_EQ(structures.size(), 1u);
   EXPECT_EQ(structures[0].width_bits, 8);
   EXPECT_EQ(structures[0].depth_words, 640);
   EXPECT_EQ(structures[0].count, 4);
-  EXPECT_DOUBLE_EQ(check_bram("sb", structures, Device::zu9eg()).total_blocks, 2.0);
+  // Each FIFO: 8 bits x 640 words -> one 2K x 9 BRAM18 half.
+  EXPECT_DOUBLE_EQ(bram().mapping(structures[0]).blocks, 0.5);
+  EXPECT_DOUBLE_EQ(bram().cost(structures[0]).bram, 2.0);
+  EXPECT_DOUBLE_EQ(check_bram("sb", structures, Device::zu9eg(), bram()).total_blocks, 2.0);
 }
 
 TEST(StencilBuffer, WideLinesAndTwoBytePixels) {
@@ -50,8 +52,8 @@ TEST(StencilBuffer, WideLinesAndTwoBytePixels) {
   EXPECT_EQ(sb.shift_register_pixels, (std::vector<std::int64_t>{49}));
   EXPECT_EQ(sb.shift_register_bytes, 98);
   // 16 bits x 1280 words: one 2K x 18 BRAM36 per FIFO (BRAM18 halves also make 1.0).
-  EXPECT_DOUBLE_EQ(sb.fifo_mapping().blocks, 1.0);
-  EXPECT_DOUBLE_EQ(sb.bram_blocks(), 7.0);
+  EXPECT_DOUBLE_EQ(bram().mapping(sb.memory_structures()[0]).blocks, 1.0);
+  EXPECT_DOUBLE_EQ(bram().cost(sb.memory_structures()[0]).bram, 7.0);
   EXPECT_EQ(sb.feeds.size(), 7u);
   EXPECT_EQ(sb.feeds[6], (std::vector<int>{0}));
 }

@@ -136,7 +136,7 @@ TEST(SweepSpec, GridRangesAndLogRanges) {
   const Platform p = sweep_platform(s, grid.at(4));
   EXPECT_EQ(testing::fpga_config(*p.backend).units[0].unit->tile(), 1);
   EXPECT_DOUBLE_EQ(testing::fpga_config(*p.backend).clock_mhz, 125);
-  EXPECT_DOUBLE_EQ(p.link.link.bandwidth_gb_per_s, 10);
+  EXPECT_DOUBLE_EQ(p.link->params_json()["bandwidth_gb_per_s"].get<double>(), 10);
   EXPECT_EQ(testing::fpga_config(*p.backend).spm_bytes, 67108864);  // the base's other keys stay
 
   const SweepSpec frac = spec_of(dir,

@@ -29,8 +29,7 @@ std::vector<SystemFrameWork> host_frames(std::size_t n, double fe_ms, double be_
 
 SystemRun run_baseline(const std::vector<SystemFrameWork>& work, const SystemConfig& system,
                        int cores, bool isolated = false) {
-  return run_system(work, FrontendConfig{}, *fpga_matrix_units(), LinkSpec::pcie3_x8(), cores,
-                    system,
+  return run_system(work, FrontendConfig{}, *fpga_matrix_units(), *Platform{}.link, cores, system,
                     /*accelerated=*/false, isolated);
 }
 

@@ -31,12 +31,12 @@ Platform test_platform(const std::string& policy) {
       "host: {times: measured, frontend_suite_ms: 10.0, backend_suite_ms: 8.0, active_w: 10.0,\n"
       "       idle_w: 1.0}\n"
       "backend: {clock_mhz: 100, spm_bytes: 67108864, units: {gemm: {block: 2}}}\n"
-      "link:\n  bandwidth_gb_per_s: 1.0\n  latency_ns: 100\n"
+      "link:\n  bandwidth_gb_per_s: 1.0\n  latency_ns: 100\n  pj_per_byte: 1.0\n"
       "  dma: {setup_ns: 100, chunk_bytes: 4194304, max_outstanding: 1}\n"
+      "memory: {pj_per_byte: 1.0}\n"
       "power: {fpga_static_w: 1.0, int8_op_pj: 1.0,\n"
-      "        single_mac_pj: 1.0, double_mac_pj: 10.0, fpga_energy_factor: 1.0,\n        "
-      "bram_pj_per_byte: 1.0,\n"
-      "        dram_pj_per_byte: 0.0, link_pj_per_byte: 1.0}\n"
+      "        single_mac_pj: 1.0, double_mac_pj: 10.0, fpga_energy_factor: 1.0,\n"
+      "        dram_pj_per_byte: 0.0}\n"
       "scheduler: {policy: " +
           policy + ", training_fraction: 0.25}\n",
       "test.yaml");

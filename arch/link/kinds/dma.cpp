@@ -1,0 +1,366 @@
+// The link kind `dma` (paper Sec. VII-A; docs/MODEL.md, "Links"): a wire of a given bandwidth
+// and latency driven by a DMA engine that moves a transfer in chunks.
+//
+// A transfer of B bytes is split into n = ceil(B / C) chunks of C bytes (the last one shorter).
+// Each chunk holds one of K request slots (max_outstanding) from the start of its setup until it
+// has arrived; it spends s (setup_ns: descriptor fetch / request issue, overlapped across the K
+// slots), then occupies the wire for w_j = bytes_j / bandwidth (serialized: one chunk on the wire
+// at a time, per direction on a full-duplex link), then L (latency_ns) to arrive. For an idle
+// link (transfer_time()):
+//   S_j = 0 for j < K, else D_{j-K}     (slot freed by chunk j - K)
+//   R_j = S_j + s                        (ready for the wire)
+//   W_j = max(R_j, E_{j-1}),  E_j = W_j + w_j,  D_j = E_j + L,  T = D_{n-1}
+// When the slots never limit (K * w >= s + w + L, w a full chunk's wire time) this is
+// T = s + sum_j w_j + L = s + B / bandwidth + L. The DES (DmaModel::transfer) runs the same model
+// with concurrent transfers contending for the slots and the wire: slots are granted first come,
+// first served (a transfer asks for its next chunk's slot once the previous chunk has one), and
+// because every chunk spends the same setup s before the wire, chunks reach the wire in the order
+// their slots were granted. So when a slot is granted at G, the chunk's wire start
+// W = max(G + s, wire free), its arrival D = W + w + L and the slot's next free time are already
+// determined: the DES books them then, with no process per chunk; a transfer waits only for
+// its grants and its last arrival (tests/arch/link: the same schedule as a process per chunk).
+// A half-duplex link has one wire and one DMA engine (one set of K slots) for both directions.
+//
+// Bandwidths in GB/s are decimal (10^9 bytes/s). Wire times are whole picoseconds: the chunk at
+// byte offset o of a transfer, of b bytes, takes w = wire(o + b) - wire(o) with
+// wire(x) = round(x * 1000 / bandwidth_GB_per_s) ps, so a transfer's chunks add up to exactly
+// wire(B) (no per-chunk rounding drift).
+//
+//   link: {kind: dma, preset: axi4, bandwidth_gb_per_s: 2.4, dma: {chunk_bytes: 2048}}
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "arch/link/link.hpp"
+
+namespace edx::arch {
+namespace {
+
+/// Nanoseconds (double) to the nearest picosecond.
+sim::Time ns_to_time(double value_ns) {
+  return static_cast<sim::Time>(std::llround(value_ns * 1e3));
+}
+
+/// The DMA engine driving the wire (one per direction on a full-duplex link).
+struct DmaEngine {
+  double setup_ns = 1000.0;         ///< per chunk request, overlapped across outstanding requests
+  std::int64_t chunk_bytes = 4096;  ///< bytes per request
+  int max_outstanding = 8;          ///< requests in flight per direction
+  static const FieldList<DmaEngine>& fields() {
+    using C = DmaEngine;
+    static const FieldList<C> list = {
+        field("setup_ns", &C::setup_ns, "ns",
+              "per chunk request (descriptor fetch / issue), overlapped across outstanding "
+              "requests",
+              Bounds::at_least(0).below(1e9)),
+        field("chunk_bytes", &C::chunk_bytes, "bytes", "bytes per request",
+              Bounds::at_least(1).at_most(1 << 30)),
+        field("max_outstanding", &C::max_outstanding, "", "requests in flight per direction",
+              Bounds::at_least(1)),
+    };
+    return list;
+  }
+};
+
+class DmaLink final : public Link {
+ public:
+  struct Params {
+    std::string name = "pcie3_x8";
+    double bandwidth_gb_per_s = 7.9;  ///< 10^9 bytes per second
+    double latency_ns = 500.0;        ///< one-way, after a chunk leaves the wire
+    bool full_duplex = true;          ///< one wire per direction (PCIe, AXI4 read/write channels)
+    /// ASSUMPTION: 10 pJ/bit for a PCIe 3.0 SerDes + controller; no preset changes it.
+    double pj_per_byte = 80.0;
+    DmaEngine dma;  ///< `dma:`
+
+    /// PCIe 3.0 x8 of Edx-Car (the defaults): 7.9 GB/s (paper Sec. VII-A; 8 GT/s x 8 lanes x
+    /// 128/130 = 7.88 GB/s, PCIe 3.0 base spec); the rest assumed.
+    static Params pcie3_x8() { return Params{}; }
+    /// AXI4 of Edx-Drone (PL reading PS DRAM): 1.2 GB/s (paper Sec. VII-A); the rest assumed.
+    static Params axi4() {
+      Params p;
+      p.name = "axi4";
+      p.bandwidth_gb_per_s = 1.2;  // paper Sec. VII-A (Edx-Drone), max AXI4 bandwidth
+      p.latency_ns = 100.0;        // ASSUMPTION: PS DDR access latency of order 100 ns
+      p.full_duplex = true;        // AXI4 read and write channels are independent (AMBA AXI4)
+      p.dma.setup_ns = 200.0;      // ASSUMPTION: burst issue overhead
+      p.dma.chunk_bytes = 4096;    // AXI4 bursts may not cross 4 KB (AMBA AXI4 spec)
+      p.dma.max_outstanding = 8;   // ASSUMPTION: outstanding transactions of the HP port
+      return p;
+    }
+    // pcie3_x8's assumptions: one-way latency of order 0.5 us, ~1 us per DMA descriptor, one
+    // 4 KiB page per descriptor, 8 requests in flight per channel; PCIe lanes are dual simplex.
+
+    static const std::vector<std::string>& preset_names() {
+      static const std::vector<std::string> names = {"pcie3_x8", "axi4"};
+      return names;
+    }
+
+    /// The keys of the link itself (`preset` and `dma:` are read by parse()).
+    static const FieldList<Params>& fields() {
+      using C = Params;
+      static const FieldList<C> list = {
+          field("name", &C::name, "", "the link's name in results"),
+          field("bandwidth_gb_per_s", &C::bandwidth_gb_per_s, "GB/s",
+                "wire bandwidth per direction, 10^9 bytes/s", Bounds::above(0)),
+          field("latency_ns", &C::latency_ns, "ns", "one-way latency after a chunk leaves the wire",
+                Bounds::at_least(0).below(1e9)),
+          field("full_duplex", &C::full_duplex, "",
+                "one wire and one DMA engine per direction (PCIe; AXI4 read/write channels)"),
+          field("pj_per_byte", &C::pj_per_byte, "pJ/byte",
+                "energy of a byte crossing the link (assumed 10 pJ/bit)", Bounds::at_least(0)),
+      };
+      return list;
+    }
+
+    /// wire(x) = round(x * 1000 / bandwidth_GB_per_s) ps; throws std::out_of_range naming
+    /// link.bandwidth_gb_per_s when that is 2^63 ps or more.
+    sim::Time wire_time(std::int64_t bytes) const {
+      // bytes / (GBps * 1e9) s = bytes * 1000 / GBps ps
+      const double picoseconds = static_cast<double>(bytes) * 1e3 / bandwidth_gb_per_s;
+      // llround is undefined past 2^63; a tiny bandwidth must not wrap into a short time.
+      constexpr double kLimitPs = 9223372036854775808.0;  // 2^63
+      if (!std::isfinite(picoseconds) || picoseconds < 0.0 || picoseconds >= kLimitPs) {
+        throw std::out_of_range(fmt::format(
+            "link.bandwidth_gb_per_s {}: {} bytes would take {:g} s on the wire, beyond "
+            "the simulated time range (2^63 ps, 107 days)",
+            bandwidth_gb_per_s, bytes, picoseconds * 1e-12));
+      }
+      return static_cast<sim::Time>(std::llround(picoseconds));
+    }
+    /// The chunk of `bytes` at byte `offset` of a transfer: wire(offset + bytes) - wire(offset).
+    sim::Time chunk_wire_time(std::int64_t offset, std::int64_t bytes) const {
+      return wire_time(offset + bytes) - wire_time(offset);
+    }
+
+    void validate() const {
+      check_fields(*this, "link", fields());
+      require_field(!name.empty(), "link", "name", "a non-empty name");
+      check_fields(dma, "link.dma", DmaEngine::fields());
+    }
+
+    /// `preset:` first (its values are the defaults of the keys that follow), then the link's
+    /// keys, then the `dma:` map; unknown keys refused at their line.
+    static Params parse(YamlFields& yaml) {
+      Params p;
+      if (const YAML::Node preset = yaml.take("preset")) {
+        const FieldValue name =
+            read_field_value(yaml, "preset", preset, FieldKind::kText, {}, preset_names());
+        p = std::get<std::string>(name) == "axi4" ? axi4() : pcie3_x8();
+      }
+      parse_fields(yaml, p, fields());
+      YamlFields dma(yaml.take("dma"), yaml.where(), yaml.prefix() + ".dma");
+      parse_fields(dma, p.dma, DmaEngine::fields());
+      dma.finish();
+      return p;
+    }
+
+    /// `preset`, the link's keys and `dma.*`, defaults from pcie3_x8.
+    static std::vector<ReferenceRow> reference(const std::string& section,
+                                               const std::string& title) {
+      std::vector<ReferenceRow> rows = {reference_row(
+          section, "preset", FieldKind::kText, "", std::string(), {}, preset_names(),
+          "start from a preset's values (the keys below override them): pcie3_x8 (Edx-Car, the "
+          "defaults), axi4 (Edx-Drone)")};
+      rows.back().group = title;
+      for (ReferenceRow& row : reference_rows(section, fields(), Params{}, title)) {
+        rows.push_back(std::move(row));
+      }
+      for (ReferenceRow& row :
+           reference_rows(section + ".dma", DmaEngine::fields(), DmaEngine{}, title)) {
+        rows.push_back(std::move(row));
+      }
+      return rows;
+    }
+  };
+
+  explicit DmaLink(const Params& params) : params_(params) {}
+
+  std::string_view kind() const override { return "dma"; }
+  nlohmann::json params_json() const override {
+    nlohmann::json j = params_to_json(params_);
+    j["dma"] = fields_to_json(params_.dma, DmaEngine::fields());
+    return j;
+  }
+  bool full_duplex() const override { return params_.full_duplex; }
+  double pj_per_byte() const override { return params_.pj_per_byte; }
+
+  /// The recurrence at the top of this file.
+  sim::Time transfer_time(std::int64_t bytes) const override {
+    if (bytes < 0) {
+      throw std::runtime_error(fmt::format("link transfer: expected bytes >= 0, got {}", bytes));
+    }
+    if (bytes == 0) return 0;
+    const std::int64_t chunk = params_.dma.chunk_bytes;
+    const std::int64_t n = (bytes + chunk - 1) / chunk;  // ceil(B / C)
+    const auto k = static_cast<std::size_t>(params_.dma.max_outstanding);
+    const sim::Time setup = ns_to_time(params_.dma.setup_ns);
+    const sim::Time latency = ns_to_time(params_.latency_ns);
+    // D_j of the last K chunks (chunk j reuses the slot of chunk j - K): a ring of K entries.
+    std::vector<sim::Time> done(std::min(k, static_cast<std::size_t>(n)), 0);
+    sim::Time wire_end = 0;  // E_{j-1}
+    sim::Time last = 0;
+    for (std::int64_t j = 0; j < n; ++j) {
+      const auto slot = static_cast<std::size_t>(j) % done.size();
+      const std::int64_t chunk_bytes = std::min(chunk, bytes - j * chunk);
+      const sim::Time start = static_cast<std::size_t>(j) < k ? 0 : done[slot];  // S_j = D_{j-K}
+      const sim::Time on_wire = std::max(start + setup, wire_end);  // W_j = max(R_j, E_{j-1})
+      wire_end = on_wire + params_.chunk_wire_time(j * chunk, chunk_bytes);  // E_j
+      last = done[slot] = wire_end + latency;                                // D_j
+    }
+    return last;
+  }
+
+  std::unique_ptr<LinkModel> make_model(sim::Simulator& sim) const override;
+
+  const Params& params() const { return params_; }
+
+ private:
+  Params params_;
+};
+
+/// DmaLink's DES model: the slots and wires of both directions, booked chunk by chunk.
+class DmaModel final : public LinkModel {
+ public:
+  DmaModel(sim::Simulator& sim, const DmaLink& link)
+      : sim_(&sim),
+        created_(sim.now()),
+        params_(link.params()),
+        setup_(ns_to_time(params_.dma.setup_ns)),
+        latency_(ns_to_time(params_.latency_ns)),
+        h2c_(params_.dma.max_outstanding),
+        c2h_(params_.dma.max_outstanding) {
+    // Half duplex: one wire and one DMA engine (its K slots) for both directions.
+    const bool duplex = params_.full_duplex;
+    h2c_.wire = &h2c_.own_wire;
+    c2h_.wire = duplex ? &c2h_.own_wire : &h2c_.own_wire;
+    h2c_.slot_free = &h2c_.own_slots;
+    c2h_.slot_free = duplex ? &c2h_.own_slots : &h2c_.own_slots;
+  }
+  DmaModel(const DmaModel&) = delete;
+  DmaModel& operator=(const DmaModel&) = delete;
+
+  using LinkModel::set_timeline;
+  using LinkModel::transfer;
+
+  sim::Task<void> transfer(std::int64_t bytes, Direction direction, std::string label) override {
+    if (bytes < 0) {
+      throw std::runtime_error(
+          fmt::format("link '{}' transfer: expected bytes >= 0, got {}", params_.name, bytes));
+    }
+    Lane& l = lane(direction);
+    const auto later = std::greater<sim::Time>();
+    const sim::Time begin = sim_->now();
+    sim::Time last_arrival = begin;
+    const std::int64_t chunk_size = params_.dma.chunk_bytes;
+    std::vector<sim::Time>& slots = *l.slot_free;
+    for (std::int64_t offset = 0; offset < bytes; offset += chunk_size) {
+      // Ask for a slot now: the earliest free one (earlier requests took the earlier ones, as a
+      // FIFO queue would hand them out); granted at G = max(now, its free time).
+      std::pop_heap(slots.begin(), slots.end(), later);
+      const sim::Time grant = std::max(sim_->now(), slots.back());
+      // Setup, then the wire in grant order (W = max(G + s, wire free)), then the flight; the
+      // slot is held until the chunk has arrived.
+      const std::int64_t chunk_bytes = std::min(chunk_size, bytes - offset);
+      const sim::Time wire_start = std::max(grant + setup_, l.wire->free_at);
+      const sim::Time on_wire = params_.chunk_wire_time(offset, chunk_bytes);
+      l.wire->free_at = wire_start + on_wire;
+      l.wire->busy.add(on_wire);
+      const sim::Time arrival = l.wire->free_at + latency_;
+      slots.back() = arrival;
+      std::push_heap(slots.begin(), slots.end(), later);
+      l.chunks.add();
+      last_arrival = std::max(last_arrival, arrival);
+      // The next chunk's slot is asked for once this one is granted.
+      if (grant > sim_->now()) co_await sim_->delay_until(grant);
+    }
+    if (last_arrival > sim_->now()) co_await sim_->delay_until(last_arrival);
+    l.bytes.add(static_cast<std::uint64_t>(bytes));
+    l.transfers.add();
+    l.latency_us.add(sim::to_us(sim_->now() - begin));
+    if (timeline_ != nullptr) {
+      timeline_->span(direction == Direction::HostToFpga ? h2c_track_ : c2h_track_,
+                      label.empty() ? fmt::format("{} {} B", to_string(direction), bytes)
+                                    : fmt::format("{} {} B", label, bytes),
+                      begin, sim_->now(), {{"bytes", bytes}});
+    }
+  }
+
+  /// Per direction d: <prefix>.<d>.bytes, .transfers, .chunks (counters), .latency_us
+  /// (per-transfer time, samples) and .wire_busy_ps (counter: time the wire carried its chunks;
+  /// on a half-duplex link the one wire's, as <prefix>.wire_busy_ps).
+  void register_stats(sim::StatsRegistry& registry, const std::string& prefix) const override {
+    const bool duplex = params_.full_duplex;
+    for (const Direction d : {Direction::HostToFpga, Direction::FpgaToHost}) {
+      const Lane& l = lane(d);
+      const std::string base = prefix + "." + to_string(d);
+      registry.add(base + ".bytes", l.bytes);
+      registry.add(base + ".transfers", l.transfers);
+      registry.add(base + ".chunks", l.chunks);
+      registry.add(base + ".latency_us", l.latency_us);
+      if (duplex) registry.add(base + ".wire_busy_ps", l.wire->busy);
+    }
+    if (!duplex) registry.add(prefix + ".wire_busy_ps", h2c_.own_wire.busy);
+  }
+
+  void set_timeline(sim::Timeline& timeline, sim::Timeline::TrackId host_to_fpga,
+                    sim::Timeline::TrackId fpga_to_host) override {
+    timeline_ = &timeline;
+    h2c_track_ = host_to_fpga;
+    c2h_track_ = fpga_to_host;
+  }
+
+  /// The wire's busy time over the time since the model's creation.
+  double wire_utilization(Direction d) const override {
+    const sim::Time elapsed = sim_->now() - created_;
+    return elapsed > 0
+               ? static_cast<double>(lane(d).wire->busy.value()) / static_cast<double>(elapsed)
+               : 0.0;
+  }
+
+ private:
+  /// A wire: when it is next free and how long it has carried chunks.
+  struct Wire {
+    sim::Time free_at = 0;
+    sim::Counter busy;  ///< ps
+  };
+  struct Lane {
+    explicit Lane(int slot_count) : own_slots(static_cast<std::size_t>(slot_count), 0) {}
+    std::vector<sim::Time> own_slots;             ///< min-heap: when each request slot is next free
+    std::vector<sim::Time>* slot_free = nullptr;  ///< own_slots, or the shared ones
+    Wire own_wire;
+    Wire* wire = nullptr;
+    sim::Counter bytes, transfers, chunks;
+    sim::SampleSet latency_us;
+  };
+
+  const Lane& lane(Direction d) const noexcept { return d == Direction::HostToFpga ? h2c_ : c2h_; }
+  Lane& lane(Direction d) noexcept { return d == Direction::HostToFpga ? h2c_ : c2h_; }
+
+  sim::Simulator* sim_;
+  sim::Time created_;
+  DmaLink::Params params_;  ///< a copy: the model may outlive the platform's instance
+  sim::Time setup_;
+  sim::Time latency_;
+  Lane h2c_;
+  Lane c2h_;
+  sim::Timeline* timeline_ = nullptr;
+  sim::Timeline::TrackId h2c_track_{}, c2h_track_{};
+};
+
+std::unique_ptr<LinkModel> DmaLink::make_model(sim::Simulator& sim) const {
+  return std::make_unique<DmaModel>(sim, *this);
+}
+
+}  // namespace
+
+EDX_REGISTER_COMPONENT(Link, DmaLink, "dma",
+                       "a wire of a bandwidth and latency fed by a DMA engine in chunks, K "
+                       "requests in flight (PCIe 3.0 x8, AXI4; paper Sec. VII-A)");
+
+}  // namespace edx::arch
