@@ -2,24 +2,15 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
 #include <map>
-#include <stdexcept>
 
 namespace edx {
 namespace {
 
-std::string line_of(const YAML::Node& node) {
-  const YAML::Mark mark = node.Mark();
-  return mark.is_null() ? std::string() : fmt::format(":{}", mark.line + 1);
-}
-
-}  // namespace
-
 /// A key written twice in one map is an error (yaml-cpp keeps both, and lookups would see only
 /// the first): "file:line: key: written twice (also on line N)".
-static void refuse_duplicate_keys(const YAML::Node& node, const std::string& where,
-                                  const std::string& prefix) {
+void refuse_duplicate_keys(const YAML::Node& node, const std::string& where,
+                           const std::string& prefix) {
   if (node.IsSequence()) {
     for (std::size_t i = 0; i < node.size(); ++i) {
       refuse_duplicate_keys(node[i], where, fmt::format("{}[{}]", prefix, i));
@@ -33,11 +24,18 @@ static void refuse_duplicate_keys(const YAML::Node& node, const std::string& whe
     const std::string path = prefix.empty() ? key : prefix + "." + key;
     const int line = item.first.Mark().line + 1;
     if (const auto [it, inserted] = lines.emplace(key, line); !inserted) {
-      throw std::runtime_error(
-          fmt::format("{}:{}: {}: written twice (also on line {})", where, line, path, it->second));
+      throw InputError({where, line}, path,
+                       fmt::format("written twice (also on line {})", it->second));
     }
     refuse_duplicate_keys(item.second, where, path);
   }
+}
+
+}  // namespace
+
+int yaml_line(const YAML::Node& node) {
+  const YAML::Mark mark = node.Mark();
+  return mark.is_null() ? 0 : mark.line + 1;
 }
 
 YAML::Node load_yaml_map(const std::string& text, const std::string& where,
@@ -46,10 +44,9 @@ YAML::Node load_yaml_map(const std::string& text, const std::string& where,
   try {
     root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    throw std::runtime_error(
-        fmt::format("{}:{}: not valid YAML: {}", where, e.mark.line + 1, e.msg));
+    throw InputError({where, e.mark.line + 1}, "", "not valid YAML: " + e.msg);
   }
-  if (!root.IsMap()) throw std::runtime_error(fmt::format("{}: expected a map of {}", where, what));
+  if (!root.IsMap()) throw InputError({where}, "", "expected a map of " + what);
   refuse_duplicate_keys(root, where, "");
   return root;
 }
@@ -63,25 +60,37 @@ std::string YamlFields::described(const YAML::Node& v) {
 YamlFields::YamlFields(const YAML::Node& node, std::string where, std::string prefix)
     : node_(node), where_(std::move(where)), prefix_(std::move(prefix)) {
   if (node_ && !node_.IsNull() && !node_.IsMap()) {
-    throw std::runtime_error(
-        fmt::format("{}{}: {}: expected a map of keys", where_, line_of(node_), prefix_));
+    throw InputError({where_, yaml_line(node_)}, prefix_, "expected a map of keys");
   }
 }
 
-void YamlFields::fail(const std::string& key, const std::string& message) const {
+std::string YamlFields::full_key(const std::string& key) const {
+  if (prefix_.empty()) return key;
+  return key.empty() ? prefix_ : prefix_ + "." + key;
+}
+
+InputPlace YamlFields::place_of(const std::string& key) const {
   // The innermost map on the dotted key's path that holds the next part gives the line.
   YAML::Node at = node_;
-  std::string line = line_of(node_);
+  int line = node_ ? yaml_line(node_) : 0;
   for (std::size_t start = 0; at && at.IsMap();) {
     const std::size_t dot = key.find('.', start);
     const YAML::Node next = static_cast<const YAML::Node&>(at)[key.substr(start, dot - start)];
     if (!next) break;
-    line = line_of(next);
+    line = yaml_line(next);
     if (dot == std::string::npos) break;
     at = next;
     start = dot + 1;
   }
-  throw std::runtime_error(fmt::format("{}{}: {}.{}: {}", where_, line, prefix_, key, message));
+  return {where_, line};
+}
+
+void YamlFields::fail(const std::string& key, const std::string& message) const {
+  fail(InputError({}, key, message));
+}
+
+void YamlFields::fail(const InputError& error) const {
+  throw error.with_key(full_key(error.key())).at(place_of(error.key()));
 }
 
 void YamlFields::refuse_moved(const std::map<std::string, std::string>& moved) const {
@@ -105,13 +114,19 @@ void YamlFields::finish_except(std::initializer_list<const char*> sections) {
   finish();
 }
 
-void YamlFields::finish() const {
+void YamlFields::refuse_unknown(const std::vector<std::string>& keys, const std::string& accepted) {
+  read_.insert(keys.begin(), keys.end());
+  finish(accepted);
+}
+
+void YamlFields::finish(const std::string& accepted) const {
   if (!node_ || !node_.IsMap()) return;
   for (const auto& item : node_) {
     const std::string key = item.first.as<std::string>();
     if (!read_.contains(key)) {
-      throw std::runtime_error(
-          fmt::format("{}{}: {}.{}: unknown key", where_, line_of(item.first), prefix_, key));
+      throw InputError(
+          {where_, yaml_line(item.first)}, full_key(key),
+          accepted.empty() ? "unknown key" : fmt::format("unknown key ({})", accepted));
     }
   }
 }

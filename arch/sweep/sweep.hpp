@@ -5,8 +5,8 @@
 // platform with one value per parameter; points run in parallel (threads, or MPI ranks:
 // distributed.hpp) through the whole-system model (simulate_system), each stored in the results
 // database as it finishes (one transaction per point, WAL), keyed by its run id (config hash +
-// trace hash), so a killed sweep resumes where it stopped. The Pareto front of the objectives over the points
-// that meet the constraints is printed and stored.
+// trace hash), so a killed sweep resumes where it stopped. The Pareto front of the objectives over
+// the points that meet the constraints is printed and stored.
 //
 //   name: gemm_block                        # default: the spec's file stem
 //   base: ../configs/edx_car.yaml           # relative to the spec
@@ -33,6 +33,7 @@
 
 #include "arch/platform/platform.hpp"
 #include "arch/sweep/workload.hpp"
+#include "common/input_error.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {
@@ -63,6 +64,7 @@ struct SweepSpec {
   /// The `workload:` section (parameter name -> value text), null when the spec names a trace:
   /// the sweep then traces every workload point itself (WorkloadTracer, workload.hpp).
   nlohmann::json workload;
+  std::map<std::string, int> workload_lines;  ///< the line of each key of `workload:`
   /// Platform parameters and `workload.*` parameters, the workload ones first (so the grid's
   /// points of one workload point are consecutive).
   std::vector<SweepParameter> parameters;
@@ -79,7 +81,7 @@ struct SweepSpec {
   std::vector<SweepConstraint> constraints;
   nlohmann::json to_json() const;
 
-  /// Reads a spec; errors are one line "file:line: key: message".
+  /// Reads a spec (sweep_spec.cpp); errors are InputErrors, one line "file:line: key: message".
   static SweepSpec load(const std::filesystem::path& path);
   /// Parses spec text; `where` names it in errors, relative paths resolve against `dir`.
   static SweepSpec parse(const std::string& text, const std::string& where,
@@ -126,6 +128,10 @@ class SweepPoints {
   std::size_t size_ = 0;
   std::vector<std::vector<std::size_t>> drawn_;  ///< random sampling: the draws
 };
+
+/// Where the spec wrote value `v` of parameter `p`: its line, or for a generated value (a range's)
+/// the parameter's line and "parameters.<key> = <value>".
+InputPlace parameter_value_place(const SweepSpec& spec, std::size_t p, std::size_t v);
 
 /// The base platform with the point's values; errors name the spec (for a swept key) or the
 /// platform file that wrote the offending key. The second form starts from a loaded base.
