@@ -337,8 +337,11 @@ void validate_at(const YamlFields& fields, const std::function<void()>& validate
 }
 
 void require_field(bool ok, const std::string& section, const std::string& key,
-                   const std::string& expected) {
-  if (!ok) throw InputError::expected(section.empty() ? key : section + "." + key, expected);
+                   const std::string& expected, std::optional<std::string> got) {
+  if (!ok) {
+    throw InputError::expected(section.empty() ? key : section + "." + key, expected,
+                               std::move(got));
+  }
 }
 
 std::string render_reference(const std::vector<ReferenceRow>& rows) {

@@ -299,15 +299,21 @@ nlohmann::json field_value_json(const FieldValue& value, const FieldSpec& spec);
 std::string field_value_text(const FieldValue& value);
 
 /// Reads every field of `list` present in the map of `fields` into `config`; a required field
-/// that is absent is an error.
+/// that is absent is an error, and so is a value a field's setter refuses (an InputError it
+/// throws, such as a malformed "WxH").
 template <class Config>
 void parse_fields(YamlFields& fields, Config& config, const FieldList<Config>& list) {
   for (const Field<Config>& f : list) {
     const YAML::Node node = fields.take(f.key);
-    if (node) {
-      f.set(config, read_field_value(fields, f, node));
-    } else if (!f.missing.empty()) {
-      fields.fail(f.key, f.missing);
+    if (!node) {
+      if (!f.missing.empty()) fields.fail(f.key, f.missing);
+      continue;
+    }
+    const FieldValue value = read_field_value(fields, f, node);
+    try {
+      f.set(config, value);
+    } catch (const InputError& e) {
+      fields.fail(e.with_key(f.key));
     }
   }
 }
@@ -377,10 +383,10 @@ std::vector<ReferenceRow> reference_rows(const std::string& section, const Field
 /// `backend.units.gemm`).
 void validate_at(const YamlFields& fields, const std::function<void()>& validate);
 
-/// Throws InputError "section.key: expected <expected>" unless `ok` (rules between fields in
-/// validate()).
+/// Throws InputError "section.key: expected <expected>[, got '<got>']" unless `ok` (rules
+/// between fields in validate()).
 void require_field(bool ok, const std::string& section, const std::string& key,
-                   const std::string& expected);
+                   const std::string& expected, std::optional<std::string> got = std::nullopt);
 
 /// A `section:` map of a platform file read into a Config: its defaults, then every key present
 /// (checked at its line), unknown keys refused, then Config::validate() (the rules between

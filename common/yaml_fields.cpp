@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <cstdint>
 #include <map>
 
 namespace edx {
@@ -38,6 +40,27 @@ int yaml_line(const YAML::Node& node) {
   return mark.is_null() ? 0 : mark.line + 1;
 }
 
+YAML::Node yaml_of_json(const nlohmann::json& value) {
+  if (value.is_object()) {
+    YAML::Node map(YAML::NodeType::Map);
+    for (const auto& [key, item] : value.items()) map[key] = yaml_of_json(item);
+    return map;
+  }
+  if (value.is_array()) {
+    YAML::Node list(YAML::NodeType::Sequence);
+    for (const nlohmann::json& item : value) list.push_back(yaml_of_json(item));
+    return list;
+  }
+  if (value.is_null()) return YAML::Node(YAML::NodeType::Null);
+  if (value.is_string()) return YAML::Node(value.get<std::string>());
+  // A whole number written as 15.0 is 15 (an integer key reads it).
+  if (const double v = value.is_number_float() ? value.get<double>() : 0.5;
+      std::abs(v) < 9e15 && v == std::round(v)) {
+    return YAML::Node(fmt::format("{}", static_cast<std::int64_t>(v)));
+  }
+  return YAML::Node(value.dump());
+}
+
 YAML::Node load_yaml_map(const std::string& text, const std::string& where,
                          const std::string& what) {
   YAML::Node root;
@@ -70,16 +93,19 @@ std::string YamlFields::full_key(const std::string& key) const {
 }
 
 InputPlace YamlFields::place_of(const std::string& key) const {
-  // The innermost map on the dotted key's path that holds the next part gives the line.
-  YAML::Node at = node_;
+  // The innermost map on the dotted key's path that holds the next part gives the line. The
+  // walk keeps its own handles: assigning to a YAML::Node would rebind the node it refers to,
+  // changing the document.
   int line = node_ ? yaml_line(node_) : 0;
-  for (std::size_t start = 0; at && at.IsMap();) {
+  std::vector<YAML::Node> path{node_};
+  for (std::size_t start = 0; path.back() && path.back().IsMap();) {
     const std::size_t dot = key.find('.', start);
-    const YAML::Node next = static_cast<const YAML::Node&>(at)[key.substr(start, dot - start)];
+    const YAML::Node next =
+        static_cast<const YAML::Node&>(path.back())[key.substr(start, dot - start)];
     if (!next) break;
     line = yaml_line(next);
     if (dot == std::string::npos) break;
-    at = next;
+    path.push_back(next);
     start = dot + 1;
   }
   return {where_, line};

@@ -7,6 +7,7 @@
 
 #include <initializer_list>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <vector>
@@ -23,6 +24,10 @@ YAML::Node load_yaml_map(const std::string& text, const std::string& where,
 
 /// The 1-based line `node` was written on, 0 when it was made in code.
 int yaml_line(const YAML::Node& node);
+
+/// `value` as YAML (numbers as their JSON text, null as a null node), so that a map of values
+/// built in code (a sweep's workload point) is read as a file's map is.
+YAML::Node yaml_of_json(const nlohmann::json& value);
 
 class YamlFields {
  public:

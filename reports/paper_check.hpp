@@ -24,7 +24,8 @@ struct PaperTarget {
 
 /// Reads and validates a targets file: a map with `targets` (a sequence of maps with name,
 /// metric, paper and optional unit, tolerance, source, explained) and an optional default
-/// `tolerance`. Errors: std::runtime_error "file:line: key: what was expected".
+/// `tolerance`, each map read from its field list (paper_check.cpp). Errors: InputError
+/// "file:line: key: what was expected".
 std::vector<PaperTarget> load_targets(const std::filesystem::path& path);
 
 /// The default targets file: reports/paper_targets.yaml of edx's data folder (installed, else
