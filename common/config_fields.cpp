@@ -291,8 +291,13 @@ ReferenceRow reference_row(const std::string& section, const FieldSpec& spec,
   row.key = section.empty() ? spec.key : section + "." + spec.key;
   row.type = kind_name(spec.kind);
   row.unit = spec.unit;
-  row.value = std::holds_alternative<std::monostate>(value) && spec.unset ? spec.unset->text
-                                                                          : field_value_text(value);
+  if (!spec.missing.empty()) {
+    row.value = "(required)";
+  } else if (std::holds_alternative<std::monostate>(value) && spec.unset) {
+    row.value = spec.unset->text;
+  } else {
+    row.value = field_value_text(value);
+  }
   if (!spec.expected.empty()) {
     row.accepted = spec.expected;
   } else if (!spec.choices.empty()) {
@@ -300,8 +305,8 @@ ReferenceRow reference_row(const std::string& section, const FieldSpec& spec,
   } else if (spec.kind != FieldKind::kFlag) {
     row.accepted = range_text(spec.bounds, spec.kind == FieldKind::kInteger);
   }
-  if (spec.unset && spec.expected.empty()) {
-    row.accepted += (row.accepted.empty() ? "" : " or ") + spec.unset->text;
+  if (spec.unset && spec.expected.empty() && !row.accepted.empty()) {
+    row.accepted += " or " + spec.unset->text;
   }
   row.doc = spec.doc;
   return row;

@@ -349,7 +349,7 @@ struct ReferenceRow {
   std::string group;
   std::string type;  ///< number, integer, true/false, text, list of numbers, list of texts
   std::string unit;
-  std::string value;     ///< the default
+  std::string value;     ///< the default ("(required)" for a required key)
   std::string accepted;  ///< "> 0", "[1, 256]", "on_chip_double, dram"
   std::string doc;
 };

@@ -113,6 +113,17 @@ std::vector<PaperTarget> load_targets(const std::filesystem::path& path) {
   return targets;
 }
 
+std::vector<ReferenceRow> paper_targets_reference() {
+  const std::string file = "Paper targets (`reports/paper_targets.yaml`)";
+  std::vector<ReferenceRow> rows =
+      reference_rows("", FieldList<PaperTarget>{tolerance_field()}, {}, file + ": top level");
+  for (ReferenceRow& row :
+       reference_rows("targets[]", target_fields(), {}, file + ": `targets: [{...}]`")) {
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
 std::size_t CheckResult::passed() const {
   std::size_t n = 0;
   for (const CheckRow& r : rows) n += r.verdict == Verdict::kPass ? 1 : 0;

@@ -467,8 +467,7 @@ const FieldList<RowCost>& row_cost_fields() {
   static const FieldList<C> list = {
       field("features", &C::features, "", "the kind's regressors, as this edx names them")
           .required(),
-      field("costs", &C::costs, "ns per unit per suite-ms", "one per feature",
-            Bounds::at_least(0))
+      field("costs", &C::costs, "ns per unit per suite-ms", "one per feature", Bounds::at_least(0))
           .required(),
       field("samples", &C::samples, "", "rows fitted", Bounds::at_least(0)),
       field("r2", &C::r2, "", "R² on the fitted rows"),
@@ -491,8 +490,8 @@ void read_costs(YamlFields& top, const std::string& key, CostPart task_part, Cos
     fields.finish();
     std::vector<std::string> expected;
     try {
-      expected = feature_names(kind.find("_rest") != std::string::npos ? rest_part : task_part,
-                               kind);
+      expected =
+          feature_names(kind.find("_rest") != std::string::npos ? rest_part : task_part, kind);
     } catch (const std::invalid_argument&) {
       fields.fail("", "not a frontend task (FD|IF|FC|MO|DR|DC|LSS) or frontend_rest");
     }
@@ -516,6 +515,16 @@ HostCostModel HostCostModel::from_yaml(const YAML::Node& root, const std::string
   read_costs(top, "backend", CostPart::kBackendKernel, CostPart::kBackendRest, model.backend);
   top.finish();
   return model;
+}
+
+std::vector<ReferenceRow> HostCostModel::reference() {
+  const std::string file = "Host cost table (`configs/host/host_costs.yaml`, `edx host-costs fit`)";
+  std::vector<ReferenceRow> rows = reference_rows("", table_fields(), {}, file + ": top level");
+  for (ReferenceRow& row : reference_rows("frontend.<kind>", row_cost_fields(), {},
+                                          file + ": `frontend:` and `backend:` kinds")) {
+    rows.push_back(std::move(row));
+  }
+  return rows;
 }
 
 HostCostModel HostCostModel::load(const std::string& path) {

@@ -100,6 +100,10 @@ struct SweepPoint {
   std::size_t workload_index(const SweepSpec& spec) const;
 };
 
+/// The keys of a spec's maps (sweep_spec.cpp's field lists), for the reference
+/// (docs/CONFIG.md, "Other input files").
+std::vector<ReferenceRow> sweep_spec_reference();
+
 /// Most design points a sweep may have (grid size, or random samples, or search evaluations).
 inline constexpr double kMaxSweepPoints = 1e6;
 /// Most workload points (traces) a sweep may have.

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "arch/sweep/sweep.hpp"
@@ -123,16 +124,22 @@ const FieldList<SweepSpec>& nsga2_sampling_fields() {
   return list;
 }
 
-/// `constraints: [{metric, min, max}]`.
-const FieldList<SweepConstraint>& constraint_fields() {
-  using C = SweepConstraint;
-  static const FieldList<C> list = {
-      field("metric", &C::metric, "", "a metric of the run (docs/SWEEPS.md)"),
-      field("min", &C::min, "", "the least value a feasible point has"),
-      field("max", &C::max, "", "the largest value a feasible point has"),
-  };
-  return list;
-}
+/// `constraints: [{metric, min, max}]`, one item.
+struct ConstraintEntry {
+  std::string metric;
+  std::optional<double> min, max;
+  static const FieldList<ConstraintEntry>& fields() {
+    using C = ConstraintEntry;
+    static const FieldList<C> list = {
+        field("metric", &C::metric, "", "a metric of the run (docs/SWEEPS.md)").required(),
+        optional_field("min", &C::min, "", "the least value a feasible point has", {},
+                       Unset{"none", nullptr}),
+        optional_field("max", &C::max, "", "the largest value a feasible point has", {},
+                       Unset{"none", nullptr}),
+    };
+    return list;
+  }
+};
 
 /// Text of a generated value: integers without a decimal point (they must parse as int keys),
 /// others to 4 significant digits (the text is the value the platform gets).
@@ -349,12 +356,15 @@ void read_constraints(YamlFields& top, SweepSpec& s) {
     if (!c.IsMap() || !c["metric"] || !(c["min"] || c["max"])) {
       fail(s.file, c, key, "expected {metric: METRIC, max: X} and/or min: X");
     }
-    SweepConstraint constraint;
-    read_map(s.file, key, c, "{metric, min, max}", constraint_fields(), constraint);
-    if (!is_sweep_metric(constraint.metric)) {
-      YamlFields(c, s.file, key)
-          .fail("metric", fmt::format("unknown metric '{}'", constraint.metric));
+    ConstraintEntry entry;
+    read_map(s.file, key, c, "{metric, min, max}", ConstraintEntry::fields(), entry);
+    if (!is_sweep_metric(entry.metric)) {
+      YamlFields(c, s.file, key).fail("metric", fmt::format("unknown metric '{}'", entry.metric));
     }
+    SweepConstraint constraint;
+    constraint.metric = entry.metric;
+    constraint.min = entry.min.value_or(constraint.min);
+    constraint.max = entry.max.value_or(constraint.max);
     s.constraints.push_back(constraint);
   }
 }
@@ -408,6 +418,25 @@ SweepSpec SweepSpec::parse(const std::string& text, const std::string& where,
   check_grid_size(top, s);
   check_values_on_base(s);
   return s;
+}
+
+std::vector<ReferenceRow> sweep_spec_reference() {
+  std::vector<ReferenceRow> rows;
+  const auto add = [&rows](std::vector<ReferenceRow> more) {
+    rows.insert(rows.end(), more.begin(), more.end());
+  };
+  add(reference_rows("", SpecHeader::fields(), {}, "Sweep spec (`sweeps/*.yaml`): top level"));
+  add(reference_rows("parameters.<key>.range", LinearRange::fields(), {},
+                     "Sweep spec: `parameters.<key>: {range: {...}}` (or `{values: [...]}`)"));
+  add(reference_rows("parameters.<key>.log_range", LogRange::fields(), {},
+                     "Sweep spec: `parameters.<key>: {log_range: {...}}`"));
+  add(reference_rows("sampling.random", random_sampling_fields(), {},
+                     "Sweep spec: `sampling: {random: {...}}` (default: `grid`)"));
+  add(reference_rows("sampling.nsga2", nsga2_sampling_fields(), {},
+                     "Sweep spec: `sampling: {nsga2: {...}}`"));
+  add(reference_rows("constraints[]", ConstraintEntry::fields(), {},
+                     "Sweep spec: `constraints: [{...}]` (min, max or both)"));
+  return rows;
 }
 
 SweepSpec SweepSpec::load(const std::filesystem::path& path) {

@@ -42,7 +42,8 @@ TEST(FrontendOptions, BadValuesAreNamedWithTheExpectedRange) {
             "frontend.lk_max_iterations: expected an integer in [1, 100], got '101'");
   o = {};
   o.edge_margin_px = 10;
-  EXPECT_THAT(validation_error(o), HasSubstr("edge_margin_px: expected an integer >= 19, got '10'"));
+  EXPECT_THAT(validation_error(o),
+              HasSubstr("edge_margin_px: expected an integer >= 19, got '10'"));
 }
 
 TEST(FrontendOptions, JsonHasEveryField) {

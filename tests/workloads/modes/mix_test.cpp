@@ -92,8 +92,7 @@ TEST(SweepWorkload, BadValuesNameTheParameter) {
     return std::string("no error");
   };
   EXPECT_EQ(error({{"features", "0"}}), "features: expected an integer in [1, 100000], got '0'");
-  EXPECT_EQ(error({{"frames", "12.5"}}),
-            "frames: expected an integer in [8, 1000000], got '12.5'");
+  EXPECT_EQ(error({{"frames", "12.5"}}), "frames: expected an integer in [8, 1000000], got '12.5'");
   EXPECT_EQ(error({{"slam_window", 1}}), "slam_window: expected an integer in [2, 1000], got '1'");
   EXPECT_EQ(error({{"mix", "city"}}),
             "mix: expected paper, outdoor, indoor_unknown or indoor_known, got 'city'");

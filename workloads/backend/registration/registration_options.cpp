@@ -37,8 +37,8 @@ const FieldList<RegistrationOptions>& RegistrationOptions::fields() {
       field("projection_max_hamming", &C::projection_max_hamming, "bits",
             "accepted descriptor distance in the projection search",
             Bounds::at_least(0).at_most(256)),
-      field("projection_ratio", &C::projection_ratio, "", "best < ratio * second best in the window",
-            Bounds::above(0).at_most(1)),
+      field("projection_ratio", &C::projection_ratio, "",
+            "best < ratio * second best in the window", Bounds::above(0).at_most(1)),
       field("min_depth_m", &C::min_depth_m, "m", "nearer map points are not searched",
             Bounds::above(0)),
       field("max_depth_m", &C::max_depth_m, "m", "nor farther ones (> min_depth_m)"),
@@ -62,8 +62,8 @@ const FieldList<RegistrationOptions>& RegistrationOptions::fields() {
 
 void RegistrationOptions::validate() const {
   check_fields(*this, "registration", fields());
-  require_field(max_depth_m > min_depth_m, "registration", "max_depth_m",
-                "a number > min_depth_m", field_value_text(max_depth_m));
+  require_field(max_depth_m > min_depth_m, "registration", "max_depth_m", "a number > min_depth_m",
+                field_value_text(max_depth_m));
 }
 
 nlohmann::json RegistrationOptions::to_json() const { return fields_to_json(*this, fields()); }

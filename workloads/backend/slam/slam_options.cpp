@@ -47,8 +47,8 @@ const FieldList<SlamOptions>& SlamOptions::fields() {
             "a smaller relative decrease of the cost stops the iterations", Bounds::at_least(0)),
       field("tracking_iterations", &C::tracking_iterations, "",
             "iterations of the motion-only pose per frame", Bounds::at_least(1)),
-      field("tracking_min_matches", &C::tracking_min_matches, "",
-            "matches a tracked pose needs", Bounds::at_least(4)),
+      field("tracking_min_matches", &C::tracking_min_matches, "", "matches a tracked pose needs",
+            Bounds::at_least(4)),
   };
   return list;
 }
