@@ -125,6 +125,17 @@ std::optional<FieldValue> refused_element(const FieldSpec& spec, const FieldValu
   return value;
 }
 
+/// A key declared on the spot (link.preset, a section's `units`).
+FieldSpec spec_of(const std::string& key, FieldKind kind, const Bounds& bounds,
+                  const std::vector<std::string>& choices) {
+  FieldSpec spec;
+  spec.key = key;
+  spec.kind = kind;
+  spec.bounds = bounds;
+  spec.choices = choices;
+  return spec;
+}
+
 /// One scalar of `kind` (a list's element kind for lists) decoded from YAML.
 std::optional<FieldValue> decode_scalar(const YAML::Node& node, FieldKind kind) {
   if (!node.IsScalar()) return std::nullopt;
@@ -236,12 +247,7 @@ FieldValue read_field_value(const YamlFields& fields, const FieldSpec& spec,
 FieldValue read_field_value(const YamlFields& fields, const std::string& key,
                             const YAML::Node& node, FieldKind kind, const Bounds& bounds,
                             const std::vector<std::string>& choices) {
-  FieldSpec spec;
-  spec.key = key;
-  spec.kind = kind;
-  spec.bounds = bounds;
-  spec.choices = choices;
-  return read_field_value(fields, spec, node);
+  return read_field_value(fields, spec_of(key, kind, bounds, choices), node);
 }
 
 std::optional<InputError> field_value_problem(const FieldValue& value, const FieldSpec& spec) {
@@ -251,13 +257,10 @@ std::optional<InputError> field_value_problem(const FieldValue& value, const Fie
 }
 
 nlohmann::json field_value_json(const FieldValue& value, const FieldSpec& spec) {
-  if (std::holds_alternative<std::monostate>(value)) {
-    return spec.unset ? spec.unset->json : nlohmann::json();
-  }
   return std::visit(
-      [](const auto& v) -> nlohmann::json {
+      [&spec](const auto& v) -> nlohmann::json {
         if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) {
-          return nullptr;
+          return spec.unset ? spec.unset->json : nlohmann::json();  // an unset optional
         } else {
           return v;
         }
@@ -315,12 +318,8 @@ ReferenceRow reference_row(const std::string& section, const FieldSpec& spec,
 ReferenceRow reference_row(const std::string& section, const std::string& key, FieldKind kind,
                            const std::string& unit, const FieldValue& value, const Bounds& bounds,
                            const std::vector<std::string>& choices, const std::string& doc) {
-  FieldSpec spec;
-  spec.key = key;
-  spec.kind = kind;
+  FieldSpec spec = spec_of(key, kind, bounds, choices);
   spec.unit = unit;
-  spec.bounds = bounds;
-  spec.choices = choices;
   spec.doc = doc;
   return reference_row(section, spec, value);
 }

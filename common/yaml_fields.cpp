@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <map>
+#include <sstream>
 
 namespace edx {
 namespace {
@@ -38,6 +40,14 @@ void refuse_duplicate_keys(const YAML::Node& node, const std::string& where,
 int yaml_line(const YAML::Node& node) {
   const YAML::Mark mark = node.Mark();
   return mark.is_null() ? 0 : mark.line + 1;
+}
+
+std::string read_input_file(const std::filesystem::path& path, const std::string& what) {
+  std::ifstream in(path);
+  if (!in) throw InputError({path.string()}, "", "cannot read the " + what);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 YAML::Node yaml_of_json(const nlohmann::json& value) {

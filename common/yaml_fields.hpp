@@ -5,6 +5,7 @@
 // taken).
 #include <yaml-cpp/yaml.h>
 
+#include <filesystem>
 #include <initializer_list>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -15,6 +16,10 @@
 #include "common/input_error.hpp"
 
 namespace edx {
+
+/// The text of the input file `path`; InputError "path: cannot read the <what>" when it cannot
+/// be read.
+std::string read_input_file(const std::filesystem::path& path, const std::string& what);
 
 /// Parses `text` (read from `where`) and checks that its top level is a map. Errors:
 /// "where:line: not valid YAML: ...", "where: expected a map of <what>" and "where:line: key:

@@ -5,9 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include "common/config_fields.hpp"
 #include "common/resources.hpp"
@@ -52,14 +50,6 @@ void check_target(const PaperTarget& t) {
                 "", "explained", "an anchor of docs/MODEL.md (a-z, 0-9, '-')");
 }
 
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError({path.string()}, "", "cannot read the targets file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 const char* verdict_name(Verdict v) {
   switch (v) {
     case Verdict::kPass:
@@ -80,7 +70,8 @@ std::filesystem::path default_targets_path() {
 
 std::vector<PaperTarget> load_targets(const std::filesystem::path& path) {
   const std::string where = path.string();
-  const YAML::Node root = load_yaml_map(read_text(path), where, "'targets' and a 'tolerance'");
+  const YAML::Node root =
+      load_yaml_map(read_input_file(path, "targets file"), where, "'targets' and a 'tolerance'");
   YamlFields top(root, where, "");
   top.refuse_unknown({"targets", "tolerance"}, "expected 'targets' or 'tolerance'");
   PaperTarget defaults;  // every target's tolerance, unless it has its own

@@ -6,9 +6,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <mutex>
-#include <sstream>
 #include <stdexcept>
 
 #include "arch/host/host_model.hpp"
@@ -528,11 +526,8 @@ std::vector<ReferenceRow> HostCostModel::reference() {
 }
 
 HostCostModel HostCostModel::load(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError({path}, "", "cannot read the host cost table");
-  std::stringstream text;
-  text << in.rdbuf();
-  return from_yaml(load_yaml_map(text.str(), path, "host costs"), path);
+  return from_yaml(load_yaml_map(read_input_file(path, "host cost table"), path, "host costs"),
+                   path);
 }
 
 const HostCostModel& HostCostModel::bundled() {

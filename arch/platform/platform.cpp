@@ -5,8 +5,6 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 #include "arch/memory/bram.hpp"
@@ -121,14 +119,6 @@ YAML::Node load_yaml(const std::string& text, const std::string& where) {
   return load_yaml_map(text, where, "sections");
 }
 
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError({path.string()}, "", "cannot read the platform file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 /// Records `file` as the origin of every key under `node` (dotted from `prefix`).
 void note_origins(const YAML::Node& node, const std::string& prefix, const std::string& file,
                   std::map<std::string, InputPlace>& origins) {
@@ -158,7 +148,7 @@ void merge_into(YAML::Node parent, const YAML::Node& child) {
 }
 
 PlatformSource load_chain(const std::filesystem::path& path, std::vector<std::string>& chain) {
-  YAML::Node root = load_yaml(read_text(path), path.string());
+  YAML::Node root = load_yaml(read_input_file(path, "platform file"), path.string());
   PlatformSource source;
   source.file = path.string();
   const YAML::Node extends = root["extends"];
@@ -202,10 +192,8 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   top.finish_except(
       {"host", "frontend", "backend", "link", "transfers", "cost", "power", "scheduler", "system"});
   if (p.name.empty()) top.fail("name", "required: the platform's name");
-  try {
-    Device::by_name(p.device);
-  } catch (const std::runtime_error& e) {
-    top.fail("device", e.what());
+  if (!Device::find(p.device)) {
+    top.fail(InputError::expected("device", Device::known_names(), p.device));
   }
   p.host = HostConfig::from_yaml(root["host"], where);
   p.frontend = FrontendConfig::from_yaml(root["frontend"], where);

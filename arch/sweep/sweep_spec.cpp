@@ -6,9 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <fstream>
 #include <optional>
-#include <sstream>
 
 #include "arch/sweep/sweep.hpp"
 #include "common/config_fields.hpp"
@@ -440,11 +438,7 @@ std::vector<ReferenceRow> sweep_spec_reference() {
 }
 
 SweepSpec SweepSpec::load(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError({path.string()}, "", "cannot read the sweep spec");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse(text.str(), path.string(), path.parent_path());
+  return parse(read_input_file(path, "sweep spec"), path.string(), path.parent_path());
 }
 
 }  // namespace edx::arch

@@ -344,6 +344,11 @@ std::vector<BadInputCase> cases() {
        "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}'", 1,
        "edx: error: {dir}/p.yaml:3: backend.units.gemm.block: expected an integer in [1, 256], got "
        "'nothing (~ or an empty value)'"},
+      {"c7_unknown_device",
+       [](const fs::path& d) { write(d, "p.yaml", "name: p\ndevice: virtex\n"); },
+       "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}' --out '{dir}/r.db'", 1,
+       "edx: error: {dir}/p.yaml:2: platform.device: expected xc7v690t, zu9eg or zu9cg, got "
+       "'virtex'"},
       {"c7_missing_platform_file", none,
        "'{edx}' simulate --config '{dir}/none.yaml' --trace '{golden}'", 1,
        "edx: error: {dir}/none.yaml: cannot read the platform file"},
