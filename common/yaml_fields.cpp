@@ -3,23 +3,18 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdint>
+#include <fstream>
 #include <map>
-#include <stdexcept>
+#include <sstream>
 
 namespace edx {
 namespace {
 
-std::string line_of(const YAML::Node& node) {
-  const YAML::Mark mark = node.Mark();
-  return mark.is_null() ? std::string() : fmt::format(":{}", mark.line + 1);
-}
-
-}  // namespace
-
 /// A key written twice in one map is an error (yaml-cpp keeps both, and lookups would see only
 /// the first): "file:line: key: written twice (also on line N)".
-static void refuse_duplicate_keys(const YAML::Node& node, const std::string& where,
-                                  const std::string& prefix) {
+void refuse_duplicate_keys(const YAML::Node& node, const std::string& where,
+                           const std::string& prefix) {
   if (node.IsSequence()) {
     for (std::size_t i = 0; i < node.size(); ++i) {
       refuse_duplicate_keys(node[i], where, fmt::format("{}[{}]", prefix, i));
@@ -33,11 +28,47 @@ static void refuse_duplicate_keys(const YAML::Node& node, const std::string& whe
     const std::string path = prefix.empty() ? key : prefix + "." + key;
     const int line = item.first.Mark().line + 1;
     if (const auto [it, inserted] = lines.emplace(key, line); !inserted) {
-      throw std::runtime_error(
-          fmt::format("{}:{}: {}: written twice (also on line {})", where, line, path, it->second));
+      throw InputError({where, line}, path,
+                       fmt::format("written twice (also on line {})", it->second));
     }
     refuse_duplicate_keys(item.second, where, path);
   }
+}
+
+}  // namespace
+
+int yaml_line(const YAML::Node& node) {
+  const YAML::Mark mark = node.Mark();
+  return mark.is_null() ? 0 : mark.line + 1;
+}
+
+std::string read_input_file(const std::filesystem::path& path, const std::string& what) {
+  std::ifstream in(path);
+  if (!in) throw InputError({path.string()}, "", "cannot read the " + what);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+YAML::Node yaml_of_json(const nlohmann::json& value) {
+  if (value.is_object()) {
+    YAML::Node map(YAML::NodeType::Map);
+    for (const auto& [key, item] : value.items()) map[key] = yaml_of_json(item);
+    return map;
+  }
+  if (value.is_array()) {
+    YAML::Node list(YAML::NodeType::Sequence);
+    for (const nlohmann::json& item : value) list.push_back(yaml_of_json(item));
+    return list;
+  }
+  if (value.is_null()) return YAML::Node(YAML::NodeType::Null);
+  if (value.is_string()) return YAML::Node(value.get<std::string>());
+  // A whole number written as 15.0 is 15 (an integer key reads it).
+  if (const double v = value.is_number_float() ? value.get<double>() : 0.5;
+      std::abs(v) < 9e15 && v == std::round(v)) {
+    return YAML::Node(fmt::format("{}", static_cast<std::int64_t>(v)));
+  }
+  return YAML::Node(value.dump());
 }
 
 YAML::Node load_yaml_map(const std::string& text, const std::string& where,
@@ -46,10 +77,9 @@ YAML::Node load_yaml_map(const std::string& text, const std::string& where,
   try {
     root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    throw std::runtime_error(
-        fmt::format("{}:{}: not valid YAML: {}", where, e.mark.line + 1, e.msg));
+    throw InputError({where, e.mark.line + 1}, "", "not valid YAML: " + e.msg);
   }
-  if (!root.IsMap()) throw std::runtime_error(fmt::format("{}: expected a map of {}", where, what));
+  if (!root.IsMap()) throw InputError({where}, "", "expected a map of " + what);
   refuse_duplicate_keys(root, where, "");
   return root;
 }
@@ -63,25 +93,40 @@ std::string YamlFields::described(const YAML::Node& v) {
 YamlFields::YamlFields(const YAML::Node& node, std::string where, std::string prefix)
     : node_(node), where_(std::move(where)), prefix_(std::move(prefix)) {
   if (node_ && !node_.IsNull() && !node_.IsMap()) {
-    throw std::runtime_error(
-        fmt::format("{}{}: {}: expected a map of keys", where_, line_of(node_), prefix_));
+    throw InputError({where_, yaml_line(node_)}, prefix_, "expected a map of keys");
   }
 }
 
-void YamlFields::fail(const std::string& key, const std::string& message) const {
-  // The innermost map on the dotted key's path that holds the next part gives the line.
-  YAML::Node at = node_;
-  std::string line = line_of(node_);
-  for (std::size_t start = 0; at && at.IsMap();) {
+std::string YamlFields::full_key(const std::string& key) const {
+  if (prefix_.empty()) return key;
+  return key.empty() ? prefix_ : prefix_ + "." + key;
+}
+
+InputPlace YamlFields::place_of(const std::string& key) const {
+  // The innermost map on the dotted key's path that holds the next part gives the line. The
+  // walk keeps its own handles: assigning to a YAML::Node would rebind the node it refers to,
+  // changing the document.
+  int line = node_ ? yaml_line(node_) : 0;
+  std::vector<YAML::Node> path{node_};
+  for (std::size_t start = 0; path.back() && path.back().IsMap();) {
     const std::size_t dot = key.find('.', start);
-    const YAML::Node next = static_cast<const YAML::Node&>(at)[key.substr(start, dot - start)];
+    const YAML::Node next =
+        static_cast<const YAML::Node&>(path.back())[key.substr(start, dot - start)];
     if (!next) break;
-    line = line_of(next);
+    line = yaml_line(next);
     if (dot == std::string::npos) break;
-    at = next;
+    path.push_back(next);
     start = dot + 1;
   }
-  throw std::runtime_error(fmt::format("{}{}: {}.{}: {}", where_, line, prefix_, key, message));
+  return {where_, line};
+}
+
+void YamlFields::fail(const std::string& key, const std::string& message) const {
+  fail(InputError({}, key, message));
+}
+
+void YamlFields::fail(const InputError& error) const {
+  throw error.with_key(full_key(error.key())).at(place_of(error.key()));
 }
 
 void YamlFields::refuse_moved(const std::map<std::string, std::string>& moved) const {
@@ -105,13 +150,19 @@ void YamlFields::finish_except(std::initializer_list<const char*> sections) {
   finish();
 }
 
-void YamlFields::finish() const {
+void YamlFields::refuse_unknown(const std::vector<std::string>& keys, const std::string& accepted) {
+  read_.insert(keys.begin(), keys.end());
+  finish(accepted);
+}
+
+void YamlFields::finish(const std::string& accepted) const {
   if (!node_ || !node_.IsMap()) return;
   for (const auto& item : node_) {
     const std::string key = item.first.as<std::string>();
     if (!read_.contains(key)) {
-      throw std::runtime_error(
-          fmt::format("{}{}: {}.{}: unknown key", where_, line_of(item.first), prefix_, key));
+      throw InputError(
+          {where_, yaml_line(item.first)}, full_key(key),
+          accepted.empty() ? "unknown key" : fmt::format("unknown key ({})", accepted));
     }
   }
 }

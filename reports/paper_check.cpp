@@ -6,42 +6,48 @@
 
 #include <cmath>
 #include <set>
-#include <stdexcept>
 
+#include "common/config_fields.hpp"
 #include "common/resources.hpp"
 #include "reports/metrics.hpp"
 
 namespace edx::reports {
 namespace {
 
-[[noreturn]] void fail(const std::filesystem::path& path, const YAML::Node& node,
-                       const std::string& key, const std::string& expected) {
-  throw std::runtime_error(
-      fmt::format("{}:{}: {}: {}", path.string(), node.Mark().line + 1, key, expected));
+/// The relative tolerance of a target, and the file's default for its targets.
+Field<PaperTarget> tolerance_field() {
+  return field("tolerance", &PaperTarget::tolerance, "",
+               "relative: |simulated - paper| / |paper| <= tolerance passes",
+               Bounds::above(0).below(1))
+      .expects("a relative tolerance in (0, 1)");
 }
 
-double number(const std::filesystem::path& path, const YAML::Node& node, const std::string& key) {
-  if (!node.IsScalar()) fail(path, node, key, "expected a number");
-  try {
-    const double v = node.as<double>();
-    if (!std::isfinite(v)) fail(path, node, key, "expected a finite number");
-    return v;
-  } catch (const YAML::BadConversion&) {
-    fail(path, node, key, fmt::format("expected a number, got '{}'", node.Scalar()));
-  }
+/// The keys of a target (`targets:` items), in the order errors list them.
+const FieldList<PaperTarget>& target_fields() {
+  using C = PaperTarget;
+  static const FieldList<C> list = {
+      field("name", &C::name, "", "the target's name in the check's table").required("missing"),
+      field("metric", &C::metric, "", "dotted path in the run's metric tree (reports/metrics.hpp)")
+          .required("missing (expected a dotted metric path)"),
+      field("paper", &C::paper, "", "the paper's value, in the metric's unit (not 0)")
+          .required("missing (expected the paper's value)"),
+      field("unit", &C::unit, "", "the metric's unit (display only)"),
+      tolerance_field(),
+      field("source", &C::source, "", "where in the paper"),
+      field("explained", &C::explained, "",
+            "the anchor of docs/MODEL.md that explains why the model misses it, when it does"),
+  };
+  return list;
 }
 
-std::string string(const std::filesystem::path& path, const YAML::Node& node,
-                   const std::string& key) {
-  if (!node.IsScalar()) fail(path, node, key, "expected a string");
-  return node.Scalar();
-}
-
-double tolerance(const std::filesystem::path& path, const YAML::Node& node,
-                 const std::string& key) {
-  const double t = number(path, node, key);
-  if (t <= 0 || t >= 1) fail(path, node, key, "expected a relative tolerance in (0, 1)");
-  return t;
+/// The rules of a target beyond its keys' values.
+void check_target(const PaperTarget& t) {
+  if (t.metric.empty()) throw InputError({}, "metric", "missing (expected a dotted metric path)");
+  require_field(t.paper != 0, "", "paper", "a non-zero value (errors are relative)");
+  require_field(t.explained.empty() ||
+                    t.explained.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789-") ==
+                        std::string::npos,
+                "", "explained", "an anchor of docs/MODEL.md (a-z, 0-9, '-')");
 }
 
 const char* verdict_name(Verdict v) {
@@ -63,77 +69,50 @@ std::filesystem::path default_targets_path() {
 }
 
 std::vector<PaperTarget> load_targets(const std::filesystem::path& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path.string());
-  } catch (const YAML::BadFile&) {
-    throw std::runtime_error(fmt::format("{}: cannot read the targets file", path.string()));
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(
-        fmt::format("{}:{}: not valid YAML: {}", path.string(), e.mark.line + 1, e.msg));
-  }
-  if (!root.IsMap()) fail(path, root, "(top)", "expected a map with 'targets'");
-  double default_tolerance = 0.10;
-  for (const auto& kv : root) {
-    const std::string key = kv.first.as<std::string>();
-    if (key == "tolerance") {
-      default_tolerance = tolerance(path, kv.second, key);
-    } else if (key != "targets") {
-      fail(path, kv.first, key, "unknown key (expected 'targets' or 'tolerance')");
-    }
-  }
-  const YAML::Node list = root["targets"];
-  if (!list) fail(path, root, "targets", "missing (expected a list of targets)");
+  const std::string where = path.string();
+  const YAML::Node root =
+      load_yaml_map(read_input_file(path, "targets file"), where, "'targets' and a 'tolerance'");
+  YamlFields top(root, where, "");
+  top.refuse_unknown({"targets", "tolerance"}, "expected 'targets' or 'tolerance'");
+  PaperTarget defaults;  // every target's tolerance, unless it has its own
+  parse_fields(top, defaults, {tolerance_field()});
+  const YAML::Node list = top.take("targets");
+  if (!list) top.fail("targets", "missing (expected a list of targets)");
   if (!list.IsSequence() || list.size() == 0) {
-    fail(path, list, "targets", "expected a non-empty list of targets");
+    top.fail("targets", "expected a non-empty list of targets");
   }
   std::vector<PaperTarget> targets;
   std::set<std::string> names;
   for (const YAML::Node& item : list) {
-    if (!item.IsMap()) fail(path, item, "targets[]", "expected a map (name, metric, paper, ...)");
-    PaperTarget t;
-    t.line = item.Mark().line + 1;
-    t.tolerance = default_tolerance;
-    bool has_name = false, has_metric = false, has_paper = false;
-    for (const auto& kv : item) {
-      const std::string key = kv.first.as<std::string>();
-      if (key == "name") {
-        t.name = string(path, kv.second, key);
-        has_name = true;
-      } else if (key == "metric") {
-        t.metric = string(path, kv.second, key);
-        has_metric = !t.metric.empty();
-      } else if (key == "paper") {
-        t.paper = number(path, kv.second, key);
-        has_paper = true;
-      } else if (key == "tolerance") {
-        t.tolerance = tolerance(path, kv.second, key);
-      } else if (key == "unit") {
-        t.unit = string(path, kv.second, key);
-      } else if (key == "source") {
-        t.source = string(path, kv.second, key);
-      } else if (key == "explained") {
-        t.explained = string(path, kv.second, key);
-        if (t.explained.empty() ||
-            t.explained.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789-") !=
-                std::string::npos) {
-          fail(path, kv.second, key, "expected an anchor of docs/MODEL.md (a-z, 0-9, '-')");
-        }
-      } else {
-        fail(path, kv.first, key,
-             "unknown key (expected name, metric, paper, unit, tolerance, source, explained)");
-      }
+    if (!item.IsMap()) {
+      throw InputError({where, yaml_line(item)}, "targets[]",
+                       "expected a map (name, metric, paper, ...)");
     }
-    if (!has_name) fail(path, item, "name", "missing");
-    if (!has_metric) fail(path, item, "metric", "missing (expected a dotted metric path)");
-    if (!has_paper) fail(path, item, "paper", "missing (expected the paper's value)");
-    if (t.paper == 0) fail(path, item, "paper", "expected a non-zero value (errors are relative)");
+    PaperTarget t;
+    t.tolerance = defaults.tolerance;
+    t.line = yaml_line(item);
+    YamlFields fields(item, where, "");
+    fields.refuse_unknown(field_keys(target_fields()),
+                          fmt::format("expected {}", fmt::join(field_keys(target_fields()), ", ")));
+    parse_fields(fields, t, target_fields());
+    validate_at(fields, [&t] { check_target(t); });
     if (!names.insert(t.name).second) {
-      fail(path, item, "name", fmt::format("duplicate target '{}'", t.name));
+      fields.fail("name", fmt::format("duplicate target '{}'", t.name));
     }
     targets.push_back(std::move(t));
   }
   return targets;
+}
+
+std::vector<ReferenceRow> paper_targets_reference() {
+  const std::string file = "Paper targets (`reports/paper_targets.yaml`)";
+  std::vector<ReferenceRow> rows =
+      reference_rows("", FieldList<PaperTarget>{tolerance_field()}, {}, file + ": top level");
+  for (ReferenceRow& row :
+       reference_rows("targets[]", target_fields(), {}, file + ": `targets: [{...}]`")) {
+    rows.push_back(std::move(row));
+  }
+  return rows;
 }
 
 std::size_t CheckResult::passed() const {

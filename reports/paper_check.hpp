@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "common/config_fields.hpp"
+
 namespace edx::reports {
 
 struct PaperTarget {
@@ -24,8 +26,13 @@ struct PaperTarget {
 
 /// Reads and validates a targets file: a map with `targets` (a sequence of maps with name,
 /// metric, paper and optional unit, tolerance, source, explained) and an optional default
-/// `tolerance`. Errors: std::runtime_error "file:line: key: what was expected".
+/// `tolerance`, each map read from its field list (paper_check.cpp). Errors: InputError
+/// "file:line: key: what was expected".
 std::vector<PaperTarget> load_targets(const std::filesystem::path& path);
+
+/// The keys of a targets file (its top level, a target), for the reference (docs/CONFIG.md,
+/// "Other input files").
+std::vector<ReferenceRow> paper_targets_reference();
 
 /// The default targets file: reports/paper_targets.yaml of edx's data folder (installed, else
 /// the source tree; common/resources.hpp). Throws std::runtime_error when it is missing.

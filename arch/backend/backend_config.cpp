@@ -79,7 +79,7 @@ void BackendConfig::validate() const {
   check_fields(*this, "backend", fields());
   for (const MatrixUnitInstance& u : units) {
     if (u.unit == nullptr) {
-      throw std::runtime_error(fmt::format("backend.units.{}: no unit kind", u.name));
+      throw InputError({}, "backend.units." + u.name, "no unit kind");
     }
     check_fields(u, "backend.units." + u.name, MatrixUnitInstance::fields());
   }
@@ -89,10 +89,10 @@ void BackendConfig::validate() const {
     for (const MatrixUnitInstance& u : units) {
       if (u.count == 0 || !u.unit->serves(op)) continue;
       if (first != nullptr) {
-        throw std::runtime_error(fmt::format(
-            "backend.units.{}: expected one unit per op, but {} serves {} too (count: 0 leaves "
-            "a unit out)",
-            u.name, first->name, trace::to_string(op)));
+        throw InputError({}, "backend.units." + u.name,
+                         fmt::format("expected one unit per op, but {} serves {} too (count: 0 "
+                                     "leaves a unit out)",
+                                     first->name, trace::to_string(op)));
       }
       first = &u;
     }

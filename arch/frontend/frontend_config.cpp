@@ -98,24 +98,22 @@ void FrontendConfig::validate() const {
   check_fields(*this, "frontend", fields());
   // One unit per task, in task order, each of a kind that runs its task.
   if (units.size() != trace::kTasks.size()) {
-    throw std::runtime_error(fmt::format("frontend.units: expected the {} tasks' units, got {}",
-                                         trace::kTasks.size(), units.size()));
+    throw InputError(
+        {}, "frontend.units",
+        fmt::format("expected the {} tasks' units, got {}", trace::kTasks.size(), units.size()));
   }
   for (std::size_t i = 0; i < units.size(); ++i) {
     const FrontendUnitInstance& u = units[i];
     const trace::Task task = trace::kTasks[i];
     if (u.name != trace::to_string(task)) {
-      throw std::runtime_error(
-          fmt::format("frontend.units.{}: expected a task of the graph (FD, "
-                      "IF, FC, MO, DR, DC or LSS)",
-                      u.name));
+      throw InputError({}, "frontend.units." + u.name,
+                       "expected a task of the graph (FD, IF, FC, MO, DR, DC or LSS)");
     }
-    if (u.unit == nullptr) throw std::runtime_error("frontend.units." + u.name + ": no unit kind");
+    if (u.unit == nullptr) throw InputError({}, "frontend.units." + u.name, "no unit kind");
     if (u.unit->task() != task) {
-      throw std::runtime_error(
-          fmt::format("frontend.units.{}.kind: expected a kind that runs {}, "
-                      "got '{}' (it runs {})",
-                      u.name, u.name, u.unit->kind(), trace::to_string(u.unit->task())));
+      throw InputError({}, "frontend.units." + u.name + ".kind",
+                       fmt::format("expected a kind that runs {}, got '{}' (it runs {})", u.name,
+                                   u.unit->kind(), trace::to_string(u.unit->task())));
     }
     check_fields(u, "frontend.units." + u.name, FrontendUnitInstance::fields());
   }

@@ -6,12 +6,11 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <mutex>
-#include <sstream>
 #include <stdexcept>
 
 #include "arch/host/host_model.hpp"
+#include "common/config_fields.hpp"
 #include "common/resources.hpp"
 #include "common/yaml_fields.hpp"
 
@@ -447,73 +446,90 @@ std::string HostCostModel::to_yaml() const {
   return std::string(out.c_str()) + "\n";
 }
 
+namespace {
+
+/// The keys of the table's top level (frontend and backend are maps of kinds, read_costs).
+const FieldList<HostCostModel>& table_fields() {
+  using C = HostCostModel;
+  static const FieldList<C> list = {
+      field("suite", &C::suite, "", "the reference-suite version the costs are relative to",
+            Bounds::at_least(1))
+          .expects("the reference-suite version (an integer >= 1)")
+          .required(),
+      field("provenance", &C::provenance, "", "traces, revision, date and machine of the fit"),
+  };
+  return list;
+}
+
+/// The keys of one kind's costs.
+const FieldList<RowCost>& row_cost_fields() {
+  using C = RowCost;
+  static const FieldList<C> list = {
+      field("features", &C::features, "", "the kind's regressors, as this edx names them")
+          .required(),
+      field("costs", &C::costs, "ns per unit per suite-ms", "one per feature", Bounds::at_least(0))
+          .required(),
+      field("samples", &C::samples, "", "rows fitted", Bounds::at_least(0)),
+      field("r2", &C::r2, "", "R² on the fitted rows"),
+      field("share", &C::measured_share, "", "the kind's share of its part's fitted time"),
+  };
+  return list;
+}
+
+/// `key:` (frontend or backend), a map of kinds to their costs, into `table`; a kind's features
+/// must be the ones this edx computes (task_part for tasks, kernels; rest_part for "*_rest*").
+void read_costs(YamlFields& top, const std::string& key, CostPart task_part, CostPart rest_part,
+                std::map<std::string, RowCost>& table) {
+  const YAML::Node node = top.take(key);
+  if (!node || !node.IsMap()) top.fail(key, "expected a map of kinds");
+  for (const auto& entry : node) {
+    const std::string kind = entry.first.as<std::string>();
+    YamlFields fields(entry.second, top.where(), key + "." + kind);
+    RowCost cost;
+    parse_fields(fields, cost, row_cost_fields());
+    fields.finish();
+    std::vector<std::string> expected;
+    try {
+      expected =
+          feature_names(kind.find("_rest") != std::string::npos ? rest_part : task_part, kind);
+    } catch (const std::invalid_argument&) {
+      fields.fail("", "not a frontend task (FD|IF|FC|MO|DR|DC|LSS) or frontend_rest");
+    }
+    if (cost.features != expected) {
+      fields.fail("", fmt::format("features [{}], but this edx models [{}] (re-fit: edx "
+                                  "host-costs fit)",
+                                  fmt::join(cost.features, ", "), fmt::join(expected, ", ")));
+    }
+    if (cost.costs.size() != cost.features.size()) fields.fail("", "expected one cost per feature");
+    table[kind] = std::move(cost);
+  }
+}
+
+}  // namespace
+
 HostCostModel HostCostModel::from_yaml(const YAML::Node& root, const std::string& where) {
   HostCostModel model;
-  YamlFields top(root, where, "host_costs");
-  const auto fail = [&](const YAML::Node& node, const std::string& key, const std::string& what) {
-    throw std::runtime_error(fmt::format("{}:{}: {}: {}", where, node.Mark().line + 1, key, what));
-  };
-  const YAML::Node suite = top.take("suite");
-  try {
-    model.suite = suite.as<int>();
-  } catch (const YAML::Exception&) {
-    fail(suite, "suite", "expected the reference-suite version (an integer)");
-  }
-  if (model.suite < 1) fail(suite, "suite", "expected a version >= 1");
-  if (const YAML::Node p = top.take("provenance")) model.provenance = p.as<std::string>("");
-  const auto section = [&](const char* key, CostPart task_part, CostPart rest_part,
-                           std::map<std::string, RowCost>& table) {
-    const YAML::Node node = top.take(key);
-    if (!node || !node.IsMap()) fail(node ? node : root, key, "expected a map of kinds");
-    for (const auto& entry : node) {
-      const std::string kind = entry.first.as<std::string>();
-      const std::string dotted = fmt::format("{}.{}", key, kind);
-      YamlFields fields(entry.second, where, dotted);
-      RowCost cost;
-      try {
-        cost.features = fields.take("features").as<std::vector<std::string>>();
-        cost.costs = fields.take("costs").as<std::vector<double>>();
-        cost.samples = fields.take("samples").as<std::size_t>(0);
-        cost.r2 = fields.take("r2").as<double>(0);
-        cost.measured_share = fields.take("share").as<double>(0);
-      } catch (const YAML::Exception&) {
-        fail(entry.second, dotted,
-             "expected {features: [names], costs: [numbers], samples, r2, share}");
-      }
-      fields.finish();
-      const bool rest = kind.find("_rest") != std::string::npos;
-      std::vector<std::string> expected;
-      try {
-        expected = feature_names(rest ? rest_part : task_part, kind);
-      } catch (const std::invalid_argument&) {
-        fail(entry.second, dotted, "not a frontend task (FD|IF|FC|MO|DR|DC|LSS) or frontend_rest");
-      }
-      if (cost.features != expected) {
-        fail(entry.second, dotted,
-             fmt::format("features [{}], but this edx models [{}] (re-fit: edx host-costs fit)",
-                         fmt::join(cost.features, ", "), fmt::join(expected, ", ")));
-      }
-      if (cost.costs.size() != cost.features.size()) {
-        fail(entry.second, dotted, "expected one cost per feature");
-      }
-      for (double c : cost.costs) {
-        if (!std::isfinite(c) || c < 0) fail(entry.second, dotted, "expected costs >= 0");
-      }
-      table[kind] = std::move(cost);
-    }
-  };
-  section("frontend", CostPart::kFrontendTask, CostPart::kFrontendRest, model.frontend);
-  section("backend", CostPart::kBackendKernel, CostPart::kBackendRest, model.backend);
+  YamlFields top(root, where, "");
+  parse_fields(top, model, table_fields());
+  read_costs(top, "frontend", CostPart::kFrontendTask, CostPart::kFrontendRest, model.frontend);
+  read_costs(top, "backend", CostPart::kBackendKernel, CostPart::kBackendRest, model.backend);
   top.finish();
   return model;
 }
 
+std::vector<ReferenceRow> HostCostModel::reference() {
+  const std::string file = "Host cost table (`configs/host/host_costs.yaml`, `edx host-costs fit`)";
+  std::vector<ReferenceRow> rows = reference_rows("", table_fields(), {}, file + ": top level");
+  for (ReferenceRow& row : reference_rows("frontend.<kind>", row_cost_fields(), {},
+                                          file + ": `frontend:` and `backend:` kinds")) {
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
 HostCostModel HostCostModel::load(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot read the host cost table", path));
-  std::stringstream text;
-  text << in.rdbuf();
-  return from_yaml(load_yaml_map(text.str(), path, "host costs"), path);
+  return from_yaml(load_yaml_map(read_input_file(path, "host cost table"), path, "host costs"),
+                   path);
 }
 
 const HostCostModel& HostCostModel::bundled() {

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "common/config_fields.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {
@@ -75,6 +76,8 @@ struct HostCostModel {
   /// from this edx's is an error (re-fit).
   static HostCostModel from_yaml(const YAML::Node& root, const std::string& where);
   static HostCostModel load(const std::string& path);
+  /// The table's keys, for the reference (docs/CONFIG.md, "Other input files").
+  static std::vector<ReferenceRow> reference();
   /// The bundled table, configs/host/host_costs.yaml (common::find_resource), read once.
   static const HostCostModel& bundled();
 };

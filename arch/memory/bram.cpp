@@ -101,7 +101,7 @@ Device Device::zu9eg() {
           "has the same programmable logic"};
 }
 
-Device Device::by_name(const std::string& name) {
+std::optional<Device> Device::find(const std::string& name) {
   std::string lower = name;
   std::transform(lower.begin(), lower.end(), lower.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -111,8 +111,15 @@ Device Device::by_name(const std::string& name) {
     if (lower == "zu9cg") d.name = "ZU9CG";
     return d;
   }
+  return std::nullopt;
+}
+
+const char* Device::known_names() { return "xc7v690t, zu9eg or zu9cg"; }
+
+Device Device::by_name(const std::string& name) {
+  if (std::optional<Device> device = find(name)) return *device;
   throw std::runtime_error(
-      fmt::format("device: unknown device '{}' (expected xc7v690t, zu9eg or zu9cg)", name));
+      fmt::format("device: unknown device '{}' (expected {})", name, known_names()));
 }
 
 nlohmann::json Device::to_json() const {

@@ -21,6 +21,7 @@
 #include <array>
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -108,7 +109,11 @@ struct Device {
   /// Device Feature Summary"): 274,080 CLB LUTs; 548,160 CLB flip-flops; 2,520 DSP48E2; 912
   /// BRAM36 (32.1 Mb).
   static Device zu9eg();
-  /// "xc7v690t" or "zu9eg" / "zu9cg" (case-insensitive); throws std::runtime_error otherwise.
+  /// "xc7v690t" or "zu9eg" / "zu9cg" (case-insensitive); std::nullopt otherwise.
+  static std::optional<Device> find(const std::string& name);
+  /// The names find() knows, for errors: "xc7v690t, zu9eg or zu9cg".
+  static const char* known_names();
+  /// find(), throwing std::runtime_error for an unknown name.
   static Device by_name(const std::string& name);
   nlohmann::json to_json() const;
 };

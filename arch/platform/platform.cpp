@@ -5,8 +5,6 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 #include "arch/memory/bram.hpp"
@@ -147,23 +145,14 @@ YAML::Node load_yaml(const std::string& text, const std::string& where) {
   return load_yaml_map(text, where, "sections");
 }
 
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in)
-    throw std::runtime_error(fmt::format("{}: cannot read the platform file", path.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 /// Records `file` as the origin of every key under `node` (dotted from `prefix`).
 void note_origins(const YAML::Node& node, const std::string& prefix, const std::string& file,
-                  std::map<std::string, std::string>& origins) {
+                  std::map<std::string, InputPlace>& origins) {
   if (!node.IsMap()) return;
   for (const auto& item : node) {
     const std::string key =
         prefix.empty() ? item.first.Scalar() : prefix + "." + item.first.Scalar();
-    origins[key] = file;
+    origins[key] = {file};
     note_origins(item.second, key, file, origins);
   }
 }
@@ -185,24 +174,24 @@ void merge_into(YAML::Node parent, const YAML::Node& child) {
 }
 
 PlatformSource load_chain(const std::filesystem::path& path, std::vector<std::string>& chain) {
-  YAML::Node root = load_yaml(read_text(path), path.string());
+  YAML::Node root = load_yaml(read_input_file(path, "platform file"), path.string());
   PlatformSource source;
   source.file = path.string();
   const YAML::Node extends = root["extends"];
   if (extends) {
-    const std::string line = fmt::format("{}:{}", path.string(), extends.Mark().line + 1);
+    const InputPlace at{path.string(), yaml_line(extends)};
     if (!extends.IsScalar() || extends.Scalar().empty()) {
-      throw std::runtime_error(fmt::format("{}: platform.extends: expected a file name", line));
+      throw InputError(at, "platform.extends", "expected a file name");
     }
     const std::filesystem::path parent = path.parent_path() / extends.Scalar();
     const std::string canonical = std::filesystem::weakly_canonical(parent).string();
     if (std::find(chain.begin(), chain.end(), canonical) != chain.end()) {
-      throw std::runtime_error(fmt::format("{}: platform.extends: '{}' extends itself (cycle: {})",
-                                           line, extends.Scalar(), fmt::join(chain, " -> ")));
+      throw InputError(at, "platform.extends",
+                       fmt::format("'{}' extends itself (cycle: {})", extends.Scalar(),
+                                   fmt::join(chain, " -> ")));
     }
     if (!std::filesystem::is_regular_file(parent)) {
-      throw std::runtime_error(
-          fmt::format("{}: platform.extends: no such file '{}'", line, parent.string()));
+      throw InputError(at, "platform.extends", fmt::format("no such file '{}'", parent.string()));
     }
     chain.push_back(canonical);
     source = load_chain(parent, chain);
@@ -229,10 +218,8 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   top.finish_except({"host", "frontend", "backend", "link", "memory", "transfers", "cost", "power",
                      "scheduler", "system"});
   if (p.name.empty()) top.fail("name", "required: the platform's name");
-  try {
-    Device::by_name(p.device);
-  } catch (const std::runtime_error& e) {
-    top.fail("device", e.what());
+  if (!Device::find(p.device)) {
+    top.fail(InputError::expected("device", Device::known_names(), p.device));
   }
   YamlFields host(root["host"], where, "host");
   p.host = parse_component<HostProcessor>(host, kDefaultHostKind);
@@ -251,9 +238,6 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   return p;
 }
 
-/// Marks a merged tree's errors so that they can be re-attributed to the file of their key.
-constexpr const char* kMerged = "\x01merged\x01";
-
 }  // namespace
 
 PlatformSource PlatformSource::load(const std::filesystem::path& path) {
@@ -261,8 +245,7 @@ PlatformSource PlatformSource::load(const std::filesystem::path& path) {
   return load_chain(path, chain);
 }
 
-void PlatformSource::set(const std::string& key, const YAML::Node& value,
-                         const std::string& origin) {
+void PlatformSource::set(const std::string& key, const YAML::Node& value, InputPlace origin) {
   std::vector<std::string> parts;
   for (std::size_t start = 0;;) {
     const std::size_t dot = key.find('.', start);
@@ -281,46 +264,34 @@ void PlatformSource::set(const std::string& key, const YAML::Node& value,
     path.push_back(next);
   }
   path.back()[parts.back()] = value;
-  origins[key] = origin;
+  origins[key] = std::move(origin);
 }
 
 Platform Platform::parse(const std::string& text, const std::string& where) {
   const YAML::Node root = load_yaml(text, where);
   if (root["extends"]) {
-    throw std::runtime_error(
-        fmt::format("{}:{}: platform.extends: only a platform file can extend "
-                    "another (load it with its path)",
-                    where, root["extends"].Mark().line + 1));
+    throw InputError({where, yaml_line(root["extends"])}, "platform.extends",
+                     "only a platform file can extend another (load it with its path)");
   }
   return parse_root(root, where);
 }
 
 Platform Platform::parse(const PlatformSource& source) {
   try {
-    return parse_root(source.root, kMerged);
-  } catch (const std::runtime_error& e) {
-    // "<kMerged>[:line]: key.path: message": name the file that wrote the longest known prefix
-    // of key.path (a top-level key is reported as "platform.key").
-    std::string message = e.what();
-    const std::string marker = kMerged;
-    const std::size_t at = message.find(marker);
-    if (at == std::string::npos) throw;
-    std::string file = source.file;
-    const std::size_t colon = message.find(": ", at + marker.size());
-    if (colon != std::string::npos) {
-      const std::size_t start = colon + 2;
-      std::string key = message.substr(start, message.find(':', start) - start);
-      if (key.rfind("platform.", 0) == 0) key = key.substr(9);
-      for (; !key.empty(); key = key.substr(0, std::min(key.size(), key.rfind('.')))) {
-        if (const auto it = source.origins.find(key); it != source.origins.end()) {
-          file = it->second;
-          break;
-        }
-        if (key.find('.') == std::string::npos) break;
+    return parse_root(source.root, source.file);
+  } catch (const InputError& e) {
+    // The merged tree's nodes keep their lines; the file is the one that wrote the longest known
+    // prefix of the key (a top-level key is reported as "platform.key").
+    std::string key = e.key().starts_with("platform.") ? e.key().substr(9) : e.key();
+    for (; !key.empty(); key = key.substr(0, key.rfind('.'))) {
+      if (const auto it = source.origins.find(key); it != source.origins.end()) {
+        InputPlace origin = it->second;
+        if (origin.line == 0) origin.line = e.line();
+        throw e.at(origin);
       }
+      if (key.find('.') == std::string::npos) break;
     }
-    message.replace(at, marker.size(), file);
-    throw std::runtime_error(message);
+    throw;
   }
 }
 

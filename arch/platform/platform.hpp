@@ -43,6 +43,7 @@
 #include "arch/memory/on_chip_memory.hpp"
 #include "arch/platform/system_config.hpp"
 #include "arch/scheduler/scheduler.hpp"
+#include "common/input_error.hpp"
 
 namespace edx::arch {
 
@@ -65,16 +66,17 @@ struct SchedulerConfig {
 };
 
 /// A platform's YAML after `extends:` merging, before parsing: the merged tree (every node keeps
-/// the line it was written on) and, per dotted key ("backend.gemm_block", "backend"), the file
-/// it was written in.
+/// the line it was written on) and, per dotted key ("backend.units.gemm.block", "backend"), where it
+/// was written: the file (its line is the node's), or a place of its own for a key set in code
+/// (a sweep's value: the spec's line).
 struct PlatformSource {
   YAML::Node root;
-  std::string file;                            ///< the file loaded (the leaf of the chain)
-  std::map<std::string, std::string> origins;  ///< dotted key -> file that wrote it
+  std::string file;                           ///< the file loaded (the leaf of the chain)
+  std::map<std::string, InputPlace> origins;  ///< dotted key -> where it was written
   /// Reads `path` and its `extends:` chain. Errors: file:line of the offending `extends:`.
   static PlatformSource load(const std::filesystem::path& path);
-  /// Sets the dotted `key` to `value` (creating maps on the way), its origin being `origin`.
-  void set(const std::string& key, const YAML::Node& value, const std::string& origin);
+  /// Sets the dotted `key` to `value` (creating maps on the way), written at `origin`.
+  void set(const std::string& key, const YAML::Node& value, InputPlace origin);
 };
 
 /// The host processor kind of a `host:` section without `kind:`.

@@ -5,8 +5,8 @@
 // platform with one value per parameter; points run in parallel (threads, or MPI ranks:
 // distributed.hpp) through the whole-system model (simulate_system), each stored in the results
 // database as it finishes (one transaction per point, WAL), keyed by its run id (config hash +
-// trace hash), so a killed sweep resumes where it stopped. The Pareto front of the objectives over the points
-// that meet the constraints is printed and stored.
+// trace hash), so a killed sweep resumes where it stopped. The Pareto front of the objectives over
+// the points that meet the constraints is printed and stored.
 //
 //   name: gemm_block                        # default: the spec's file stem
 //   base: ../configs/edx_car.yaml           # relative to the spec
@@ -15,7 +15,7 @@
 //                                           # traces each workload point (docs/SWEEPS.md)
 //   parameters:
 //     workload.features: {values: [500, 1000]}                    # a workload parameter
-//     backend.gemm_block: {values: [1, 2, 4, 8]}
+//     backend.units.gemm.block: {values: [1, 2, 4, 8]}
 //     backend.clock_mhz: {range: {from: 100, to: 250, step: 50}}      # from, from+step, ... <= to
 //     link.bandwidth_gb_per_s: {log_range: {from: 1.2, to: 7.9, points: 5}}  # geometric
 //   sampling: grid                          # or {random: {samples: 20, seed: 1}}
@@ -33,6 +33,7 @@
 
 #include "arch/platform/platform.hpp"
 #include "arch/sweep/workload.hpp"
+#include "common/input_error.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {
@@ -40,7 +41,7 @@ namespace edx::arch {
 /// One swept platform key and its values, as YAML scalars (each keeps its spec line when it was
 /// written there; generated ones print integers without a decimal point).
 struct SweepParameter {
-  std::string key;  ///< dotted platform key, e.g. "backend.gemm_block"
+  std::string key;  ///< dotted platform key, e.g. "backend.units.gemm.block"
   std::vector<YAML::Node> values;
   std::vector<std::string> texts;  ///< the values as text (tables, CSV)
   int line = 0;                    ///< of the key in the spec
@@ -63,6 +64,7 @@ struct SweepSpec {
   /// The `workload:` section (parameter name -> value text), null when the spec names a trace:
   /// the sweep then traces every workload point itself (WorkloadTracer, workload.hpp).
   nlohmann::json workload;
+  std::map<std::string, int> workload_lines;  ///< the line of each key of `workload:`
   /// Platform parameters and `workload.*` parameters, the workload ones first (so the grid's
   /// points of one workload point are consecutive).
   std::vector<SweepParameter> parameters;
@@ -79,7 +81,7 @@ struct SweepSpec {
   std::vector<SweepConstraint> constraints;
   nlohmann::json to_json() const;
 
-  /// Reads a spec; errors are one line "file:line: key: message".
+  /// Reads a spec (sweep_spec.cpp); errors are InputErrors, one line "file:line: key: message".
   static SweepSpec load(const std::filesystem::path& path);
   /// Parses spec text; `where` names it in errors, relative paths resolve against `dir`.
   static SweepSpec parse(const std::string& text, const std::string& where,
@@ -90,13 +92,17 @@ struct SweepSpec {
 struct SweepPoint {
   std::size_t index = 0;  ///< position in the expansion
   std::vector<std::size_t> choice;
-  /// {"backend.gemm_block": "4", ...}
+  /// {"backend.units.gemm.block": "4", ...}
   nlohmann::json parameters(const SweepSpec& spec) const;
   /// The spec's workload with this point's workload.* values (null when the spec has none).
   nlohmann::json workload(const SweepSpec& spec) const;
   /// Which workload point this is: the index of its workload.* values in their own grid.
   std::size_t workload_index(const SweepSpec& spec) const;
 };
+
+/// The keys of a spec's maps (sweep_spec.cpp's field lists), for the reference
+/// (docs/CONFIG.md, "Other input files").
+std::vector<ReferenceRow> sweep_spec_reference();
 
 /// Most design points a sweep may have (grid size, or random samples, or search evaluations).
 inline constexpr double kMaxSweepPoints = 1e6;
@@ -126,6 +132,10 @@ class SweepPoints {
   std::size_t size_ = 0;
   std::vector<std::vector<std::size_t>> drawn_;  ///< random sampling: the draws
 };
+
+/// Where the spec wrote value `v` of parameter `p`: its line, or for a generated value (a range's)
+/// the parameter's line and "parameters.<key> = <value>".
+InputPlace parameter_value_place(const SweepSpec& spec, std::size_t p, std::size_t v);
 
 /// The base platform with the point's values; errors name the spec (for a swept key) or the
 /// platform file that wrote the offending key. The second form starts from a loaded base.

@@ -52,6 +52,23 @@ std::filesystem::path temporary_trace_path(const std::filesystem::path& store,
          fmt::format("{}-{}-{}-{}.db", hash, this_host(), ::getpid(), counter.fetch_add(1));
 }
 
+namespace {
+
+/// A workload's error (key "features") at the spec's line of the value (a workload.* parameter's
+/// value of `point`, or the workload: section's), keyed as the spec writes it.
+InputError workload_error(const SweepSpec& spec, const SweepPoint& point, const InputError& e) {
+  const std::string key = e.key().empty() ? "workload" : "workload." + e.key();
+  for (std::size_t p = 0; p < spec.workload_parameters; ++p) {
+    if (spec.parameters[p].key == key) {
+      return e.with_key(key).at(parameter_value_place(spec, p, point.choice[p]));
+    }
+  }
+  const auto line = spec.workload_lines.find(e.key());
+  return e.with_key(key).at({spec.file, line == spec.workload_lines.end() ? 0 : line->second});
+}
+
+}  // namespace
+
 SweepContext::SweepContext(const SweepSpec& spec_in, const SweepOptions& options_in)
     : spec(spec_in),
       options(options_in),
@@ -82,17 +99,10 @@ SweepContext::SweepContext(const SweepSpec& spec_in, const SweepOptions& options
     Workload workload;
     try {
       workload.resolved = options.tracer.resolve(point.workload(spec));
+    } catch (const InputError& e) {
+      throw workload_error(spec, point, e);
     } catch (const std::exception& e) {
-      // Name the parameter when one of the point's values is the culprit.
-      std::string where = "workload";
-      for (std::size_t p = 0; p < spec.workload_parameters; ++p) {
-        const std::string key = spec.parameters[p].key.substr(std::string("workload.").size());
-        if (std::string(e.what()).starts_with(key + ":")) {
-          where = fmt::format("parameters.{} = {}", spec.parameters[p].key,
-                              spec.parameters[p].texts[point.choice[p]]);
-        }
-      }
-      throw std::runtime_error(fmt::format("{}: {}: {}", spec.file, where, e.what()));
+      throw InputError({spec.file}, "workload", e.what());
     }
     workload.hash = workload_hash(workload.resolved, options.tracer.version);
     workload.trace = store / (workload.hash + ".db");

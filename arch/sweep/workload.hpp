@@ -14,7 +14,8 @@ namespace edx::arch {
 
 struct WorkloadTracer {
   /// The workload's full parameters (defaults filled in, typed): what the hash covers. Throws
-  /// std::runtime_error "key: message" on an unknown key or a malformed value.
+  /// InputError (key: the workload's, "features") on an unknown key or a malformed value, which
+  /// the sweep places at the spec's line of that value.
   std::function<nlohmann::json(const nlohmann::json& workload)> resolve;
   /// Traces a resolved workload into `out` (all or nothing), generating data under `data_dir`
   /// (shared by the workloads of a store; the tracer serializes its own use of it).

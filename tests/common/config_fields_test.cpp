@@ -27,8 +27,7 @@ struct Demo {
   static const FieldList<Demo>& fields() {
     static const FieldList<Demo> list = {
         field("clock_mhz", &Demo::clock_mhz, "MHz", "clock", Bounds::above(0).at_most(1000)),
-        field("stencil", &Demo::stencil, "pixels", "window side",
-              Bounds::at_least(3).odd_only()),
+        field("stencil", &Demo::stencil, "pixels", "window side", Bounds::at_least(3).odd_only()),
         field("bytes", &Demo::bytes, "bytes", "size", Bounds::at_least(1)),
         field("enabled", &Demo::enabled, "", "on or off"),
         field("name", &Demo::name, "", "free text"),
@@ -166,6 +165,162 @@ TEST(ConfigFields, ReferenceRowsAndMarkdown) {
   EXPECT_NE(md.find("| `demo.stencil` | integer | pixels | 7 | >= 3, odd | window side |"),
             std::string::npos)
       << md;
+}
+
+// ---- the structured error ----
+
+TEST(InputError, OneLineOfWhatIsKnown) {
+  EXPECT_STREQ(InputError({"a.yaml", 3}, "x.y", "unknown key").what(),
+               "a.yaml:3: x.y: unknown key");
+  EXPECT_STREQ(InputError({"a.yaml"}, "x", "required").what(), "a.yaml: x: required");
+  EXPECT_STREQ(InputError({"a.yaml"}, "", "cannot read").what(), "a.yaml: cannot read");
+  EXPECT_STREQ(InputError({"s.yaml", 4, "parameters.k = 2"}, "k", "bad").what(),
+               "s.yaml:4 (parameters.k = 2): k: bad");
+  const InputError e = InputError::expected("frames", "an integer >= 8", "3");
+  EXPECT_STREQ(e.what(), "frames: expected an integer >= 8, got '3'");
+  EXPECT_EQ(e.expected(), "an integer >= 8");
+  EXPECT_EQ(e.got(), "3");
+  // Re-placed and re-keyed as data, not by editing the text.
+  const InputError placed = e.with_key("workload.frames").at({"w.yaml", 2});
+  EXPECT_STREQ(placed.what(), "w.yaml:2: workload.frames: expected an integer >= 8, got '3'");
+  EXPECT_EQ(placed.file(), "w.yaml");
+  EXPECT_EQ(placed.line(), 2);
+  EXPECT_EQ(placed.key(), "workload.frames");
+  EXPECT_EQ(placed.expected(), "an integer >= 8");
+  EXPECT_STREQ(InputError::expected("x", "true or false").what(), "x: expected true or false");
+}
+
+// ---- what the field lists gained for the other input files and the options ----
+
+struct Inner {
+  double gain = 2;
+  static const FieldList<Inner>& fields() {
+    static const FieldList<Inner> list = {
+        field("gain", &Inner::gain, "", "a gain", Bounds::above(0)),
+    };
+    return list;
+  }
+};
+
+struct Rich {
+  std::optional<int> frames;
+  std::vector<double> costs = {1, 2};
+  std::vector<std::string> names = {"a"};
+  int population = 8;
+  int samples = 1;
+  std::string base;
+  Inner inner;
+
+  static const FieldList<Rich>& fields() {
+    static const FieldList<Rich> list = joined<Rich>({
+        {
+            optional_field("frames", &Rich::frames, "", "frames", Bounds::at_least(2),
+                           Unset{"default", nullptr}),
+            field("costs", &Rich::costs, "ns", "costs", Bounds::at_least(0)),
+            field("names", &Rich::names, "", "names"),
+            field("population", &Rich::population, "", "designs",
+                  Bounds::at_least(8).at_most(16).multiple_of(4)),
+            field("samples", &Rich::samples, "", "draws", Bounds::at_least(1).at_most(1e6))
+                .expects("an integer from 1 to 10^6"),
+            field("base", &Rich::base, "", "a file").required(),
+        },
+        nested_fields("inner", &Rich::inner, Inner::fields()),
+    });
+    return list;
+  }
+};
+
+Rich parse_rich(const std::string& text) {
+  Rich r;
+  YamlFields f(YAML::Load(text), "rich.yaml", "");
+  f.refuse_unknown(field_keys(Rich::fields()), "expected one of the keys");
+  parse_fields(f, r, Rich::fields());
+  return r;
+}
+
+std::string rich_error(const std::string& text) {
+  try {
+    parse_rich(text);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(ConfigFields, OptionalListsRequiredAndOwnWordings) {
+  Rich r = parse_rich("base: b\nframes: 12\ncosts: [0.5, 3]\nnames: [x, y]\npopulation: 12\n");
+  EXPECT_EQ(r.frames, 12);
+  EXPECT_EQ(r.costs, (std::vector<double>{0.5, 3}));
+  EXPECT_EQ(r.names, (std::vector<std::string>{"x", "y"}));
+  EXPECT_EQ(r.population, 12);
+  for (const char* unset : {"~", "default", "null"}) {
+    EXPECT_FALSE(parse_rich(std::string("base: b\nframes: ") + unset + "\n").frames) << unset;
+  }
+  // A file's top level (prefix ""): keys bare.
+  EXPECT_EQ(rich_error("frames: 12\n"), "rich.yaml:1: base: required");
+  EXPECT_EQ(rich_error("base: b\nframes: 1\n"),
+            "rich.yaml:2: frames: expected an integer >= 2 or default, got '1'");
+  EXPECT_EQ(rich_error("base: b\ncosts: [1, -2]\n"),
+            "rich.yaml:2: costs: expected a list of numbers >= 0, got '-2'");
+  EXPECT_EQ(rich_error("base: b\ncosts: 3\n"),
+            "rich.yaml:2: costs: expected a list of numbers >= 0, got '3'");
+  EXPECT_EQ(rich_error("base: b\npopulation: 10\n"),
+            "rich.yaml:2: population: expected a multiple of 4 in [8, 16], got '10'");
+  EXPECT_EQ(rich_error("base: b\nsamples: 0\n"),
+            "rich.yaml:2: samples: expected an integer from 1 to 10^6, got '0'");
+  EXPECT_EQ(rich_error("base: b\nsampels: 0\n"),
+            "rich.yaml:2: sampels: unknown key (expected one of the keys)");
+}
+
+TEST(ConfigFields, NestedFieldsAreDottedKeysAndNestedJson) {
+  Rich r;
+  r.frames.reset();
+  r.inner.gain = 0;
+  const nlohmann::json j = fields_to_json(r, Rich::fields());
+  EXPECT_EQ(j.at("frames"), nullptr);  // unset: its Unset json
+  EXPECT_EQ(j.at("costs"), nlohmann::json({1.0, 2.0}));
+  EXPECT_EQ(j.at("inner").at("gain"), 0.0);
+  try {
+    check_fields(r, "rich", Rich::fields());
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "rich.inner.gain: expected a number > 0, got '0'");
+    EXPECT_EQ(e.key(), "rich.inner.gain");
+  }
+  const std::vector<ReferenceRow> rows = reference_rows("rich", Rich::fields());
+  EXPECT_EQ(rows.front().value, "default");
+  EXPECT_EQ(rows.front().accepted, ">= 2 or default");
+  EXPECT_EQ(rows[1].type, "list of numbers");
+  EXPECT_EQ(rows[1].value, "[1, 2]");
+  EXPECT_EQ(rows.back().key, "rich.inner.gain");
+}
+
+TEST(ConfigFields, ValuesBuiltInCodeReadAsAFilesMap) {
+  Rich r;
+  YamlFields f(yaml_of_json({{"base", "b"}, {"frames", 40}, {"costs", {1, 2.5}}}), "", "");
+  parse_fields(f, r, Rich::fields());
+  EXPECT_EQ(r.frames, 40);
+  EXPECT_EQ(r.costs, (std::vector<double>{1, 2.5}));
+  YamlFields unset(yaml_of_json({{"base", "b"}, {"frames", nullptr}}), "", "");
+  parse_fields(unset, r, Rich::fields());
+  EXPECT_FALSE(r.frames);
+}
+
+TEST(ConfigFields, ValidateAtPlacesTheRuleOfAKeyBelowTheMap) {
+  YamlFields f(YAML::Load("a: 1\nunits:\n  gemm: {block: 2}\n"), "p.yaml", "backend");
+  try {
+    validate_at(f, [] { throw InputError({}, "backend.units.gemm", "no unit kind"); });
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "p.yaml:3: backend.units.gemm: no unit kind");
+  }
+  // A kind's own section ("systolic_array.block") names the key of this map.
+  try {
+    validate_at(f, [] { require_field(false, "systolic_array", "a", "more", "1"); });
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "p.yaml:1: backend.a: expected more, got '1'");
+  }
 }
 
 }  // namespace

@@ -235,7 +235,7 @@ TEST(PaperCheck, BadYamlNamesFileLineAndKey) {
   EXPECT_EQ(error_of("targets:\n  - {name: a, paper: 1}\n"),
             file + ":2: metric: missing (expected a dotted metric path)");
   EXPECT_EQ(error_of("tolerance: 2\ntargets: []\n"),
-            file + ":1: tolerance: expected a relative tolerance in (0, 1)");
+            file + ":1: tolerance: expected a relative tolerance in (0, 1), got '2'");
   EXPECT_NE(error_of("targets: [\n").find(file + ":"), std::string::npos);
   EXPECT_EQ(error_of("target:\n  - {name: a, metric: x, paper: 1}\n"),
             file + ":1: target: unknown key (expected 'targets' or 'tolerance')");

@@ -1,8 +1,10 @@
 #pragma once
 // Options of the stereo frontend (paper Sec. IV "Frontend", Sec. V-B tasks FD, IF, FC, MO, DR,
-// DC, LSS). A plain struct; validate() names the first bad field, to_json() is what a trace keeps
-// as meta.pipeline_params.
+// DC, LSS). A plain struct with a field list; validate() names the first bad field, to_json() is
+// what a trace keeps as meta.pipeline_params.
 #include <nlohmann/json.hpp>
+
+#include "common/config_fields.hpp"
 
 namespace edx::frontend {
 
@@ -64,7 +66,10 @@ struct FrontendOptions {
   /// parallel_for_ of the process, the chains' own included, serially.
   bool parallel_images = true;
 
-  /// Throws std::runtime_error naming the first field out of range and what was expected.
+  /// Every option once: key, unit, accepted values and a line of doc; validate() and to_json()
+  /// come from it.
+  static const FieldList<FrontendOptions>& fields();
+  /// Throws InputError "frontend.<key>: expected ..., got ..." for the first bad option.
   void validate() const;
 };
 

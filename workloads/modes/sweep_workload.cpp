@@ -8,8 +8,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <charconv>
-#include <limits>
 #include <stdexcept>
 
 #include "workloads/datasets/dataset.hpp"
@@ -17,30 +15,6 @@
 
 namespace edx::modes {
 namespace {
-
-/// An integer in [lo, hi] given as a JSON number or as text.
-std::int64_t integer(const nlohmann::json& value, const std::string& key, std::int64_t lo,
-                     std::int64_t hi) {
-  std::int64_t v = 0;
-  bool ok = false;
-  if (value.is_number_integer()) {
-    v = value.get<std::int64_t>();
-    ok = true;
-  } else if (value.is_number_float()) {
-    const double d = value.get<double>();
-    ok = d == static_cast<double>(static_cast<std::int64_t>(d));
-    v = static_cast<std::int64_t>(d);
-  } else if (value.is_string()) {
-    const std::string& s = value.get_ref<const std::string&>();
-    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    ok = ec == std::errc() && end == s.data() + s.size();
-  }
-  if (!ok || v < lo || v > hi) {
-    throw std::runtime_error(
-        fmt::format("{}: expected an integer from {} to {}, got {}", key, lo, hi, value.dump()));
-  }
-  return v;
-}
 
 /// An exclusive advisory lock on a file, held for the object's life (flock(2): threads and
 /// processes that open the file each get their own lock).
@@ -66,60 +40,53 @@ class FileLock {
 
 }  // namespace
 
-nlohmann::json SweepWorkload::to_json() const {
-  return {{"mix", mix},
-          {"frames", frames},
-          {"resolution", fmt::format("{}x{}", resolution.width, resolution.height)},
-          {"features", features},
-          {"seed", seed},
-          {"msckf_window", msckf_window},
-          {"slam_window", slam_window},
-          {"map_frames", map_frames ? nlohmann::json(*map_frames) : nlohmann::json(nullptr)}};
+const FieldList<SweepWorkload>& SweepWorkload::fields() {
+  using C = SweepWorkload;
+  static const FieldList<C> list = {
+      choice_field("mix", &C::mix, "", mix_names(), "the mixed sequence (docs/MODES.md)"),
+      field("frames", &C::frames, "", "frames of the whole mix",
+            Bounds::at_least(8).at_most(1000000)),
+      accessor_field<C>(
+          "resolution", FieldKind::kText,
+          [](const C& c) -> FieldValue {
+            return fmt::format("{}x{}", c.resolution.width, c.resolution.height);
+          },
+          [](C& c, const FieldValue& v) {
+            const std::string& text = std::get<std::string>(v);
+            try {
+              const cv::Size size = datasets::parse_resolution(text);
+              c.resolution = {size.width, size.height};
+            } catch (const std::runtime_error&) {
+              throw InputError::expected("resolution", "WIDTHxHEIGHT in pixels (e.g. 640x480)",
+                                         text);
+            }
+          },
+          "px", "the rendered resolution, WxH"),
+      field("features", &C::features, "",
+            "keypoint budget per image (FrontendOptions::features_per_image)",
+            Bounds::at_least(1).at_most(100000)),
+      field("seed", &C::seed, "", "seed of the synthetic worlds",
+            Bounds::at_least(0).at_most(9007199254740992.0)),
+      field("msckf_window", &C::msckf_window, "", "VIO clones (VioOptions::max_clones)",
+            Bounds::at_least(2).at_most(1000)),
+      field("slam_window", &C::slam_window, "", "SLAM keyframes (SlamOptions::window_size)",
+            Bounds::at_least(2).at_most(1000)),
+      optional_field("map_frames", &C::map_frames, "",
+                     "frames of the mix's mapping run (default: the mix's own)",
+                     Bounds::at_least(2).at_most(1000000), Unset{"default", nullptr}),
+  };
+  return list;
 }
 
+nlohmann::json SweepWorkload::to_json() const { return fields_to_json(*this, fields()); }
+
 SweepWorkload SweepWorkload::from_json(const nlohmann::json& parameters) {
-  if (!parameters.is_object()) throw std::runtime_error("workload: expected a map");
+  if (!parameters.is_object()) throw InputError({}, "", "expected a map of workload parameters");
+  YamlFields fields(yaml_of_json(parameters), "", "");
+  const std::vector<std::string> keys = field_keys(SweepWorkload::fields());
+  fields.refuse_unknown(keys, fmt::format("expected one of: {}", fmt::join(keys, ", ")));
   SweepWorkload w;
-  for (const auto& [key, value] : parameters.items()) {
-    if (key == "mix") {
-      if (!value.is_string()) throw std::runtime_error("mix: expected a mix name");
-      w.mix = value.get<std::string>();
-      const std::vector<std::string> names = mix_names();
-      if (std::find(names.begin(), names.end(), w.mix) == names.end()) {
-        throw std::runtime_error(fmt::format("mix: unknown mix '{}' (expected one of: {})", w.mix,
-                                             fmt::join(names, ", ")));
-      }
-    } else if (key == "frames") {
-      w.frames = static_cast<int>(integer(value, key, 8, 1000000));
-    } else if (key == "resolution") {
-      if (!value.is_string()) throw std::runtime_error("resolution: expected WxH");
-      try {
-        const cv::Size size = datasets::parse_resolution(value.get<std::string>());
-        w.resolution = {size.width, size.height};
-      } catch (const std::exception& e) {
-        throw std::runtime_error(fmt::format("resolution: {}", e.what()));
-      }
-    } else if (key == "features") {
-      w.features = static_cast<int>(integer(value, key, 1, 100000));
-    } else if (key == "seed") {
-      w.seed = static_cast<std::uint64_t>(integer(value, key, 0, std::int64_t{1} << 53));
-    } else if (key == "msckf_window") {
-      w.msckf_window = static_cast<int>(integer(value, key, 2, 1000));
-    } else if (key == "slam_window") {
-      w.slam_window = static_cast<int>(integer(value, key, 2, 1000));
-    } else if (key == "map_frames") {
-      if (value.is_null() || value == "~" || value == "default") {
-        w.map_frames.reset();
-      } else {
-        w.map_frames = static_cast<int>(integer(value, key, 2, 1000000));
-      }
-    } else {
-      throw std::runtime_error(fmt::format(
-          "{}: unknown workload parameter (expected one of: mix, frames, resolution, features, "
-          "seed, msckf_window, slam_window, map_frames)",
-          key));
-    }
-  }
+  parse_fields(fields, w, SweepWorkload::fields());
   return w;
 }
 

@@ -12,13 +12,14 @@
 //   msckf_window: 30    VIO clones (VioOptions::max_clones)
 //   slam_window: 10     SLAM keyframes (SlamOptions::window_size)
 //   map_frames: ~       frames of the mix's mapping run: the size of the map registration uses
-//                       (default: the mix's own, a quarter of the paper mix)
+//                       (~ or default: the mix's own, a quarter of the paper mix)
 #include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
+#include "common/config_fields.hpp"
 #include "workloads/datasets/synthetic/rig.hpp"
 
 namespace edx::modes {
@@ -33,11 +34,14 @@ struct SweepWorkload {
   int slam_window = 10;
   std::optional<int> map_frames;  ///< the mix's default when empty
 
-  /// Every parameter, typed (numbers as numbers, resolution as "WxH"): the content of the
-  /// workload's hash.
+  /// Every parameter once: key, accepted values and a line of doc; to_json() and from_json()
+  /// come from it.
+  static const FieldList<SweepWorkload>& fields();
+  /// Every parameter, typed (numbers as numbers, resolution as "WxH", map_frames null when
+  /// unset): the content of the workload's hash.
   nlohmann::json to_json() const;
   /// From a map of parameter names to numbers or text ("500" and 500 alike); missing keys keep
-  /// their defaults. Throws std::runtime_error "key: message" for an unknown key or a bad value.
+  /// their defaults. Throws InputError "key: message" for an unknown key or a bad value.
   static SweepWorkload from_json(const nlohmann::json& parameters);
 };
 

@@ -212,7 +212,8 @@ TEST(HostCosts, ErrorsNameTheFileLineAndKey) {
                         "[call, pixels]"));
   EXPECT_THAT(error_of("suite: 1\nfrontend:\n  IF: {features: [call, pixels], costs: [1, -2], "
                        "samples: 3, r2: 1, share: 1}\nbackend: {}\n"),
-              HasSubstr("costs.yaml:3: frontend.IF: expected costs >= 0"));
+              HasSubstr("costs.yaml:3: frontend.IF.costs: expected a list of numbers >= 0, got "
+                        "'-2'"));
   EXPECT_THAT(error_of("suite: one\nfrontend: {}\nbackend: {}\n"),
               HasSubstr("costs.yaml:1: suite: expected the reference-suite version"));
   EXPECT_THAT(error_of("suite: 1\nfrontend:\n  XX: {features: [call], costs: [1], samples: 1, "

@@ -53,6 +53,8 @@ TEST(Platform, BadInputNamesFileLineAndKey) {
   EXPECT_EQ(error_of("name: car\nbackend_units: {}\n"),
             "p.yaml:2: platform.backend_units: unknown key");
   EXPECT_THAT(error_of("frontend: {}\n"), HasSubstr("platform.name: required"));
+  EXPECT_EQ(error_of("name: car\ndevice: virtex\n"),
+            "p.yaml:2: platform.device: expected xc7v690t, zu9eg or zu9cg, got 'virtex'");
   EXPECT_THAT(error_of("name: [unclosed\n"), HasSubstr("p.yaml:"));
   EXPECT_THAT(error_of("name: car\nfrontend:\n  units:\n    MO: {comparators: 0}\n"),
               HasSubstr("p.yaml:4: frontend.units.MO.comparators: expected an integer >= 1"));

@@ -31,9 +31,9 @@ struct FakeTracer {
     return {[](const nlohmann::json& w) {
               nlohmann::json resolved = {{"features", 100}};
               for (const auto& [key, value] : w.items()) {
-                if (key != "features") throw std::runtime_error(key + ": unknown parameter");
+                if (key != "features") throw InputError({}, key, "unknown parameter");
                 const int n = std::stoi(value.get<std::string>());
-                if (n < 1) throw std::runtime_error("features: expected at least 1");
+                if (n < 1) throw InputError::expected("features", "at least 1", std::to_string(n));
                 resolved["features"] = n;
               }
               return resolved;
@@ -213,8 +213,8 @@ TEST_F(WorkloadSweep, BadWorkloadValuesFailBeforeAnyWork) {
     run_sweep(spec("1, 0"), options("r.db"));
     FAIL() << "expected an error";
   } catch (const std::exception& e) {
-    EXPECT_STREQ(e.what(),
-                 "w.yaml: parameters.workload.features = 0: features: expected at least 1");
+    // At the line of the value, keyed as the spec writes it.
+    EXPECT_STREQ(e.what(), "w.yaml:5: workload.features: expected at least 1, got '0'");
   }
   EXPECT_FALSE(std::filesystem::exists(dir.path() / "r.db"));
   SweepOptions no_tracer = options("r.db");

@@ -25,22 +25,25 @@ TEST(FrontendOptions, DefaultsAreValid) { EXPECT_NO_THROW(FrontendOptions{}.vali
 TEST(FrontendOptions, BadValuesAreNamedWithTheExpectedRange) {
   FrontendOptions o;
   o.features_per_image = 0;
-  EXPECT_THAT(validation_error(o), HasSubstr("features_per_image = 0 (expected >= 1)"));
+  EXPECT_EQ(validation_error(o), "frontend.features_per_image: expected an integer >= 1, got '0'");
   o = {};
   o.dr_window_px = 10;
-  EXPECT_THAT(validation_error(o), HasSubstr("dr_window_px = 10 (expected an odd number"));
+  EXPECT_EQ(validation_error(o), "frontend.dr_window_px: expected an odd integer >= 3, got '10'");
   o = {};
   o.fast_min_threshold = 30;
-  EXPECT_THAT(validation_error(o), HasSubstr("fast_min_threshold = 30"));
+  EXPECT_EQ(validation_error(o),
+            "frontend.fast_min_threshold: expected an integer in [1, fast_threshold], got '30'");
   o = {};
   o.scale_factor = 1.0;
   EXPECT_THAT(validation_error(o), HasSubstr("scale_factor"));
   o = {};
   o.lk_max_iterations = 101;
-  EXPECT_THAT(validation_error(o), HasSubstr("lk_max_iterations = 101"));
+  EXPECT_EQ(validation_error(o),
+            "frontend.lk_max_iterations: expected an integer in [1, 100], got '101'");
   o = {};
   o.edge_margin_px = 10;
-  EXPECT_THAT(validation_error(o), HasSubstr("edge_margin_px = 10"));
+  EXPECT_THAT(validation_error(o),
+              HasSubstr("edge_margin_px: expected an integer >= 19, got '10'"));
 }
 
 TEST(FrontendOptions, JsonHasEveryField) {

@@ -1,82 +1,71 @@
 #include "workloads/backend/registration/registration_options.hpp"
 
-#include <fmt/format.h>
-
-#include <stdexcept>
-#include <string>
-
 namespace edx::backend::registration {
-namespace {
 
-template <class T>
-void require(bool ok, const char* field, const char* expected, T value) {
-  if (!ok) {
-    throw std::runtime_error(
-        fmt::format("registration option {}: expected {}, got {}", field, expected, value));
-  }
+const FieldList<RegistrationOptions>& RegistrationOptions::fields() {
+  using C = RegistrationOptions;
+  static const FieldList<C> list = {
+      field("direct_index_level", &C::direct_index_level, "",
+            "vocabulary level of the direct index, from the root", Bounds::at_least(1).at_most(16)),
+      field("bow_candidates", &C::bow_candidates, "", "keyframes matched after a query",
+            Bounds::at_least(1)),
+      field("bow_max_hamming", &C::bow_max_hamming, "bits",
+            "accepted descriptor distance (ORB-SLAM TH_LOW)", Bounds::at_least(0).at_most(256)),
+      field("bow_ratio", &C::bow_ratio, "", "best < ratio * second best",
+            Bounds::above(0).at_most(1)),
+      field("pnp_min_matches", &C::pnp_min_matches, "",
+            "a candidate with fewer 2D-3D matches is skipped", Bounds::at_least(4)),
+      field("pnp_iterations", &C::pnp_iterations, "", "RANSAC iterations", Bounds::at_least(1)),
+      field("pnp_reprojection_px", &C::pnp_reprojection_px, "px", "RANSAC inlier threshold",
+            Bounds::above(0)),
+      field("pnp_confidence", &C::pnp_confidence, "", "RANSAC confidence",
+            Bounds::above(0).below(1)),
+      field("pnp_min_inliers", &C::pnp_min_inliers, "",
+            "a candidate's PnP below this counts as failed", Bounds::at_least(4)),
+      field("refinement_rounds", &C::refinement_rounds, "",
+            "pose refinement rounds (outliers set aside after each)", Bounds::at_least(1)),
+      field("refinement_iterations", &C::refinement_iterations, "",
+            "Gauss-Newton iterations per round", Bounds::at_least(1)),
+      field("chi2_threshold", &C::chi2_threshold, "", "outlier gate of a whitened error",
+            Bounds::above(0)),
+      field("octave_scale", &C::octave_scale, "", "the frontend's pyramid scale factor",
+            Bounds::at_least(1)),
+      field("tracking_radius_px", &C::tracking_radius_px, "px",
+            "search window around the predicted projection", Bounds::above(0)),
+      field("relocalization_radius_px", &C::relocalization_radius_px, "px",
+            "search window after PnP", Bounds::above(0)),
+      field("projection_max_hamming", &C::projection_max_hamming, "bits",
+            "accepted descriptor distance in the projection search",
+            Bounds::at_least(0).at_most(256)),
+      field("projection_ratio", &C::projection_ratio, "",
+            "best < ratio * second best in the window", Bounds::above(0).at_most(1)),
+      field("min_depth_m", &C::min_depth_m, "m", "nearer map points are not searched",
+            Bounds::above(0)),
+      field("max_depth_m", &C::max_depth_m, "m", "nor farther ones (> min_depth_m)"),
+      field("grid_cell_px", &C::grid_cell_px, "px", "feature grid cell for window searches",
+            Bounds::at_least(1)),
+      field("min_inliers", &C::min_inliers, "",
+            "inliers of the last refinement that register a frame", Bounds::at_least(4)),
+      field("local_map", &C::local_map, "",
+            "project ORB-SLAM's local map each frame (false: the whole map)"),
+      field("covisibility_min_shared", &C::covisibility_min_shared, "",
+            "map points two keyframes share to be covisible", Bounds::at_least(1)),
+      field("local_map_neighbours", &C::local_map_neighbours, "",
+            "best covisible keyframes looked at per keyframe", Bounds::at_least(1)),
+      field("local_map_max_keyframes", &C::local_map_max_keyframes, "",
+            "most keyframes of the local map", Bounds::at_least(1)),
+      field("constant_velocity", &C::constant_velocity, "",
+            "predict the pose by constant velocity (false: the previous pose)"),
+  };
+  return list;
 }
-
-}  // namespace
 
 void RegistrationOptions::validate() const {
-  require(direct_index_level >= 1 && direct_index_level <= 16, "direct_index_level", "1..16",
-          direct_index_level);
-  require(bow_candidates >= 1, "bow_candidates", ">= 1", bow_candidates);
-  require(bow_max_hamming >= 0 && bow_max_hamming <= 256, "bow_max_hamming", "0..256",
-          bow_max_hamming);
-  require(bow_ratio > 0 && bow_ratio <= 1, "bow_ratio", "(0, 1]", bow_ratio);
-  require(pnp_min_matches >= 4, "pnp_min_matches", ">= 4", pnp_min_matches);
-  require(pnp_iterations >= 1, "pnp_iterations", ">= 1", pnp_iterations);
-  require(pnp_reprojection_px > 0, "pnp_reprojection_px", "> 0", pnp_reprojection_px);
-  require(pnp_confidence > 0 && pnp_confidence < 1, "pnp_confidence", "(0, 1)", pnp_confidence);
-  require(pnp_min_inliers >= 4, "pnp_min_inliers", ">= 4", pnp_min_inliers);
-  require(refinement_rounds >= 1, "refinement_rounds", ">= 1", refinement_rounds);
-  require(refinement_iterations >= 1, "refinement_iterations", ">= 1", refinement_iterations);
-  require(chi2_threshold > 0, "chi2_threshold", "> 0", chi2_threshold);
-  require(octave_scale >= 1, "octave_scale", ">= 1", octave_scale);
-  require(tracking_radius_px > 0, "tracking_radius_px", "> 0", tracking_radius_px);
-  require(relocalization_radius_px > 0, "relocalization_radius_px", "> 0",
-          relocalization_radius_px);
-  require(projection_max_hamming >= 0 && projection_max_hamming <= 256, "projection_max_hamming",
-          "0..256", projection_max_hamming);
-  require(projection_ratio > 0 && projection_ratio <= 1, "projection_ratio", "(0, 1]",
-          projection_ratio);
-  require(min_depth_m > 0, "min_depth_m", "> 0", min_depth_m);
-  require(max_depth_m > min_depth_m, "max_depth_m", "> min_depth_m", max_depth_m);
-  require(grid_cell_px >= 1, "grid_cell_px", ">= 1", grid_cell_px);
-  require(min_inliers >= 4, "min_inliers", ">= 4", min_inliers);
-  require(covisibility_min_shared >= 1, "covisibility_min_shared", ">= 1", covisibility_min_shared);
-  require(local_map_neighbours >= 1, "local_map_neighbours", ">= 1", local_map_neighbours);
-  require(local_map_max_keyframes >= 1, "local_map_max_keyframes", ">= 1", local_map_max_keyframes);
+  check_fields(*this, "registration", fields());
+  require_field(max_depth_m > min_depth_m, "registration", "max_depth_m", "a number > min_depth_m",
+                field_value_text(max_depth_m));
 }
 
-nlohmann::json RegistrationOptions::to_json() const {
-  return {{"direct_index_level", direct_index_level},
-          {"bow_candidates", bow_candidates},
-          {"bow_max_hamming", bow_max_hamming},
-          {"bow_ratio", bow_ratio},
-          {"pnp_min_matches", pnp_min_matches},
-          {"pnp_iterations", pnp_iterations},
-          {"pnp_reprojection_px", pnp_reprojection_px},
-          {"pnp_confidence", pnp_confidence},
-          {"pnp_min_inliers", pnp_min_inliers},
-          {"refinement_rounds", refinement_rounds},
-          {"refinement_iterations", refinement_iterations},
-          {"chi2_threshold", chi2_threshold},
-          {"octave_scale", octave_scale},
-          {"tracking_radius_px", tracking_radius_px},
-          {"relocalization_radius_px", relocalization_radius_px},
-          {"projection_max_hamming", projection_max_hamming},
-          {"projection_ratio", projection_ratio},
-          {"min_depth_m", min_depth_m},
-          {"max_depth_m", max_depth_m},
-          {"grid_cell_px", grid_cell_px},
-          {"min_inliers", min_inliers},
-          {"local_map", local_map},
-          {"covisibility_min_shared", covisibility_min_shared},
-          {"local_map_neighbours", local_map_neighbours},
-          {"local_map_max_keyframes", local_map_max_keyframes},
-          {"constant_velocity", constant_velocity}};
-}
+nlohmann::json RegistrationOptions::to_json() const { return fields_to_json(*this, fields()); }
 
 }  // namespace edx::backend::registration

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <nlohmann/json.hpp>
 
+#include "common/config_fields.hpp"
 #include "workloads/backend/registration/covisibility.hpp"
 
 namespace edx::backend::registration {
@@ -58,7 +59,10 @@ struct RegistrationOptions {
     return {covisibility_min_shared, local_map_neighbours, local_map_max_keyframes};
   }
 
-  /// Throws std::runtime_error naming the first field out of range.
+  /// Every option once: key, unit, accepted values and a line of doc; validate() and to_json()
+  /// come from it.
+  static const FieldList<RegistrationOptions>& fields();
+  /// Throws InputError "registration.<key>: expected ..., got ..." for the first bad option.
   void validate() const;
   nlohmann::json to_json() const;
 };

@@ -1,65 +1,64 @@
 #include "workloads/backend/slam/slam_options.hpp"
 
-#include <fmt/format.h>
-
-#include <stdexcept>
-
 namespace edx::backend::slam {
-namespace {
 
-void require(bool ok, const char* field, const char* expected) {
-  if (!ok) throw std::runtime_error(fmt::format("slam option {}: expected {}", field, expected));
+const FieldList<SlamOptions>& SlamOptions::fields() {
+  using C = SlamOptions;
+  static const FieldList<C> list = {
+      field("window_size", &C::window_size, "", "keyframes optimized together",
+            Bounds::at_least(2).at_most(100)),
+      field("keyframe_parallax_px", &C::keyframe_parallax_px, "px",
+            "mean track parallax since the last keyframe that makes a new one", Bounds::above(0)),
+      field("keyframe_tracked_ratio", &C::keyframe_tracked_ratio, "",
+            "fewer frame features on landmarks than this share: a new keyframe",
+            Bounds::above(0).at_most(1)),
+      field("keyframe_max_interval_s", &C::keyframe_max_interval_s, "s",
+            "longest time between keyframes", Bounds::above(0)),
+      field("max_new_landmarks_per_keyframe", &C::max_new_landmarks_per_keyframe, "",
+            "stereo features turned into landmarks per keyframe", Bounds::above(0)),
+      field("min_landmark_depth_m", &C::min_landmark_depth_m, "m", "nearer landmarks are dropped",
+            Bounds::above(0)),
+      field("max_landmark_depth_m", &C::max_landmark_depth_m, "m",
+            "farther landmarks are dropped (> min_landmark_depth_m)", Bounds::above(0)),
+      field("stereo_max_depth_baselines", &C::stereo_max_depth_baselines, "",
+            "stereo residuals only nearer than this many baselines (0: every point)",
+            Bounds::at_least(0)),
+      field("estimate_disparity_offset", &C::estimate_disparity_offset, "",
+            "estimate the stereo disparity offset in every window"),
+      field("disparity_offset_sigma_px", &C::disparity_offset_sigma_px, "px",
+            "prior of the disparity offset", Bounds::above(0)),
+      field("pixel_sigma", &C::pixel_sigma, "px", "reprojection noise", Bounds::above(0)),
+      field("huber_threshold", &C::huber_threshold, "",
+            "Huber threshold on the whitened reprojection error norm", Bounds::above(0)),
+      field("outlier_px", &C::outlier_px, "px",
+            "observations with a larger error after mapping are dropped", Bounds::above(0)),
+      field("use_imu", &C::use_imu, "", "IMU factors when the dataset has an IMU"),
+      field("initial_tilt_sigma_rad", &C::initial_tilt_sigma_rad, "rad",
+            "prior on the first keyframe's roll and pitch", Bounds::above(0)),
+      field("initial_gyro_bias_sigma", &C::initial_gyro_bias_sigma, "rad/s",
+            "prior on the first keyframe's gyroscope bias", Bounds::above(0)),
+      field("initial_accel_bias_sigma", &C::initial_accel_bias_sigma, "m/s^2",
+            "prior on the first keyframe's accelerometer bias", Bounds::above(0)),
+      field("lm_max_iterations", &C::lm_max_iterations, "", "Levenberg-Marquardt iterations",
+            Bounds::at_least(1)),
+      field("lm_initial_lambda", &C::lm_initial_lambda, "", "Marquardt's initial damping",
+            Bounds::above(0)),
+      field("lm_min_relative_decrease", &C::lm_min_relative_decrease, "",
+            "a smaller relative decrease of the cost stops the iterations", Bounds::at_least(0)),
+      field("tracking_iterations", &C::tracking_iterations, "",
+            "iterations of the motion-only pose per frame", Bounds::at_least(1)),
+      field("tracking_min_matches", &C::tracking_min_matches, "", "matches a tracked pose needs",
+            Bounds::at_least(4)),
+  };
+  return list;
 }
-
-}  // namespace
 
 void SlamOptions::validate() const {
-  require(window_size >= 2 && window_size <= 100, "window_size", "an integer in [2, 100]");
-  require(keyframe_parallax_px > 0, "keyframe_parallax_px", "> 0");
-  require(keyframe_tracked_ratio > 0 && keyframe_tracked_ratio <= 1, "keyframe_tracked_ratio",
-          "a ratio in (0, 1]");
-  require(keyframe_max_interval_s > 0, "keyframe_max_interval_s", "> 0");
-  require(max_new_landmarks_per_keyframe > 0, "max_new_landmarks_per_keyframe", "> 0");
-  require(min_landmark_depth_m > 0 && max_landmark_depth_m > min_landmark_depth_m,
-          "min_landmark_depth_m/max_landmark_depth_m", "0 < min < max");
-  require(stereo_max_depth_baselines >= 0, "stereo_max_depth_baselines", ">= 0");
-  require(disparity_offset_sigma_px > 0, "disparity_offset_sigma_px", "> 0");
-  require(pixel_sigma > 0, "pixel_sigma", "> 0");
-  require(huber_threshold > 0, "huber_threshold", "> 0");
-  require(outlier_px > 0, "outlier_px", "> 0");
-  require(initial_tilt_sigma_rad > 0, "initial_tilt_sigma_rad", "> 0");
-  require(initial_gyro_bias_sigma > 0, "initial_gyro_bias_sigma", "> 0");
-  require(initial_accel_bias_sigma > 0, "initial_accel_bias_sigma", "> 0");
-  require(lm_max_iterations >= 1, "lm_max_iterations", ">= 1");
-  require(lm_initial_lambda > 0, "lm_initial_lambda", "> 0");
-  require(lm_min_relative_decrease >= 0, "lm_min_relative_decrease", ">= 0");
-  require(tracking_iterations >= 1, "tracking_iterations", ">= 1");
-  require(tracking_min_matches >= 4, "tracking_min_matches", ">= 4");
+  check_fields(*this, "slam", fields());
+  require_field(max_landmark_depth_m > min_landmark_depth_m, "slam", "max_landmark_depth_m",
+                "a number > min_landmark_depth_m", field_value_text(max_landmark_depth_m));
 }
 
-nlohmann::json SlamOptions::to_json() const {
-  return {{"window_size", window_size},
-          {"keyframe_parallax_px", keyframe_parallax_px},
-          {"keyframe_tracked_ratio", keyframe_tracked_ratio},
-          {"keyframe_max_interval_s", keyframe_max_interval_s},
-          {"max_new_landmarks_per_keyframe", max_new_landmarks_per_keyframe},
-          {"min_landmark_depth_m", min_landmark_depth_m},
-          {"max_landmark_depth_m", max_landmark_depth_m},
-          {"stereo_max_depth_baselines", stereo_max_depth_baselines},
-          {"estimate_disparity_offset", estimate_disparity_offset},
-          {"disparity_offset_sigma_px", disparity_offset_sigma_px},
-          {"pixel_sigma", pixel_sigma},
-          {"huber_threshold", huber_threshold},
-          {"outlier_px", outlier_px},
-          {"use_imu", use_imu},
-          {"initial_tilt_sigma_rad", initial_tilt_sigma_rad},
-          {"initial_gyro_bias_sigma", initial_gyro_bias_sigma},
-          {"initial_accel_bias_sigma", initial_accel_bias_sigma},
-          {"lm_max_iterations", lm_max_iterations},
-          {"lm_initial_lambda", lm_initial_lambda},
-          {"lm_min_relative_decrease", lm_min_relative_decrease},
-          {"tracking_iterations", tracking_iterations},
-          {"tracking_min_matches", tracking_min_matches}};
-}
+nlohmann::json SlamOptions::to_json() const { return fields_to_json(*this, fields()); }
 
 }  // namespace edx::backend::slam

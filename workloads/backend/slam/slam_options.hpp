@@ -4,6 +4,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "common/config_fields.hpp"
+
 namespace edx::backend::slam {
 
 struct SlamOptions {
@@ -49,7 +51,10 @@ struct SlamOptions {
   int tracking_iterations = 8;
   int tracking_min_matches = 12;
 
-  /// Throws std::runtime_error naming the first bad field and the range it must lie in.
+  /// Every option once: key, unit, accepted values and a line of doc; validate() and to_json()
+  /// come from it.
+  static const FieldList<SlamOptions>& fields();
+  /// Throws InputError "slam.<key>: expected ..., got ..." for the first bad option.
   void validate() const;
   nlohmann::json to_json() const;
 };

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "common/config_fields.hpp"
 #include "workloads/backend/vio/track_noise.hpp"
 
 namespace edx::backend::vio {
@@ -107,11 +108,16 @@ struct VioOptions {
   /// a lucky VIO), while on runs whose VIO height drifts they remove the drift (docs/VIO.md).
   bool gps_fuse_vertical = true;
 
-  /// Throws std::runtime_error naming the first bad field and the range it must lie in.
+  /// Every option once: key ("random_walk.step_sigma_px" for the nested ones), unit, accepted
+  /// values and a line of doc; validate() and to_json() come from it.
+  static const FieldList<VioOptions>& fields();
+  /// Throws InputError "vio.<key>: expected ..., got ..." for the first bad option (the rules
+  /// between options included).
   void validate() const;
   /// The update's standard deviation of a feature coordinate, px:
   /// pixel_sigma sqrt((1 + rho) / (1 - rho)).
   double effective_pixel_sigma() const;
+  /// Every option (trace meta; "from dataset" for an unset bias prior).
   nlohmann::json to_json() const;
 };
 

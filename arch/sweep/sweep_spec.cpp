@@ -1,0 +1,444 @@
+// Reading a sweep spec (sweep.hpp, docs/SWEEPS.md): each map of the spec is read from its field
+// list (common/config_fields.hpp), the lists and the rules between keys by a reader of their
+// own, one per section; every error is an InputError at the spec's file, line and key.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <optional>
+
+#include "arch/sweep/sweep.hpp"
+#include "common/config_fields.hpp"
+
+namespace edx::arch {
+namespace {
+
+[[noreturn]] void fail(const std::string& where, const YAML::Node& node, const std::string& key,
+                       const std::string& message) {
+  throw InputError({where, node ? yaml_line(node) : 0}, key, message);
+}
+
+/// The hint of an unknown key: "expected one of: a, b, c".
+std::string one_of(const std::vector<std::string>& keys) {
+  return fmt::format("expected one of: {}", fmt::join(keys, ", "));
+}
+
+/// Reads the map `node` (key `key`) into `config` from `list`, any other key refused first
+/// (naming the keys it may hold); `shape` is the error when `node` is no map.
+template <class Config>
+void read_map(const std::string& where, const std::string& key, const YAML::Node& node,
+              const std::string& shape, const FieldList<Config>& list, Config& config) {
+  if (!node.IsMap()) fail(where, node, key, "expected " + shape);
+  YamlFields fields(node, where, key);
+  fields.refuse_unknown(field_keys(list), one_of(field_keys(list)));
+  parse_fields(fields, config, list);
+}
+
+/// The keys of a spec's top level that are plain values; workload, parameters, sampling,
+/// objectives and constraints have readers of their own.
+struct SpecHeader {
+  std::string name, description, base, trace;
+  static const FieldList<SpecHeader>& fields() {
+    using C = SpecHeader;
+    static const FieldList<C> list = {
+        field("name", &C::name, "",
+              "the sweep's id in the results database (default: the file's stem)"),
+        field("description", &C::description, "", "one line for people"),
+        field("base", &C::base, "", "the base platform file, relative to the spec").required(),
+        field("trace", &C::trace, "",
+              "the trace simulated, relative to the spec (`--trace` overrides it); not with "
+              "workload:"),
+    };
+    return list;
+  }
+};
+
+const std::vector<std::string> kSectionKeys = {"workload", "parameters", "sampling", "objectives",
+                                               "constraints"};
+
+/// `parameters.<key>: {range: {from, to, step}}`: from, from + step, ... up to to.
+struct LinearRange {
+  double from = 0, to = 0, step = 0;
+  static const FieldList<LinearRange>& fields() {
+    using C = LinearRange;
+    static const FieldList<C> list = {
+        field("from", &C::from, "", "the first value").required(),
+        field("to", &C::to, "", "the last value at most (>= from)").required(),
+        field("step", &C::step, "", "between values (> 0)").required(),
+    };
+    return list;
+  }
+};
+
+/// `parameters.<key>: {log_range: {from, to, points}}`: `points` values from `from` to `to`,
+/// geometrically spaced.
+struct LogRange {
+  double from = 0, to = 0, points = 0;
+  static const FieldList<LogRange>& fields() {
+    using C = LogRange;
+    static const FieldList<C> list = {
+        field("from", &C::from, "", "the first value (> 0)").required(),
+        field("to", &C::to, "", "the last value (> 0)").required(),
+        field("points", &C::points, "", "values, both ends included (an integer >= 2)").required(),
+    };
+    return list;
+  }
+};
+
+/// `sampling: {random: {samples, seed}}`.
+const FieldList<SweepSpec>& random_sampling_fields() {
+  using C = SweepSpec;
+  static const FieldList<C> list = {
+      field("samples", &C::samples, "", "distinct grid points drawn",
+            Bounds::at_least(1).at_most(kMaxSweepPoints))
+          .expects("an integer from 1 to 10^6")
+          .required(),
+      // 2^53: the largest range in which every integer is a double, far inside std::uint64_t.
+      field("seed", &C::seed, "", "of the draws (splitmix64): the same seed, the same points",
+            Bounds::at_least(0).at_most(kMaxSearchGrid))
+          .expects("an integer from 0 to 2^53"),
+  };
+  return list;
+}
+
+/// `sampling: {nsga2: {generations, population, seed}}`.
+const FieldList<SweepSpec>& nsga2_sampling_fields() {
+  using C = SweepSpec;
+  static const FieldList<C> list = {
+      field("generations", &C::generations, "", "generations evolved after the initial one",
+            Bounds::at_least(1).at_most(10000))
+          .expects("an integer from 1 to 10000")
+          .required(),
+      // pagmo's NSGA-II pairs parents four at a time: at least 8, a multiple of 4.
+      field("population", &C::population, "", "designs per generation",
+            Bounds::at_least(8).at_most(10000).multiple_of(4))
+          .expects("a multiple of 4 from 8 to 10000")
+          .required(),
+      // pagmo seeds are unsigned 32-bit integers.
+      field("seed", &C::seed, "", "of pagmo's NSGA-II", Bounds::at_least(0).at_most(4294967295.0))
+          .expects("an integer from 0 to 2^32 - 1"),
+  };
+  return list;
+}
+
+/// `constraints: [{metric, min, max}]`, one item.
+struct ConstraintEntry {
+  std::string metric;
+  std::optional<double> min, max;
+  static const FieldList<ConstraintEntry>& fields() {
+    using C = ConstraintEntry;
+    static const FieldList<C> list = {
+        field("metric", &C::metric, "", "a metric of the run (docs/SWEEPS.md)").required(),
+        optional_field("min", &C::min, "", "the least value a feasible point has", {},
+                       Unset{"none", nullptr}),
+        optional_field("max", &C::max, "", "the largest value a feasible point has", {},
+                       Unset{"none", nullptr}),
+    };
+    return list;
+  }
+};
+
+/// Text of a generated value: integers without a decimal point (they must parse as int keys),
+/// others to 4 significant digits (the text is the value the platform gets).
+std::string value_text(double v) {
+  if (std::abs(v) < 9e15 && v == std::round(v)) return fmt::format("{}", std::int64_t(v));
+  return fmt::format("{:.4g}", v);  // generated values: 4 significant digits
+}
+
+/// from + i·step for i = 0 .. floor((to − from)/step) (a relative 1e-9 slack keeps `to`).
+std::vector<double> linear_values(const std::string& where, const std::string& key,
+                                  const YAML::Node& node) {
+  LinearRange r;
+  read_map(where, key, node, "{from, to, step}", LinearRange::fields(), r);
+  if (!(r.step > 0) || r.to < r.from) fail(where, node, key, "expected step > 0 and to >= from");
+  // The count as a double first: (to - from) / step may overflow any integer (or be inf).
+  const double count = std::floor((r.to - r.from) / r.step * (1 + 1e-12) + 1e-9);
+  if (!(count < 100000)) {
+    fail(where, node, key,
+         std::isfinite(count) ? fmt::format("{:.4g} values (at most 100000)", count + 1)
+                              : std::string("more than 100000 values"));
+  }
+  std::vector<double> values;
+  for (std::size_t i = 0; i <= static_cast<std::size_t>(count); ++i) {
+    values.push_back(r.from + double(i) * r.step);
+  }
+  return values;
+}
+
+/// Geometric: from · (to/from)^(i/(points−1)), i = 0 .. points−1 (both ends exact).
+std::vector<double> log_values(const std::string& where, const std::string& key,
+                               const YAML::Node& node) {
+  LogRange r;
+  read_map(where, key, node, "{from, to, points}", LogRange::fields(), r);
+  if (!(r.from > 0) || !(r.to > 0) || r.points < 2 || r.points != std::round(r.points) ||
+      r.points > 100000) {
+    fail(where, node, key, "expected from > 0, to > 0 and an integer number of points >= 2");
+  }
+  const auto n = static_cast<std::size_t>(r.points);
+  std::vector<double> values;
+  for (std::size_t i = 0; i < n; ++i) {
+    values.push_back(i + 1 == n ? r.to
+                                : r.from * std::pow(r.to / r.from, double(i) / double(n - 1)));
+  }
+  return values;
+}
+
+/// `parameters.<key>: {values: [..]}` or a range of either kind.
+SweepParameter read_parameter(const std::string& where, const YAML::Node& key_node,
+                              const YAML::Node& spec) {
+  SweepParameter p;
+  p.key = key_node.Scalar();
+  p.line = yaml_line(key_node);
+  const std::string prefix = "parameters." + p.key;
+  if (!spec.IsMap() || spec.size() != 1) {
+    fail(where, key_node, prefix,
+         "expected one of {values: [..]}, {range: {from, to, step}}, "
+         "{log_range: {from, to, points}}");
+  }
+  YamlFields fields(spec, where, prefix);
+  const std::vector<std::string> forms = {"values", "range", "log_range"};
+  fields.refuse_unknown(forms, one_of(forms));
+  if (const YAML::Node values = spec["values"]) {
+    if (!values.IsSequence() || values.size() == 0) {
+      fail(where, values, prefix + ".values", "expected a non-empty list");
+    }
+    for (const YAML::Node& v : values) {
+      if (!v.IsScalar()) fail(where, v, prefix + ".values", "expected scalar values");
+      p.values.push_back(v);
+      p.texts.push_back(v.Scalar());
+    }
+    return p;
+  }
+  const std::vector<double> generated =
+      spec["range"] ? linear_values(where, prefix + ".range", spec["range"])
+                    : log_values(where, prefix + ".log_range", spec["log_range"]);
+  for (double v : generated) {
+    p.texts.push_back(value_text(v));
+    p.values.push_back(YAML::Node(p.texts.back()));
+  }
+  return p;
+}
+
+/// name, description, base (which must exist) and trace, paths relative to `dir`.
+void read_header(YamlFields& top, const std::filesystem::path& dir, SweepSpec& s) {
+  SpecHeader header;
+  parse_fields(top, header, SpecHeader::fields());
+  s.name = header.name.empty() ? std::filesystem::path(s.file).stem().string() : header.name;
+  s.base = dir / header.base;
+  if (!std::filesystem::is_regular_file(s.base)) {
+    top.fail("base", fmt::format("no such platform file '{}'", s.base.string()));
+  }
+  if (!header.trace.empty()) s.trace = dir / header.trace;
+}
+
+/// `workload:` (a map of the workload's parameters to scalar values), instead of a trace.
+void read_workload(YamlFields& top, SweepSpec& s) {
+  const YAML::Node workload = top.take("workload");
+  if (!workload) return;
+  if (!s.trace.empty()) {
+    top.fail("workload",
+             "give a trace or a workload, not both (a workload sweep traces its own points)");
+  }
+  if (!workload.IsMap()) top.fail("workload", "expected a map of workload parameters to values");
+  // Checked by the tracer (WorkloadTracer::resolve), which knows the workload's keys.
+  YamlFields fields(workload, s.file, "workload");
+  s.workload = nlohmann::json::object();
+  for (const auto& item : workload) {
+    const std::string key = item.first.Scalar();
+    if (!item.second.IsScalar()) fields.fail(key, "expected a scalar value");
+    s.workload[key] = item.second.Scalar();
+    s.workload_lines[key] = yaml_line(item.second);
+  }
+}
+
+/// `parameters:`, the workload.* ones first; at most 10^4 workload points.
+void read_parameters(YamlFields& top, SweepSpec& s) {
+  const YAML::Node params = top.take("parameters");
+  if (!params || !params.IsMap() || params.size() == 0) {
+    top.fail("parameters",
+             "expected a map of dotted platform keys to {values | range | log_range}");
+  }
+  std::vector<SweepParameter> platform_parameters;
+  for (const auto& item : params) {
+    SweepParameter p = read_parameter(s.file, item.first, item.second);
+    if (!p.key.starts_with("workload.")) {
+      platform_parameters.push_back(std::move(p));
+      continue;
+    }
+    if (!s.traces_workload()) {
+      fail(s.file, item.first, "parameters." + p.key,
+           "a workload parameter needs a workload: section (the sweep then traces each "
+           "workload point)");
+    }
+    s.parameters.push_back(std::move(p));
+  }
+  s.workload_parameters = s.parameters.size();
+  double workload_points = 1;
+  for (const SweepParameter& p : s.parameters) workload_points *= double(p.values.size());
+  if (workload_points > kMaxWorkloadPoints) {
+    top.fail("parameters",
+             fmt::format("the workload.* parameters make {:.4g} workload points (at most 10^4: "
+                         "each is a trace of the real pipeline)",
+                         workload_points));
+  }
+  for (SweepParameter& p : platform_parameters) s.parameters.push_back(std::move(p));
+}
+
+/// `sampling:` grid (the default), {random: {...}} or {nsga2: {...}}.
+void read_sampling(YamlFields& top, SweepSpec& s) {
+  const YAML::Node sampling = top.take("sampling");
+  if (!sampling || (sampling.IsScalar() && sampling.Scalar() == "grid")) return;
+  const auto one = [&](const char* form) {
+    return sampling.IsMap() && sampling.size() == 1 && sampling[form] && sampling[form].IsMap();
+  };
+  if (one("random")) {
+    read_map(s.file, "sampling.random", sampling["random"], "a map", random_sampling_fields(), s);
+    s.random = true;
+  } else if (one("nsga2")) {
+    read_map(s.file, "sampling.nsga2", sampling["nsga2"], "a map", nsga2_sampling_fields(), s);
+    const YamlFields fields(sampling["nsga2"], s.file, "sampling.nsga2");
+    const double evaluations = double(s.population) * double(s.generations + 1);
+    if (evaluations > kMaxSweepPoints) {
+      fields.fail("", fmt::format("population x (generations + 1) = {:.4g} evaluations (more "
+                                  "than 10^6)",
+                                  evaluations));
+    }
+    if (s.workload_parameters > 0) {
+      fields.fail("",
+                  "a search varies platform parameters only (use grid or random sampling with "
+                  "workload.* parameters)");
+    }
+    s.nsga2 = true;
+  } else {
+    top.fail("sampling",
+             "expected grid, {random: {samples: N, seed: S}} or {nsga2: {generations: G, "
+             "population: P, seed: S}}");
+  }
+}
+
+/// `objectives:` [{minimize: METRIC} | {maximize: METRIC}, ...], at least one.
+void read_objectives(YamlFields& top, SweepSpec& s) {
+  const YAML::Node objectives = top.take("objectives");
+  if (!objectives || !objectives.IsSequence() || objectives.size() == 0) {
+    top.fail("objectives", "expected a list of {minimize: METRIC} or {maximize: METRIC}");
+  }
+  for (std::size_t i = 0; i < objectives.size(); ++i) {
+    const YAML::Node o = objectives[i];
+    const std::string key = fmt::format("objectives[{}]", i);
+    if (!o.IsMap() || o.size() != 1 || !(o["minimize"] || o["maximize"])) {
+      fail(s.file, o, key, "expected {minimize: METRIC} or {maximize: METRIC}");
+    }
+    SweepObjective objective;
+    objective.maximize = bool(o["maximize"]);
+    const YAML::Node metric = objective.maximize ? o["maximize"] : o["minimize"];
+    objective.metric = metric.IsScalar() ? metric.Scalar() : "";
+    if (!is_sweep_metric(objective.metric)) {
+      fail(s.file, metric, key,
+           fmt::format("unknown metric '{}' (docs/SWEEPS.md lists them)", objective.metric));
+    }
+    s.objectives.push_back(objective);
+  }
+}
+
+/// `constraints:` [{metric: METRIC, min: X, max: Y}, ...] (min, max or both).
+void read_constraints(YamlFields& top, SweepSpec& s) {
+  const YAML::Node constraints = top.take("constraints");
+  if (!constraints) return;
+  if (!constraints.IsSequence()) {
+    top.fail("constraints", "expected a list of {metric, min and/or max}");
+  }
+  for (std::size_t i = 0; i < constraints.size(); ++i) {
+    const YAML::Node c = constraints[i];
+    const std::string key = fmt::format("constraints[{}]", i);
+    if (!c.IsMap() || !c["metric"] || !(c["min"] || c["max"])) {
+      fail(s.file, c, key, "expected {metric: METRIC, max: X} and/or min: X");
+    }
+    ConstraintEntry entry;
+    read_map(s.file, key, c, "{metric, min, max}", ConstraintEntry::fields(), entry);
+    if (!is_sweep_metric(entry.metric)) {
+      YamlFields(c, s.file, key).fail("metric", fmt::format("unknown metric '{}'", entry.metric));
+    }
+    SweepConstraint constraint;
+    constraint.metric = entry.metric;
+    constraint.min = entry.min.value_or(constraint.min);
+    constraint.max = entry.max.value_or(constraint.max);
+    s.constraints.push_back(constraint);
+  }
+}
+
+/// The size first: a grid is enumerated one point at a time (SweepPoints), but more than 10^6
+/// points is refused before any other work; a search indexes at most 2^53.
+void check_grid_size(YamlFields& top, const SweepSpec& s) {
+  if (!s.random && !s.nsga2 && grid_size(s) > kMaxSweepPoints) {
+    top.fail("parameters",
+             fmt::format("the grid has {:.4g} points (more than 10^6); use random sampling or a "
+                         "search",
+                         grid_size(s)));
+  }
+  if (s.nsga2 && grid_size(s) > kMaxSearchGrid) {
+    top.fail("parameters", fmt::format("the grid has {:.4g} points (a search indexes at most 2^53)",
+                                       grid_size(s)));
+  }
+}
+
+/// Every point must make a valid platform: each parameter's values checked on the base (loaded
+/// once; each check on a copy of it).
+void check_values_on_base(const SweepSpec& s) {
+  const PlatformSource base = PlatformSource::load(s.base);
+  for (std::size_t p = s.workload_parameters; p < s.parameters.size(); ++p) {
+    for (std::size_t v = 0; v < s.parameters[p].values.size(); ++v) {
+      SweepPoint point;
+      point.choice.assign(s.parameters.size(), 0);
+      point.choice[p] = v;
+      sweep_platform(s, point, base);
+    }
+  }
+}
+
+}  // namespace
+
+SweepSpec SweepSpec::parse(const std::string& text, const std::string& where,
+                           const std::filesystem::path& dir) {
+  const YAML::Node root = load_yaml_map(text, where, "keys");
+  YamlFields top(root, where, "");
+  std::vector<std::string> keys = field_keys(SpecHeader::fields());
+  keys.insert(keys.end(), kSectionKeys.begin(), kSectionKeys.end());
+  top.refuse_unknown(keys, one_of(keys));
+  SweepSpec s;
+  s.file = where;
+  read_header(top, dir, s);
+  read_workload(top, s);
+  read_parameters(top, s);
+  read_sampling(top, s);
+  read_objectives(top, s);
+  read_constraints(top, s);
+  check_grid_size(top, s);
+  check_values_on_base(s);
+  return s;
+}
+
+std::vector<ReferenceRow> sweep_spec_reference() {
+  std::vector<ReferenceRow> rows;
+  const auto add = [&rows](std::vector<ReferenceRow> more) {
+    rows.insert(rows.end(), more.begin(), more.end());
+  };
+  add(reference_rows("", SpecHeader::fields(), {}, "Sweep spec (`sweeps/*.yaml`): top level"));
+  add(reference_rows("parameters.<key>.range", LinearRange::fields(), {},
+                     "Sweep spec: `parameters.<key>: {range: {...}}` (or `{values: [...]}`)"));
+  add(reference_rows("parameters.<key>.log_range", LogRange::fields(), {},
+                     "Sweep spec: `parameters.<key>: {log_range: {...}}`"));
+  add(reference_rows("sampling.random", random_sampling_fields(), {},
+                     "Sweep spec: `sampling: {random: {...}}` (default: `grid`)"));
+  add(reference_rows("sampling.nsga2", nsga2_sampling_fields(), {},
+                     "Sweep spec: `sampling: {nsga2: {...}}`"));
+  add(reference_rows("constraints[]", ConstraintEntry::fields(), {},
+                     "Sweep spec: `constraints: [{...}]` (min, max or both)"));
+  return rows;
+}
+
+SweepSpec SweepSpec::load(const std::filesystem::path& path) {
+  return parse(read_input_file(path, "sweep spec"), path.string(), path.parent_path());
+}
+
+}  // namespace edx::arch
