@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "common/config_fields.hpp"
 #include "arch/frontend/frontend_unit.hpp"
+#include "common/config_fields.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace YAML {

@@ -23,10 +23,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "common/config_fields.hpp"
 #include "arch/common/registry.hpp"
 #include "arch/cost/energy_activity.hpp"
 #include "arch/cost/resources.hpp"
+#include "common/config_fields.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {

@@ -66,8 +66,8 @@ struct SchedulerConfig {
 };
 
 /// A platform's YAML after `extends:` merging, before parsing: the merged tree (every node keeps
-/// the line it was written on) and, per dotted key ("backend.units.gemm.block", "backend"), where it
-/// was written: the file (its line is the node's), or a place of its own for a key set in code
+/// the line it was written on) and, per dotted key ("backend.units.gemm.block", "backend"), where
+/// it was written: the file (its line is the node's), or a place of its own for a key set in code
 /// (a sweep's value: the spec's line).
 struct PlatformSource {
   YAML::Node root;

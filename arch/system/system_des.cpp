@@ -406,7 +406,7 @@ class SystemSimulation {
   std::unique_ptr<OffloadModel> backend_;       ///< the offload accelerator's DES model
   std::vector<std::string> backend_resources_;  ///< its resource_names()
   std::unique_ptr<LinkModel> link_;             ///< the platform's link (every transfer)
-  std::unique_ptr<LinkModel> frontend_link_;  ///< contention off: transfer 1 on a link of its own
+  std::unique_ptr<LinkModel> frontend_link_;    ///< contention off: transfer 1 on a link of its own
   sim::Resource cores_;
   sim::Resource admission_;  ///< isolated: one frame in the system
   sim::Event arrived_;

@@ -426,12 +426,10 @@ std::string trace_hash(std::size_t frames, const trace::TraceMeta& trace_meta) {
 }
 
 std::string frontend_study_key(const Platform& platform) {
-  return nlohmann::json{{"host", component_json(*platform.host)},
-                        {"frontend", platform.frontend.to_json()},
-                        {"link", component_json(*platform.link)},
-                        {"memory", component_json(*platform.memory)},
-                        {"transfers", platform.transfers.to_json()},
-                        {"device", platform.device}}
+  return nlohmann::json{
+      {"host", component_json(*platform.host)},    {"frontend", platform.frontend.to_json()},
+      {"link", component_json(*platform.link)},    {"memory", component_json(*platform.memory)},
+      {"transfers", platform.transfers.to_json()}, {"device", platform.device}}
       .dump();
 }
 

@@ -38,7 +38,8 @@ const CostEntry& find(const ResourceReport& r, const std::string& name) {
 TEST(ResourceReport, MemoriesComeInAsBramBlocksWithTheirReadMuxes) {
   const std::vector<MemoryStructure> memories = {{"frontend_spm", 64, 322000, 1},
                                                  {"fe.L0.line_fifo", 8, 1280, 7}};
-  const ResourceReport r = build_resource_report({}, *fpga_matrix_units(), {}, bram(), memories, Device::xc7v690t());
+  const ResourceReport r =
+      build_resource_report({}, *fpga_matrix_units(), {}, bram(), memories, Device::xc7v690t());
   const CostEntry& spm = find(r, "frontend_spm");
   // 512 x 72: one column, ⌈322000 / 512⌉ = 629 rows; a 629:1 mux of 64 bits.
   EXPECT_DOUBLE_EQ(spm.shared.bram, 629);
@@ -54,15 +55,16 @@ TEST(ResourceReport, MemoriesComeInAsBramBlocksWithTheirReadMuxes) {
   // The memory kind's parameters: no read muxes; no BRAM18 halves (2K x 9 BRAM18 -> 4K x 9
   // BRAM36, one block each line FIFO).
   const ResourceReport plain = build_resource_report(
-      {}, *fpga_matrix_units(), {}, bram("{read_muxes: false, allow_bram18: false}"), memories, Device::xc7v690t());
+      {}, *fpga_matrix_units(), {}, bram("{read_muxes: false, allow_bram18: false}"), memories,
+      Device::xc7v690t());
   EXPECT_DOUBLE_EQ(find(plain, "frontend_spm").shared.lut, 0);
   EXPECT_DOUBLE_EQ(find(plain, "frontend_spm").shared.bram, 629);
   EXPECT_DOUBLE_EQ(find(plain, "fe.L0.line_fifo").shared.bram, 7);
 }
 
 TEST(ResourceReport, TotalsAreTheSumsOfTheEntriesAndUtilizationIsOverTheDevice) {
-  const ResourceReport r =
-      build_resource_report({}, *fpga_matrix_units(), {}, bram(), car_frontend_memories(), Device::xc7v690t());
+  const ResourceReport r = build_resource_report({}, *fpga_matrix_units(), {}, bram(),
+                                                 car_frontend_memories(), Device::xc7v690t());
   Resources sum, fe;
   for (const CostEntry& e : r.entries) {
     sum += e.shared;
@@ -95,8 +97,8 @@ TEST(ResourceReport, NoSharingIsAtLeastSharedForEveryResource) {
   CostConfig cost;
   cost.frontend_lut_overhead = 0.5;
   cost.backend_ff_overhead = 0.25;
-  const ResourceReport r =
-      build_resource_report({}, *fpga_matrix_units(), cost, bram(), car_frontend_memories(), Device::xc7v690t());
+  const ResourceReport r = build_resource_report({}, *fpga_matrix_units(), cost, bram(),
+                                                 car_frontend_memories(), Device::xc7v690t());
   for (const CostEntry& e : r.entries) {
     for (int i = 0; i < 4; ++i) EXPECT_GE(e.ns[i], e.shared[i]) << e.name;
   }
@@ -109,11 +111,13 @@ TEST(ResourceReport, NoSharingIsAtLeastSharedForEveryResource) {
 TEST(ResourceReport, NoSharingCopiesFollowCamerasModesAndTableII) {
   CostConfig cost;
   EXPECT_DOUBLE_EQ(
-      find(build_resource_report({}, *fpga_matrix_units(), cost, bram(), {}, Device::xc7v690t()), "FD").ns_copies,
+      find(build_resource_report({}, *fpga_matrix_units(), cost, bram(), {}, Device::xc7v690t()),
+           "FD")
+          .ns_copies,
       3);  // default: one frontend per mode
   cost.ns_fe_per_camera = true;
-  const ResourceReport r =
-      build_resource_report({}, *fpga_matrix_units(), cost, bram(), car_frontend_memories(), Device::xc7v690t());
+  const ResourceReport r = build_resource_report({}, *fpga_matrix_units(), cost, bram(),
+                                                 car_frontend_memories(), Device::xc7v690t());
   EXPECT_DOUBLE_EQ(find(r, "FD").ns_copies, 6);  // 2 cameras x 3 modes
   EXPECT_DOUBLE_EQ(find(r, "fc.L0.line_fifo").ns_copies, 6);
   EXPECT_DOUBLE_EQ(find(r, "MO").ns_copies, 3);
@@ -126,8 +130,8 @@ TEST(ResourceReport, NoSharingCopiesFollowCamerasModesAndTableII) {
   cost.ns_fe_per_camera = false;
   cost.ns_frontend_per_mode = false;
   cost.ns_backend_per_kernel = false;
-  const ResourceReport shared =
-      build_resource_report({}, *fpga_matrix_units(), cost, bram(), car_frontend_memories(), Device::xc7v690t());
+  const ResourceReport shared = build_resource_report({}, *fpga_matrix_units(), cost, bram(),
+                                                      car_frontend_memories(), Device::xc7v690t());
   for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(shared.total.ns[i], shared.total.shared[i]);
 }
 
@@ -200,8 +204,8 @@ ResourceReport calibrated_car_report(const std::string& variant, CostConfig base
   CostConfig datapath_only = base;
   datapath_only.frontend_lut_overhead = datapath_only.frontend_ff_overhead = 0;
   datapath_only.backend_lut_overhead = datapath_only.backend_ff_overhead = 0;
-  const ResourceReport raw = build_resource_report(car_frontend, *car_backend, datapath_only, bram(),
-                                                   memories, Device::xc7v690t());
+  const ResourceReport raw = build_resource_report(car_frontend, *car_backend, datapath_only,
+                                                   bram(), memories, Device::xc7v690t());
   const CostConfig calibrated = calibrate_control_overheads(raw, base);
   if (calibrated_out) *calibrated_out = calibrated;
   const ResourceReport r = build_resource_report(car_frontend, *car_backend, calibrated, bram(),

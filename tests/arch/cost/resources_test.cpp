@@ -110,8 +110,8 @@ TEST(UnitCosts, GemmTwoByTwoDoubleByHand) {
   be.units = {array};
   be.units[0].count = 2;  // two arrays: twice the unit's resources in the report
   const ResourceReport report = build_resource_report(
-      FrontendConfig{}, *fpga_matrix_units(be), CostConfig{}, *ComponentRegistry<OnChipMemory>::instance().make("bram"),
-      {}, Device::by_name("xc7v690t"));
+      FrontendConfig{}, *fpga_matrix_units(be), CostConfig{},
+      *ComponentRegistry<OnChipMemory>::instance().make("bram"), {}, Device::by_name("xc7v690t"));
   for (const CostEntry& e : report.entries) {
     if (e.name == "gemm") {
       EXPECT_DOUBLE_EQ(e.shared.dsp, 2 * 4 * 14);
