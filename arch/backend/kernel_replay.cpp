@@ -4,7 +4,8 @@
 
 #include <algorithm>
 #include <limits>
-#include <map>
+#include <utility>
+#include <vector>
 
 namespace edx::arch {
 
@@ -16,20 +17,25 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
   r.spm_bytes_capacity = config.spm_bytes;
   r.unit_busy_cycles.assign(config.units.size(), 0);
   const std::vector<trace::OpRecord> ops = kernel_ops(kernel, config);
-  for (const trace::OpRecord& op : ops) {
-    if (config.unit_for(op.op) == nullptr) {
+  std::vector<const MatrixUnitInstance*> unit_of(ops.size());
+  for (std::size_t i = 0; i < ops.size(); ++i) {
+    unit_of[i] = config.unit_for(ops[i].op);
+    if (unit_of[i] == nullptr) {
       r.runnable = false;
       r.compute_s = std::numeric_limits<double>::infinity();
       r.message = fmt::format("kernel '{}': no backend unit serves its {} op (backend.units)",
-                              kernel.kernel, trace::to_string(op.op));
+                              kernel.kernel, trace::to_string(ops[i].op));
       return r;
     }
   }
-  // Cycles per clock: the kernel's time is Σ over its units' clocks of their cycles / f.
-  std::map<double, std::int64_t> cycles_at_clock;
+  // Cycles per clock: the kernel's time is Σ over its units' clocks of their cycles / f (a few
+  // clocks at most: a flat list, summed in ascending clock order as before).
+  std::vector<std::pair<double, std::int64_t>> cycles_at_clock;
   std::size_t largest = 0;
-  for (const trace::OpRecord& op : ops) {
-    const MatrixUnitInstance& unit = *config.unit_for(op.op);
+  r.ops.reserve(ops.size());
+  for (std::size_t i = 0; i < ops.size(); ++i) {
+    const trace::OpRecord& op = ops[i];
+    const MatrixUnitInstance& unit = *unit_of[i];
     OpTiming t{op,
                static_cast<std::size_t>(&unit - config.units.data()),
                unit.count,
@@ -38,7 +44,11 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
                op_spm_bytes(op, config),
                op_spill_traffic(op, config)};
     r.cycles += t.cycles;  // each op waits for the previous one
-    cycles_at_clock[config.clock_of(unit)] += t.cycles;
+    const double clock = config.clock_of(unit);
+    auto at = std::find_if(cycles_at_clock.begin(), cycles_at_clock.end(),
+                           [clock](const auto& entry) { return entry.first == clock; });
+    if (at == cycles_at_clock.end()) at = cycles_at_clock.insert(cycles_at_clock.end(), {clock, 0});
+    at->second += t.cycles;
     if (t.spill.bytes() > 0) {
       ++r.spilled_ops;
       r.spill.read_bytes += t.spill.read_bytes;
@@ -51,12 +61,14 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
     }
     r.ops.push_back(t);
   }
+  std::sort(cycles_at_clock.begin(), cycles_at_clock.end());
   for (const auto& [clock_mhz, cycles] : cycles_at_clock) {
     r.compute_s += static_cast<double>(cycles) / (clock_mhz * 1e6);
   }
   // The work by resource (the units of count > 0): a busy copy-cycle is mac_lanes MACs of the
   // unit's precision; each op reads and writes its operands in the SPM once.
   std::vector<std::size_t> resource_of(config.units.size(), 0);
+  r.activity.reserve(config.units.size());
   for (std::size_t u = 0; u < config.units.size(); ++u) {
     if (config.units[u].count == 0) continue;
     resource_of[u] = r.activity.size();

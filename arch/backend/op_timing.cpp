@@ -17,8 +17,6 @@ bool has(const OpRecord& op, std::uint32_t flag) { return (op.flags & flag) != 0
 
 }  // namespace
 
-std::int64_t ceil_div(std::int64_t a, std::int64_t b) { return (a + b - 1) / b; }
-
 std::int64_t symmetric_scalars(std::int64_t n, const BackendConfig& config) {
   return config.symmetric_optimization ? n * (n + 1) / 2 : n * n;
 }

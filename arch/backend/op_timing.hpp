@@ -25,7 +25,7 @@
 namespace edx::arch {
 
 /// ⌈a / b⌉ for a >= 0, b >= 1.
-std::int64_t ceil_div(std::int64_t a, std::int64_t b);
+inline std::int64_t ceil_div(std::int64_t a, std::int64_t b) { return (a + b - 1) / b; }
 /// Scalars of an n x n symmetric matrix as stored: n(n+1)/2 with the optimization, else n^2.
 std::int64_t symmetric_scalars(std::int64_t n, const BackendConfig& config);
 /// True when a gemm's (square) result is symmetric (see above).

@@ -9,13 +9,6 @@ std::int64_t stream_cycles(std::int64_t pixels, double per_cycle) {
   return static_cast<std::int64_t>(std::ceil(static_cast<double>(pixels) / per_cycle - 1e-9));
 }
 
-std::int64_t stencil_halo_pixels(const trace::TaskRecord& task, int stencil) {
-  const std::int64_t half = (stencil - 1) / 2;
-  std::int64_t halo = 0;
-  for (const trace::LevelWork& level : task.per_level) halo += half * level.width + half;
-  return halo;
-}
-
 int stencil_of(const trace::TaskRecord& task, int configured) {
   return task.window_size > 0 ? static_cast<int>(task.window_size) : configured;
 }

@@ -18,7 +18,12 @@ std::int64_t stream_cycles(std::int64_t pixels, double per_cycle);
 
 /// Pixels a stencil of side `stencil` must have buffered before its first output on each level:
 /// (stencil - 1) / 2 lines plus (stencil - 1) / 2 pixels (the window centred on the pixel).
-std::int64_t stencil_halo_pixels(const trace::TaskRecord& task, int stencil);
+inline std::int64_t stencil_halo_pixels(const trace::TaskRecord& task, int stencil) {
+  const std::int64_t half = (stencil - 1) / 2;
+  std::int64_t halo = 0;
+  for (const trace::LevelWork& level : task.per_level) halo += half * level.width + half;
+  return halo;
+}
 
 /// The stencil side a row used: the trace's window_size when it recorded one, else `configured`.
 int stencil_of(const trace::TaskRecord& task, int configured);

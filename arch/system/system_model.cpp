@@ -195,9 +195,11 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
     w.frontend = prepare_frontend_frame(frame, level0, platform.frontend, platform.transfers);
     const std::vector<double>& kernel_ms = host.kernel_ms[f];
     std::vector<bool> offloaded;
-    for (const trace::KernelRecord& kernel : frame.kernels) {
+    for (std::size_t k = 0; k < frame.kernels.size(); ++k) {
       bool off = false;
-      if (platform.scheduler.offloads(kernel.kernel) && has_ops(kernel)) {
+      // The decisions list the candidates in trace order (frame ids are unique in a trace).
+      if (next < r.decisions.size() && r.decisions[next].frame_id == w.frame_id &&
+          r.decisions[next].kernel_seq == static_cast<int>(k)) {
         const KernelDecision& d = r.decisions[next];
         off = d.offloaded;
         if (off) {

@@ -30,6 +30,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <stdexcept>
@@ -201,12 +202,16 @@ class DmaLink final : public Link {
     const auto k = static_cast<std::size_t>(params_.dma.max_outstanding);
     const sim::Time setup = ns_to_time(params_.dma.setup_ns);
     const sim::Time latency = ns_to_time(params_.latency_ns);
-    // D_j of the last K chunks (chunk j reuses the slot of chunk j - K): a ring of K entries.
-    std::vector<sim::Time> done(std::min(k, static_cast<std::size_t>(n)), 0);
+    // D_j of the last K chunks (chunk j reuses the slot of chunk j - K): a ring of K entries
+    // (on the stack for the usual few slots: this runs for every transfer of every frame).
+    const std::size_t slots = std::min(k, static_cast<std::size_t>(n));
+    std::array<sim::Time, 16> few{};
+    std::vector<sim::Time> many(slots > few.size() ? slots : 0, 0);
+    sim::Time* const done = slots > few.size() ? many.data() : few.data();
     sim::Time wire_end = 0;  // E_{j-1}
     sim::Time last = 0;
     for (std::int64_t j = 0; j < n; ++j) {
-      const auto slot = static_cast<std::size_t>(j) % done.size();
+      const auto slot = static_cast<std::size_t>(j) % slots;
       const std::int64_t chunk_bytes = std::min(chunk, bytes - j * chunk);
       const sim::Time start = static_cast<std::size_t>(j) < k ? 0 : done[slot];  // S_j = D_{j-K}
       const sim::Time on_wire = std::max(start + setup, wire_end);  // W_j = max(R_j, E_{j-1})
