@@ -82,11 +82,12 @@ KernelTransfer kernel_transfer(const trace::KernelRecord& k, const FrameTransfer
   t.kernel = k.kernel;
   const KernelOperands operands =
       accelerable_kernel(k.kernel).operands(k, format, c.pack_symmetric);
-  const nlohmann::json& in = operands.inputs;
-  const nlohmann::json& out = operands.outputs;
-  for (const auto& [name, bytes] : in.items()) t.input_bytes += bytes.get<std::int64_t>();
-  for (const auto& [name, bytes] : out.items()) t.output_bytes += bytes.get<std::int64_t>();
-  t.parts = {{"inputs", in}, {"outputs", out}};
+  for (const auto& [name, bytes] : operands.inputs.items()) {
+    t.input_bytes += bytes.get<std::int64_t>();
+  }
+  for (const auto& [name, bytes] : operands.outputs.items()) {
+    t.output_bytes += bytes.get<std::int64_t>();
+  }
   return t;
 }
 

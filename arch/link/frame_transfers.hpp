@@ -73,7 +73,6 @@ struct KernelTransfer {
   std::string kernel;
   std::int64_t input_bytes = 0;   ///< host -> FPGA
   std::int64_t output_bytes = 0;  ///< FPGA -> host
-  nlohmann::json parts;           ///< {"inputs": {name: bytes}, "outputs": {name: bytes}}
 };
 
 /// Transfer (1) of one frame: its frontend results and sensor samples, FPGA -> host.

@@ -107,20 +107,7 @@ TEST(HostReference, ListsTheKindThenEachKindsKeys) {
 
 /// One registration frame: frontend 3 ms and backend 10 ms on the tracing machine, 4 ms of it
 /// in a kernel that stays on the host.
-std::vector<trace::FrameTrace> one_frame() {
-  trace::FrameTrace f;
-  f.frame.frame_id = 0;
-  f.frame.sequence = "hand";
-  f.frame.mode = trace::BackendMode::Registration;
-  f.frame.frontend_host_ns = 3'000'000;
-  f.frame.backend_host_ns = 10'000'000;
-  f.tasks = hand_task_rows();
-  trace::KernelRecord k;
-  k.kernel = "tracking";
-  k.host_ns = 4'000'000;
-  f.kernels = {k};
-  return {f};
-}
+std::vector<trace::FrameTrace> one_frame() { return {hand_frame("tracking", 4'000'000)}; }
 
 const trace::TraceMeta kMeta = {{"resolution", "40x25"}, {"dataset", "hand"}};
 

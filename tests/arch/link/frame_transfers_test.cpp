@@ -74,7 +74,10 @@ TEST(FrameTransfers, Projection) {
   const KernelTransfer t = kernel_transfer(kernel("projection", 1000, 0), {}, kFormat);
   EXPECT_EQ(t.input_bytes, (12 + 4000) * 8);
   EXPECT_EQ(t.output_bytes, 2000 * 8);
-  EXPECT_EQ(t.parts["inputs"]["camera_matrix"], 96);
+  // By matrix: the kernel's descriptor lists them (the camera matrix 3x4).
+  const KernelOperands operands =
+      accelerable_kernel("projection").operands(kernel("projection", 1000, 0), kFormat, false);
+  EXPECT_EQ(operands.inputs["camera_matrix"], 96);
 }
 
 TEST(FrameTransfers, KalmanGain) {

@@ -38,29 +38,9 @@ Platform custom_platform(int fd_copies) {
       "custom.yaml");
 }
 
-/// One registration frame of the hand rows with a projection of 100 map points (gemm 3 x 100 x 4).
-std::vector<trace::FrameTrace> one_frame() {
-  trace::FrameTrace f;
-  f.frame.frame_id = 0;
-  f.frame.sequence = "custom";
-  f.frame.mode = trace::BackendMode::Registration;
-  f.frame.frontend_host_ns = 3'000'000;
-  f.frame.backend_host_ns = 10'000'000;
-  f.tasks = hand_task_rows();
-  trace::KernelRecord k;
-  k.kernel = "projection";
-  k.accelerable = true;
-  k.host_ns = 6'000'000;
-  k.m = 100;
-  k.ops = {trace::OpRecord{trace::Op::Gemm, 3, 100, 4, 0, 0}};
-  f.kernels = {k};
-  return {f};
-}
+std::vector<trace::FrameTrace> one_frame() { return {hand_frame()}; }
 
-const trace::TraceMeta kMeta = {
-    {"resolution", "40x25"},
-    {"dataset", "hand"},
-    {"host_speed", R"({"suite": 1, "frontend_ms": 10.0, "backend_ms": 4.0, "samples": 1})"}};
+const trace::TraceMeta kMeta = hand_meta();
 
 TEST(CustomUnits, ANewBackendKindAndFrontendKindSimulateEndToEnd) {
   const Platform p = custom_platform(1);
