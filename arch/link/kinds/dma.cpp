@@ -180,7 +180,10 @@ class DmaLink final : public Link {
     }
   };
 
-  explicit DmaLink(const Params& params) : params_(params) {}
+  explicit DmaLink(const Params& params)
+      : params_(params),
+        setup_(ns_to_time(params.dma.setup_ns)),
+        latency_(ns_to_time(params.latency_ns)) {}
 
   std::string_view kind() const override { return "dma"; }
   nlohmann::json params_json() const override {
@@ -200,8 +203,11 @@ class DmaLink final : public Link {
     const std::int64_t chunk = params_.dma.chunk_bytes;
     const std::int64_t n = (bytes + chunk - 1) / chunk;  // ceil(B / C)
     const auto k = static_cast<std::size_t>(params_.dma.max_outstanding);
-    const sim::Time setup = ns_to_time(params_.dma.setup_ns);
-    const sim::Time latency = ns_to_time(params_.latency_ns);
+    const sim::Time setup = setup_, latency = latency_;
+    // No more chunks than slots (every transfer but a multi-megabyte one): no chunk waits for a
+    // slot, each reaches the wire when the previous leaves it, and the chunks' wire times add up
+    // to wire(B) exactly, so T = s + wire(B) + L, the loop's figure to the picosecond.
+    if (static_cast<std::size_t>(n) <= k) return setup + params_.wire_time(bytes) + latency;
     // D_j of the last K chunks (chunk j reuses the slot of chunk j - K): a ring of K entries
     // (on the stack for the usual few slots: this runs for every transfer of every frame).
     const std::size_t slots = std::min(k, static_cast<std::size_t>(n));
@@ -227,6 +233,8 @@ class DmaLink final : public Link {
 
  private:
   Params params_;
+  sim::Time setup_;    ///< dma.setup_ns as simulated time
+  sim::Time latency_;  ///< latency_ns as simulated time
 };
 
 /// DmaLink's DES model: the slots and wires of both directions, booked chunk by chunk.
