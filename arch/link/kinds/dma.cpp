@@ -183,7 +183,8 @@ class DmaLink final : public Link {
   explicit DmaLink(const Params& params)
       : params_(params),
         setup_(ns_to_time(params.dma.setup_ns)),
-        latency_(ns_to_time(params.latency_ns)) {}
+        latency_(ns_to_time(params.latency_ns)),
+        slots_never_wait_(slots_never_wait(params, setup_, latency_)) {}
 
   std::string_view kind() const override { return "dma"; }
   nlohmann::json params_json() const override {
@@ -204,10 +205,12 @@ class DmaLink final : public Link {
     const std::int64_t n = (bytes + chunk - 1) / chunk;  // ceil(B / C)
     const auto k = static_cast<std::size_t>(params_.dma.max_outstanding);
     const sim::Time setup = setup_, latency = latency_;
-    // No more chunks than slots (every transfer but a multi-megabyte one): no chunk waits for a
-    // slot, each reaches the wire when the previous leaves it, and the chunks' wire times add up
-    // to wire(B) exactly, so T = s + wire(B) + L, the loop's figure to the picosecond.
-    if (static_cast<std::size_t>(n) <= k) return setup + params_.wire_time(bytes) + latency;
+    // When no chunk waits for a slot (no more chunks than slots, or slots_never_wait_), each
+    // reaches the wire when the previous leaves it and the chunks' wire times add up to wire(B)
+    // exactly: T = s + wire(B) + L, the loop's figure to the picosecond.
+    if (slots_never_wait_ || static_cast<std::size_t>(n) <= k) {
+      return setup + params_.wire_time(bytes) + latency;
+    }
     // D_j of the last K chunks (chunk j reuses the slot of chunk j - K): a ring of K entries
     // (on the stack for the usual few slots: this runs for every transfer of every frame).
     const std::size_t slots = std::min(k, static_cast<std::size_t>(n));
@@ -232,9 +235,21 @@ class DmaLink final : public Link {
   const Params& params() const { return params_; }
 
  private:
+  /// True when chunk j's slot (freed at D_{j-K} = E_{j-K} + L) is always free before the wire
+  /// is: E_{j-K} + L + s <= E_{j-1}, i.e. the K - 1 full chunks between them take at least
+  /// L + s on the wire. A full chunk's rounded wire time is at least C / bandwidth - 1 ps, so
+  /// (K - 1) (C / bandwidth - 1 ps) > L + s (+ 1 ps of margin) suffices (Edx-Car's PCIe: 7 x 517 ns
+  /// > 1.5 us).
+  static bool slots_never_wait(const Params& p, sim::Time setup, sim::Time latency) {
+    const double chunk_ps = static_cast<double>(p.dma.chunk_bytes) * 1e3 / p.bandwidth_gb_per_s;
+    return (p.dma.max_outstanding - 1) * (chunk_ps - 1.0) >
+           static_cast<double>(latency + setup + 1);
+  }
+
   Params params_;
-  sim::Time setup_;    ///< dma.setup_ns as simulated time
-  sim::Time latency_;  ///< latency_ns as simulated time
+  sim::Time setup_;        ///< dma.setup_ns as simulated time
+  sim::Time latency_;      ///< latency_ns as simulated time
+  bool slots_never_wait_;  ///< see slots_never_wait()
 };
 
 /// DmaLink's DES model: the slots and wires of both directions, booked chunk by chunk.
