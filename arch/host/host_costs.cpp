@@ -379,7 +379,10 @@ WorkRow work_of(const TaskRecord& task, double image_pixels) {
 }
 
 WorkRow work_of(const KernelRecord& kernel) {
-  const nlohmann::json detail = nlohmann::json::parse(kernel.detail_json, nullptr, false);
+  // Most kernels record no detail ("{}"): no parse for them (this runs per kernel per frame).
+  const nlohmann::json detail = kernel.detail_json == "{}"
+                                    ? nlohmann::json::object()
+                                    : nlohmann::json::parse(kernel.detail_json, nullptr, false);
   if (detail.is_discarded() || !detail.is_object()) {
     throw std::runtime_error(fmt::format("kernel '{}': detail is not a JSON object: {}",
                                          kernel.kernel, kernel.detail_json));
@@ -404,16 +407,19 @@ WorkRow backend_rest_of(const trace::FrameTrace& frame) {
       CostPart::kBackendRest, backend_rest_kind(frame.frame.mode), {1.0, frame_features(frame)}};
 }
 
-double HostCostModel::predict(const WorkRow& row, const std::string& where) const {
+std::optional<double> HostCostModel::try_predict(const WorkRow& row) const {
   const auto& table = is_frontend(row.part) ? frontend : backend;
   const auto it = table.find(row.kind);
-  if (it == table.end()) {
-    throw std::runtime_error(fmt::format(
-        "{}: the host cost table (suite v{}) has no costs for '{}' (re-fit it: edx host-costs "
-        "fit, docs/MODEL.md \"Host CPU\")",
-        where, suite, row.kind));
-  }
+  if (it == table.end()) return std::nullopt;
   return it->second.predict(row.x);
+}
+
+double HostCostModel::predict(const WorkRow& row, const std::string& where) const {
+  if (const std::optional<double> t = try_predict(row)) return *t;
+  throw std::runtime_error(fmt::format(
+      "{}: the host cost table (suite v{}) has no costs for '{}' (re-fit it: edx host-costs "
+      "fit, docs/MODEL.md \"Host CPU\")",
+      where, suite, row.kind));
 }
 
 YAML::Emitter& HostCostModel::emit(YAML::Emitter& out) const {

@@ -16,6 +16,7 @@
 
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,8 @@ struct HostCostModel {
   /// Modeled time of a row in ns per suite-ms of its part. Throws std::runtime_error naming
   /// `where` and the kind when the table has no costs for it.
   double predict(const WorkRow& row, const std::string& where) const;
+  /// As predict, std::nullopt when the table has no costs for the row's kind.
+  std::optional<double> try_predict(const WorkRow& row) const;
 
   YAML::Emitter& emit(YAML::Emitter& out) const;
   std::string to_yaml() const;

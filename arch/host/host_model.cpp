@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
 #include "arch/host/host_costs.hpp"
@@ -142,16 +143,18 @@ PlatformHostTimes PlatformHostTimes::suite_scaled(const SuiteTimes& host, HostTi
     const double be = t.mapping.backend_scale(id) * 1e-6;
     std::vector<double> kernels;
     if (modeled) {
-      const std::string where = fmt::format("{}: frame {}", trace_name, id);
+      // The row's modeled time; an error names the frame (formatted only then).
+      const auto cost = [&](const WorkRow& row) {
+        if (const std::optional<double> t = costs->try_predict(row)) return *t;
+        return costs->predict(row, fmt::format("{}: frame {}", trace_name, id));
+      };
       double frontend = 0, backend = 0;  // ns per suite-ms
-      if (!frame.tasks.empty()) frontend = costs->predict(frontend_rest_of(frame), where);
+      if (!frame.tasks.empty()) frontend = cost(frontend_rest_of(frame));
       const double pixels = image_pixels(frame);
-      for (const trace::TaskRecord& task : frame.tasks) {
-        frontend += costs->predict(work_of(task, pixels), where);
-      }
-      if (ran_backend(frame)) backend = costs->predict(backend_rest_of(frame), where);
+      for (const trace::TaskRecord& task : frame.tasks) frontend += cost(work_of(task, pixels));
+      if (ran_backend(frame)) backend = cost(backend_rest_of(frame));
       for (const trace::KernelRecord& kernel : frame.kernels) {
-        kernels.push_back(costs->predict(work_of(kernel), where) * be);
+        kernels.push_back(cost(work_of(kernel)) * be);
         backend += kernels.back() / be;
       }
       t.frontend_ms.push_back(frontend * fe);
