@@ -47,7 +47,10 @@ sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::stri
       if (label.empty()) label = plan.kernel;
       timeline_->span(
           unit_tracks_[t.unit],
-          fmt::format("{} {} {}x{}x{}", label, trace::to_string(t.op.op), t.op.m, t.op.n, t.op.k),
+          t.op.batch == 1 ? fmt::format("{} {} {}x{}x{}", label, trace::to_string(t.op.op), t.op.m,
+                                        t.op.n, t.op.k)
+                          : fmt::format("{} {} {}x{}x{} x{}", label, trace::to_string(t.op.op),
+                                        t.op.m, t.op.n, t.op.k, t.op.batch),
           begin, sim_->now(),
           {{"cycles", cycles},
            {"copies", copies},

@@ -78,7 +78,9 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
     (unit.arithmetic() == cost::Arithmetic::kSingle ? a.single_macs : a.double_macs) = macs;
     r.activity.push_back(a);
   }
-  for (const OpTiming& t : r.ops) r.activity[resource_of[t.unit]].bram_bytes += double(t.spm_bytes);
+  for (const OpTiming& t : r.ops) {
+    r.activity[resource_of[t.unit]].bram_bytes += double(t.spm_bytes) * double(t.op.batch);
+  }
   r.fits_local_memory = r.local_bytes <= config.spm_bytes;
   if (!r.fits_local_memory) {
     const trace::OpRecord& op = r.ops[largest].op;

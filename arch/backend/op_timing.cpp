@@ -30,9 +30,22 @@ void check_dimensions(const OpRecord& op) {
     throw std::runtime_error(fmt::format("{} op: negative dimension (m {}, n {}, k {})",
                                          trace::to_string(op.op), op.m, op.n, op.k));
   }
+  if (op.batch < 1) {
+    throw std::runtime_error(
+        fmt::format("{} op: batch {}, expected at least 1", trace::to_string(op.op), op.batch));
+  }
 }
 
 std::int64_t factorization_macs(std::int64_t n) { return (n * n * n - n) / 6 + n * (n - 1) / 2; }
+
+std::int64_t householder_macs(std::int64_t m, std::int64_t n) {
+  std::int64_t macs = 0;
+  for (std::int64_t j = 0; j < std::min(m, n); ++j) {
+    const std::int64_t rows = m - j, cols = n - j - 1;
+    macs += rows + 2 * rows * cols;
+  }
+  return macs;
+}
 
 const MatrixUnitInstance& serving_unit(trace::Op op, const BackendConfig& config) {
   if (const MatrixUnitInstance* unit = config.unit_for(op)) return *unit;
@@ -47,7 +60,12 @@ std::int64_t op_cycles(const OpRecord& op, const BackendConfig& config) {
 
 std::int64_t op_cycles(const OpRecord& op, int copies, const BackendConfig& config) {
   check_dimensions(op);
-  return serving_unit(op.op, config).unit->cycles(op, copies, config);
+  const MatrixUnit& unit = *serving_unit(op.op, config).unit;
+  const std::int64_t shared = unit.cycles(op, copies, config);
+  if (op.batch == 1) return shared;
+  // b independent instances: each shared by all copies, or ⌈b / c⌉ rounds of one per copy.
+  const std::int64_t one_each = ceil_div(op.batch, std::max(1, copies)) * unit.cycles(op, 1, config);
+  return std::min(op.batch * shared, one_each);
 }
 
 OperandScalars op_operand_scalars(const OpRecord& op, const BackendConfig& config) {
@@ -87,6 +105,8 @@ OperandScalars op_operand_scalars(const OpRecord& op, const BackendConfig& confi
       if (has(op, flags::kDiagonal)) return {m, m};
       if (has(op, flags::kSymmetric)) return {sym(m), sym(m)};
       return {m * m, m * m};
+    case Op::Qr:
+      return {m * n, m * n};  // in place: R above the diagonal, the reflectors below
   }
   return {};
 }
@@ -95,13 +115,15 @@ std::int64_t op_spm_bytes(const OpRecord& op, const BackendConfig& config) {
   const OperandScalars operands = op_operand_scalars(op, config);
   // Factorizations overwrite their matrix and triangular solves their right-hand side: an
   // in-place op holds its inputs only; the others hold inputs and result.
-  const bool in_place =
-      op.op == Op::Potrf || op.op == Op::Ldlt || op.op == Op::Trsm || op.op == Op::Trsv;
+  const bool in_place = op.op == Op::Potrf || op.op == Op::Ldlt || op.op == Op::Trsm ||
+                        op.op == Op::Trsv || op.op == Op::Qr;
   return (in_place ? operands.in : operands.in + operands.out) * config.scalar_bytes;
 }
 
-std::int64_t op_macs(const OpRecord& op, const BackendConfig& config) {
-  check_dimensions(op);
+namespace {
+
+/// Multiply-adds of one instance of `op` (op_macs without the batch).
+std::int64_t instance_macs(const OpRecord& op, const BackendConfig& config) {
   if (const MatrixUnitInstance* unit = config.unit_for(op.op)) {
     if (auto own = unit->unit->own_macs(op, config)) return *own;
   }
@@ -124,8 +146,17 @@ std::int64_t op_macs(const OpRecord& op, const BackendConfig& config) {
       return 0;
     case Op::Inverse:
       return has(op, flags::kDiagonal) ? 0 : m * m * m;
+    case Op::Qr:
+      return householder_macs(m, n);
   }
   return 0;
+}
+
+}  // namespace
+
+std::int64_t op_macs(const OpRecord& op, const BackendConfig& config) {
+  check_dimensions(op);
+  return op.batch * instance_macs(op, config);
 }
 
 std::int64_t spill_tile(const BackendConfig& config) {
@@ -140,8 +171,9 @@ std::int64_t spill_tile(const BackendConfig& config) {
 SpillTraffic op_spill_traffic(const OpRecord& op, const BackendConfig& config) {
   if (op_spm_bytes(op, config) <= config.spm_bytes) return {};
   const OperandScalars io = op_operand_scalars(op, config);
-  const std::int64_t rereads = ceil_div(2 * op_macs(op, config), spill_tile(config));
-  return {std::max(io.in, rereads) * config.scalar_bytes, io.out * config.scalar_bytes};
+  const std::int64_t rereads = ceil_div(2 * instance_macs(op, config), spill_tile(config));
+  return {op.batch * std::max(io.in, rereads) * config.scalar_bytes,
+          op.batch * io.out * config.scalar_bytes};
 }
 
 std::vector<OpRecord> kernel_ops(const trace::KernelRecord& kernel, const BackendConfig& config) {

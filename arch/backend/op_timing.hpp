@@ -39,13 +39,20 @@ void check_dimensions(const trace::OpRecord& op);
 /// needs no more products than Cholesky.)
 std::int64_t factorization_macs(std::int64_t n);
 
+/// Multiply-adds of a Householder QR of an m x n matrix: per reflector j < min(m, n) the column's
+/// norm (r_j = m - j) and its application to the n - j - 1 columns right of it (2 r_j each):
+/// Σ_j r_j (1 + 2(n - j - 1)) ≈ mn² - n³/3 (LAPACK Working Note 41: 2mn² - 2n³/3 flops).
+std::int64_t householder_macs(std::int64_t m, std::int64_t n);
+
 /// The instance serving `op`; throws std::runtime_error "no backend unit serves <op>" when none
 /// does (offloadable() says beforehand).
 const MatrixUnitInstance& serving_unit(trace::Op op, const BackendConfig& config);
 
 /// Cycles of one op on its instance, all its copies sharing the work (the kind's formula,
-/// arch/backend/units/; docs/MODEL.md lists each). Throws std::runtime_error for negative
-/// dimensions or an op no instance serves.
+/// arch/backend/units/; docs/MODEL.md lists each). A batch of b independent instances takes
+/// min(b · cycles on c copies, ⌈b / c⌉ · cycles on one copy): all copies on each instance, or
+/// one instance per copy in rounds, whichever is shorter. Throws std::runtime_error for negative
+/// dimensions, a batch below 1 or an op no instance serves.
 std::int64_t op_cycles(const trace::OpRecord& op, const BackendConfig& config);
 /// The same on `copies` copies of its instance (the DES when some copies are busy).
 std::int64_t op_cycles(const trace::OpRecord& op, int copies, const BackendConfig& config);
@@ -57,18 +64,22 @@ std::int64_t op_cycles(const trace::OpRecord& op, int copies, const BackendConfi
 ///   potrf, ldlt  in sym(m), out sym(m)       trsm, trsv  in sym(m) + m·rhs, out m·rhs
 ///   transpose  in mn, out mn          inverse  in m^2, out m^2 (sym(m) each when kSymmetric;
 ///                                              m each when kDiagonal)
+///   qr  in mn, out mn (R and the reflectors in place)
+/// of one instance of a batch (the scratchpad holds the running instance's operands).
 OperandScalars op_operand_scalars(const trace::OpRecord& op, const BackendConfig& config);
 
 /// Scratchpad bytes of one op's operands and result (Sec. VI-A: "the input matrices must be
 /// ready before an operation starts"), s bytes a scalar: in + out scalars, or in only for the
-/// in-place ops (potrf, ldlt overwrite their matrix; trsm, trsv their right-hand side).
+/// in-place ops (potrf, ldlt, qr overwrite their matrix; trsm, trsv their right-hand side); of
+/// one instance of a batch.
 std::int64_t op_spm_bytes(const trace::OpRecord& op, const BackendConfig& config);
 
 /// Multiply-adds W of one op, the work a tiled out-of-core algorithm re-reads operands for,
 /// unless its unit computes it its own way (MatrixUnit::own_macs: the structured inverse):
 ///   gemm mnk (k sym(m) for a symmetric result with the optimization)   syrk k sym(m)
 ///   potrf, ldlt factorization_macs(m)     trsm, trsv rhs m(m+1)/2      transpose 0
-///   inverse m^3 (0 when kDiagonal: reciprocals)
+///   inverse m^3 (0 when kDiagonal: reciprocals)   qr householder_macs(m, n)
+/// times the batch.
 std::int64_t op_macs(const trace::OpRecord& op, const BackendConfig& config);
 
 /// SPM tile side of an op that spills: t = max(1, ⌊√(M / 3)⌋), M = spm_bytes / s the SPM's
@@ -80,7 +91,8 @@ std::int64_t spill_tile(const BackendConfig& config);
 /// the SPM (op_spm_bytes <= spm_bytes). Tiled at t = spill_tile(): each t x t x t block of its W
 /// multiply-adds reads two t x t operand tiles while the accumulator tile stays in the SPM, so
 /// the op reads 2W / t scalars (every operand at least once) and writes its result once:
-///   read  = s · max(in, ⌈2W / t⌉),   write = s · out
+///   read  = s · max(in, ⌈2W / t⌉),   write = s · out   (W, in, out of one instance; each
+///                                                         instance of a batch streams its own)
 /// (for a gemm with t dividing m and n this is the blocked algorithm's exact count
 /// mk⌈n/t⌉ + kn⌈m/t⌉ = 2mnk/t; Hong and Kung, STOC 1981, bound any schedule's traffic below
 /// by Ω(W / √M), so this is within a constant of optimal). Not calibrated.

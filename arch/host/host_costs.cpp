@@ -26,8 +26,9 @@ double d(std::int64_t v) { return static_cast<double>(v); }
 
 /// Flops of a matrix op (LAPACK Working Note 41 counts, leading terms): gemm 2mnk, syrk m²k,
 /// potrf/ldlt m³/3, trsm m²n, trsv m², a general inverse (LU + inversion) 2m³, a symmetric one
-/// (Cholesky + inversion) m³, transpose none.
-double op_flops(const OpRecord& op) {
+/// (Cholesky + inversion) m³, transpose none, Householder QR of m x n 2mn² - 2n³/3; of one
+/// instance of a batch.
+double instance_flops(const OpRecord& op) {
   const double m = d(op.m), n = d(op.n), k = d(op.k);
   switch (op.op) {
     case Op::Gemm:
@@ -46,12 +47,14 @@ double op_flops(const OpRecord& op) {
     case Op::Inverse:
       if (op.flags & trace::op_flags::kDiagonal) return m;  // reciprocals
       return (op.flags & trace::op_flags::kSymmetric) ? m * m * m : 2 * m * m * m;
+    case Op::Qr:
+      return 2 * m * n * n - 2 * n * n * n / 3;
   }
   return 0;
 }
 
-/// Elements an op reads and writes (operands and result).
-double op_elements(const OpRecord& op) {
+/// Elements one instance of an op reads and writes (operands and result).
+double instance_elements(const OpRecord& op) {
   const double m = d(op.m), n = d(op.n), k = d(op.k);
   switch (op.op) {
     case Op::Gemm:
@@ -67,10 +70,15 @@ double op_elements(const OpRecord& op) {
     case Op::Trsv:
       return m * m + 2 * m;
     case Op::Transpose:
+    case Op::Qr:
       return 2 * m * n;
   }
   return 0;
 }
+
+/// Flops and elements of an op record: its batch of instances.
+double op_flops(const OpRecord& op) { return d(op.batch) * instance_flops(op); }
+double op_elements(const OpRecord& op) { return d(op.batch) * instance_elements(op); }
 
 /// A regressor of a kernel row.
 struct KernelFeature {

@@ -14,7 +14,8 @@ const std::vector<const AccelerableKernel*>& accelerable_kernels() {
   // The registry: one line per kernel.
   static const std::vector<const AccelerableKernel*> kernels = {
       &projection_kernel(),       &kalman_gain_kernel(),       &marginalization_kernel(),
-      &schur_complement_kernel(), &covariance_update_kernel(), &gps_fusion_kernel()};
+      &schur_complement_kernel(), &covariance_update_kernel(), &gps_fusion_kernel(),
+      &nullspace_projection_kernel()};
   return kernels;
 }
 

@@ -82,6 +82,7 @@ const AccelerableKernel& marginalization_kernel();
 const AccelerableKernel& schur_complement_kernel();
 const AccelerableKernel& covariance_update_kernel();
 const AccelerableKernel& gps_fusion_kernel();
+const AccelerableKernel& nullspace_projection_kernel();
 
 /// The paper's accelerated kernels (Sec. VI-A, Table II), the default of scheduler.offload.
 std::vector<std::string> paper_offload_set();

@@ -136,7 +136,7 @@ std::vector<BadInputCase> cases() {
          write(d, "s.yaml", sweep_spec());
        },
        "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/t.db'", 1,
-       "edx: error: {dir}/t.db: is an edx trace (schema version 3), not a results database"},
+       "edx: error: {dir}/t.db: is an edx trace (schema version 4), not a results database"},
       {"c3_export_of_a_trace", [](const fs::path& d) { fs::copy_file(kGolden, d / "t.db"); },
        "'{edx}' export '{dir}/t.db' --table runs --out '{dir}/x.csv'", 1,
        "edx: error: {dir}/t.db: --table: no table 'runs' (tables: frames, kernels, meta, ops, "
@@ -276,7 +276,7 @@ std::vector<BadInputCase> cases() {
              "('schema_version', '2'); CREATE TABLE frames (x); CREATE TABLE kernels (x)");
        },
        "'{edx}' simulate --config '{car}' --trace '{dir}/t.db'", 1,
-       "edx: error: {dir}/t.db: trace schema version 2, this edx reads version 3"},
+       "edx: error: {dir}/t.db: trace schema version 2, this edx reads versions 3 to 4"},
       {"c7_text_file_as_a_results_database",
        [](const fs::path& d) { write(d, "junk.db", "hello\n"); },
        "'{edx}' export '{dir}/junk.db' --table runs --out '{dir}/x.csv'", 1,

@@ -25,9 +25,10 @@ KernelRecorder::Scope KernelRecorder::kernel(std::string name, bool accelerable)
 }
 
 void KernelRecorder::describe(trace::Op op, std::int64_t m, std::int64_t n, std::int64_t k,
-                              std::uint32_t flags) {
+                              std::uint32_t flags, std::int64_t batch) {
   if (!open_) throw std::logic_error("KernelRecorder: op outside a kernel");
-  kernels_.back().ops.push_back(trace::OpRecord{op, m, n, k, flags, 0});
+  if (batch < 1) throw std::logic_error("KernelRecorder: an op batch of less than 1");
+  kernels_.back().ops.push_back(trace::OpRecord{op, m, n, k, flags, 0, batch});
 }
 
 std::vector<trace::KernelRecord> KernelRecorder::take() {

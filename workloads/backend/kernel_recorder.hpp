@@ -57,8 +57,10 @@ class KernelRecorder {
   /// Records a matrix primitive of the open kernel without running or timing anything (host_ns
   /// 0): the dense primitive a kernel's work amounts to where the host computes it another way
   /// (SLAM's Schur complement exploits its block sparsity in loops; docs/TRACE.md, ops table).
+  /// `batch` independent instances of the op (per-feature products: one record for them all).
   /// Throws std::logic_error when no kernel is open.
-  void describe(trace::Op op, std::int64_t m, std::int64_t n, std::int64_t k, std::uint32_t flags);
+  void describe(trace::Op op, std::int64_t m, std::int64_t n, std::int64_t k, std::uint32_t flags,
+                std::int64_t batch = 1);
 
   /// The kernels recorded since the last take(), in order; clears them. Throws
   /// std::logic_error while a kernel is open.

@@ -111,16 +111,22 @@ TraceReader::TraceReader(std::filesystem::path path) : path_(std::move(path)) {
     if (version == meta_.end()) {
       throw std::runtime_error(fmt::format("{}: meta lacks schema_version", file));
     }
-    if (version->second != std::to_string(kSchemaVersion)) {
-      throw std::runtime_error(fmt::format("{}: trace schema version {}, this edx reads version {}",
-                                           file, version->second, kSchemaVersion));
+    for (int v = kOldestReadableSchemaVersion; v <= kSchemaVersion; ++v) {
+      if (version->second == std::to_string(v)) schema_version_ = v;
+    }
+    if (schema_version_ == 0) {
+      throw std::runtime_error(
+          fmt::format("{}: trace schema version {}, this edx reads versions {} to {}", file,
+                      version->second, kOldestReadableSchemaVersion, kSchemaVersion));
     }
     SQLite::Database reference(":memory:", SQLite::OPEN_READWRITE);
     reference.exec(std::string(kSchemaSql));
+    // Version 3 had no ops.batch (read as 1).
+    if (schema_version_ == 3) reference.exec("ALTER TABLE ops DROP COLUMN batch");
     for (const char* table : kTables) {
       if (table_layout(db, table) != table_layout(reference, table)) {
         throw std::runtime_error(fmt::format("{}: table {} does not match schema version {}", file,
-                                             table, kSchemaVersion));
+                                             table, schema_version_));
       }
     }
     for (const auto& key : kRequiredMetaKeys) {
@@ -227,7 +233,10 @@ std::vector<FrameTrace> TraceReader::read_all() const {
       frame.kernels.push_back(std::move(k));
     }
 
-    SQLite::Statement op_query(db, "SELECT * FROM ops ORDER BY frame_id, kernel_seq, seq");
+    SQLite::Statement op_query(
+        db, fmt::format("SELECT frame_id, kernel_seq, seq, op, m, n, k, flags, host_ns, {} AS batch "
+                        "FROM ops ORDER BY frame_id, kernel_seq, seq",
+                        schema_version_ == 3 ? "1" : "batch"));
     while (op_query.executeStep()) {
       const std::int64_t id = op_query.getColumn(0).getInt64();
       const std::int64_t kernel_seq = op_query.getColumn(1).getInt64();
@@ -247,6 +256,7 @@ std::vector<FrameTrace> TraceReader::read_all() const {
       op.k = row.count(6);
       op.flags = static_cast<std::uint32_t>(row.count(7));
       op.host_ns = row.count(8);
+      op.batch = row.count(9);
       kernel.ops.push_back(op);
     }
   } catch (const SQLite::Exception& e) {

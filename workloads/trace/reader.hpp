@@ -15,6 +15,8 @@ class TraceReader {
 
   const TraceMeta& meta() const { return meta_; }
   std::size_t frame_count() const { return frame_count_; }
+  /// The file's schema version (an older readable one is upgraded in memory).
+  int schema_version() const { return schema_version_; }
   /// All frames in order with their tasks, kernels and ops, each validated.
   std::vector<FrameTrace> read_all() const;
 
@@ -22,6 +24,7 @@ class TraceReader {
   std::filesystem::path path_;
   TraceMeta meta_;
   std::size_t frame_count_ = 0;
+  int schema_version_ = 0;
 };
 
 }  // namespace edx::trace

@@ -29,14 +29,15 @@ constexpr NameTable<BackendMode, 4> kModeNames{{{BackendMode::None, "none"},
                                                 {BackendMode::Registration, "registration"},
                                                 {BackendMode::Vio, "vio"},
                                                 {BackendMode::Slam, "slam"}}};
-constexpr NameTable<Op, 8> kOpNames{{{Op::Gemm, "gemm"},
+constexpr NameTable<Op, 9> kOpNames{{{Op::Gemm, "gemm"},
                                      {Op::Syrk, "syrk"},
                                      {Op::Potrf, "potrf"},
                                      {Op::Ldlt, "ldlt"},
                                      {Op::Trsm, "trsm"},
                                      {Op::Trsv, "trsv"},
                                      {Op::Transpose, "transpose"},
-                                     {Op::Inverse, "inverse"}}};
+                                     {Op::Inverse, "inverse"},
+                                     {Op::Qr, "qr"}}};
 
 template <typename Enum, std::size_t N>
 const char* name_of(const NameTable<Enum, N>& table, Enum value) {

@@ -21,11 +21,12 @@ enum class Image { Left, Right, Stereo };
 enum class Scenario { IndoorUnknown, IndoorKnown, OutdoorUnknown, OutdoorKnown };
 /// Backend mode that ran on a frame; None for frontend-only traces.
 enum class BackendMode { None, Registration, Vio, Slam };
-/// Matrix primitives inside the accelerable kernels (paper Table I).
-enum class Op { Gemm, Syrk, Potrf, Ldlt, Trsm, Trsv, Transpose, Inverse };
+/// Matrix primitives inside the backend kernels (paper Table I, and the Householder QR of the
+/// MSCKF's null-space projection).
+enum class Op { Gemm, Syrk, Potrf, Ldlt, Trsm, Trsv, Transpose, Inverse, Qr };
 /// Every op, in declaration order.
-inline constexpr std::array<Op, 8> kOps = {Op::Gemm, Op::Syrk, Op::Potrf,     Op::Ldlt,
-                                           Op::Trsm, Op::Trsv, Op::Transpose, Op::Inverse};
+inline constexpr std::array<Op, 9> kOps = {Op::Gemm, Op::Syrk,      Op::Potrf,   Op::Ldlt, Op::Trsm,
+                                           Op::Trsv, Op::Transpose, Op::Inverse, Op::Qr};
 
 /// Structure flags of an op, OR-ed into OpRecord::flags.
 namespace op_flags {
@@ -76,12 +77,16 @@ struct TaskRecord {
 
 /// One matrix primitive inside a kernel. For gemm C(m x n) = A(m x k) B(k x n); for syrk
 /// C(m x m) = A(m x k) A^T; potrf/ldlt/inverse on m x m; trsm solves m x m against m x n;
-/// trsv the same with n = 1; transpose of m x n.
+/// trsv the same with n = 1; transpose of m x n; qr the Householder factorization of an m x n
+/// matrix (m >= n: n reflections, R and the reflectors in place). `batch` independent instances
+/// of the same shape run one after another (a kernel's per-feature or per-observation products:
+/// one record, not thousands); host_ns is that of all of them.
 struct OpRecord {
   Op op = Op::Gemm;
   std::int64_t m = 0, n = 0, k = 0;
   std::uint32_t flags = 0;
   std::int64_t host_ns = 0;
+  std::int64_t batch = 1;
   bool operator==(const OpRecord&) const = default;
 };
 

@@ -8,7 +8,11 @@ namespace edx::trace {
 
 // 2 (2026-11-25): host_ns columns are CPU time (host_clock.hpp), no longer wall time.
 // 3 (2026-11-25): meta host_speed, the tracing machine's reference-suite times (host_speed.hpp).
-inline constexpr int kSchemaVersion = 3;
+// 4 (2026-11-28): ops.batch, identical independent instances of one op; op "qr". Version 3
+//   traces are read with batch 1 (TraceReader).
+inline constexpr int kSchemaVersion = 4;
+/// The oldest version the reader still reads (an upgrade in memory; docs/TRACE.md).
+inline constexpr int kOldestReadableSchemaVersion = 3;
 
 /// Metadata keys every trace carries (besides schema_version).
 inline constexpr std::array<std::string_view, 11> kRequiredMetaKeys{
@@ -74,6 +78,7 @@ CREATE TABLE ops (
   m INTEGER NOT NULL, n INTEGER NOT NULL, k INTEGER NOT NULL,
   flags      INTEGER NOT NULL,
   host_ns    INTEGER NOT NULL,
+  batch      INTEGER NOT NULL,
   PRIMARY KEY (frame_id, kernel_seq, seq),
   FOREIGN KEY (frame_id, kernel_seq) REFERENCES kernels(frame_id, seq)
 );

@@ -83,6 +83,8 @@ void validate_kernel(const KernelRecord& kernel, const std::string& where) {
     require_non_negative(op.n, "n", op_where, kMaxDimension);
     require_non_negative(op.k, "k", op_where, kMaxDimension);
     require_non_negative(op.host_ns, "host_ns", op_where, kMaxHostNs);
+    if (op.batch < 1) fail(op_where, fmt::format("batch must be at least 1, is {}", op.batch));
+    require_non_negative(op.batch, "batch", op_where, kMaxDimension);
     if ((op.flags & ~op_flags::kAll) != 0) {
       fail(op_where, fmt::format("unknown flag bits 0x{:x}", op.flags & ~op_flags::kAll));
     }

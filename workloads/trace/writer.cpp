@@ -17,7 +17,7 @@ constexpr const char* kInsertFrame =
     "INSERT INTO frames VALUES (?,?,?,?,?,?,?,?, ?,?,?,?,?,?,?, ?,?,?,?,?,?,?, ?,?)";
 constexpr const char* kInsertTask = "INSERT INTO tasks VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)";
 constexpr const char* kInsertKernel = "INSERT INTO kernels VALUES (?,?,?,?,?,?,?,?,?)";
-constexpr const char* kInsertOp = "INSERT INTO ops VALUES (?,?,?,?,?,?,?,?,?)";
+constexpr const char* kInsertOp = "INSERT INTO ops VALUES (?,?,?,?,?,?,?,?,?,?)";
 
 void bind_pose(SQLite::Statement& statement, int first, const std::optional<PoseArray>& pose) {
   for (int i = 0; i < 7; ++i) {
@@ -173,6 +173,7 @@ void TraceWriter::insert_frame(const FrameTrace& trace) {
       os.bind(7, op.k);
       os.bind(8, static_cast<std::int64_t>(op.flags));
       os.bind(9, op.host_ns);
+      os.bind(10, op.batch);
       os.exec();
       os.reset();
     }

@@ -15,10 +15,10 @@ namespace flags = trace::op_flags;
 using trace::Op;
 
 TEST(AccelerableKernels, RegistryNamesAndLookups) {
-  ASSERT_EQ(accelerable_kernels().size(), 6u);
+  ASSERT_EQ(accelerable_kernels().size(), 7u);
   EXPECT_EQ(accelerable_kernel_names(),
-            "projection, kalman_gain, marginalization, schur_complement, covariance_update or "
-            "gps_fusion");
+            "projection, kalman_gain, marginalization, schur_complement, covariance_update, "
+            "gps_fusion or nullspace_projection");
   EXPECT_EQ(paper_offload_set(),
             (std::vector<std::string>{"projection", "kalman_gain", "marginalization"}));
   EXPECT_EQ(&accelerable_kernel("kalman_gain"), &kalman_gain_kernel());
@@ -29,7 +29,8 @@ TEST(AccelerableKernels, RegistryNamesAndLookups) {
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()),
               "kernel 'pnp': expected an accelerable kernel (projection, kalman_gain, "
-              "marginalization, schur_complement, covariance_update or gps_fusion)");
+              "marginalization, schur_complement, covariance_update, gps_fusion or "
+              "nullspace_projection)");
   }
   EXPECT_EQ(projection_kernel().host_model_degree, 1);
   EXPECT_EQ(kalman_gain_kernel().host_model_degree, 2);

@@ -57,7 +57,8 @@ FrameTrace sample_frame(std::int64_t id) {
   gain.detail_json = R"({"clones":30})";
   gain.ops = {{Op::Syrk, 120, 120, 195, op_flags::kSymmetric, 1000},
               {Op::Potrf, 120, 120, 0, op_flags::kSymmetric | op_flags::kLower, 800},
-              {Op::Trsm, 120, 195, 0, op_flags::kLower, 900}};
+              {Op::Trsm, 120, 195, 0, op_flags::kLower, 900},
+              {Op::Qr, 9, 3, 0, 0, 0, 14}};
   KernelRecord propagate;
   propagate.kernel = "imu_propagation";
   propagate.host_ns = 15000;
@@ -175,6 +176,30 @@ TEST_F(TraceTest, ReaderRejectsOtherSchemaVersion) {
   }
   EXPECT_THAT([&] { TraceReader{path}; },
               ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("schema version 99")));
+}
+
+// A version 3 trace (no ops.batch) is read with every batch 1; a batch below 1 is refused.
+TEST_F(TraceTest, ReaderUpgradesVersion3AndChecksTheBatch) {
+  const fs::path path = write_sample(2);
+  {
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE);
+    db.exec("UPDATE ops SET batch = 0 WHERE frame_id = 1 AND seq = 3");
+  }
+  EXPECT_THAT([&] { TraceReader(path).read_all(); },
+              ::testing::ThrowsMessage<std::runtime_error>(
+                  HasSubstr("frame 1, kernel 1 (kalman_gain), op 3: batch must be at least 1")));
+  {
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE);
+    db.exec("ALTER TABLE ops DROP COLUMN batch");
+    db.exec("UPDATE meta SET value = '3' WHERE key = 'schema_version'");
+  }
+  TraceReader reader(path);
+  EXPECT_EQ(reader.schema_version(), 3);
+  const auto frames = reader.read_all();
+  ASSERT_EQ(frames.size(), 2u);
+  FrameTrace expected = sample_frame(1);
+  expected.kernels[1].ops[3].batch = 1;
+  EXPECT_EQ(frames[1], expected);
 }
 
 TEST_F(TraceTest, ReaderRejectsChangedLayout) {

@@ -4,6 +4,8 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
+#include <map>
+#include <utility>
 #include <nlohmann/json.hpp>
 
 #include "workloads/backend/vio/chi_square.hpp"
@@ -112,8 +114,14 @@ void project_out_point(FeatureRows& f) {
   f.r = f.r.tail(rows - 3).eval();
 }
 
+/// The chi-square gate's figure of one feature and the state columns its rows touch.
+struct Innovation {
+  double gamma = 0;
+  Eigen::Index columns = 0;
+};
+
 /// The normalized innovation gamma = r^T (H P H^T + sigma^2 I)^-1 r, on the columns H touches.
-double normalized_innovation(const FeatureRows& f, const Eigen::MatrixXd& P, double variance) {
+Innovation normalized_innovation(const FeatureRows& f, const Eigen::MatrixXd& P, double variance) {
   const std::vector<Eigen::Index> cols = touched_columns(f.H_x);
   Eigen::MatrixXd Hs(f.H_x.rows(), static_cast<Eigen::Index>(cols.size()));
   Eigen::MatrixXd Ps(cols.size(), cols.size());
@@ -124,8 +132,47 @@ double normalized_innovation(const FeatureRows& f, const Eigen::MatrixXd& P, dou
   }
   Eigen::MatrixXd S = Hs * Ps * Hs.transpose();
   S.diagonal().array() += variance;
-  return f.r.dot(S.ldlt().solve(f.r));
+  return {f.r.dot(S.ldlt().solve(f.r)), static_cast<Eigen::Index>(cols.size())};
 }
+
+/// The matrix ops of the null-space projection kernel (docs/TRACE.md), one batch per shape:
+/// what project_out_point and normalized_innovation compute, feature by feature.
+class ProjectionOps {
+ public:
+  /// A feature of `rows` rows (before the projection) projected in a state of `state_dim`.
+  void add_projection(Eigen::Index rows) { ++projections_[rows]; }
+  /// Its gate on `rows` projected rows touching `columns` state columns.
+  void add_gate(Eigen::Index rows, Eigen::Index columns) { ++gates_[{rows, columns}]; }
+
+  /// Records them: per feature of R rows, H_f = QR (qr R x 3) and Qᵀ[H_x r] in the compact WY
+  /// form Q = I - V T Vᵀ (gemm 3 x (n+1) x R: W = Vᵀ[H_x r]; gemm 3 x (n+1) x 3: Tᵀ W; gemm
+  /// R x (n+1) x 3: [H_x r] - V TᵀW); per gate on r rows and c columns S = Hs Ps Hsᵀ + σ²I (gemm
+  /// r x c x c with Ps symmetric, gemm r x r x c with a symmetric result), its LDLᵀ (ldlt r),
+  /// the two triangular solves of S⁻¹r (trsv r, two) and rᵀ(S⁻¹r) (gemm 1 x 1 x r).
+  void record(KernelRecorder& recorder, std::int64_t state_dim) const {
+    namespace f = trace::op_flags;
+    using trace::Op;
+    const std::int64_t cols = state_dim + 1;
+    for (const auto& [rows, count] : projections_) {
+      recorder.describe(Op::Qr, rows, 3, 0, 0, count);
+      recorder.describe(Op::Gemm, 3, cols, rows, f::kTransposeA, count);
+      recorder.describe(Op::Gemm, 3, cols, 3, f::kUpper | f::kTransposeA, count);
+      recorder.describe(Op::Gemm, rows, cols, 3, 0, count);
+    }
+    for (const auto& [shape, count] : gates_) {
+      const auto [rows, columns] = shape;
+      recorder.describe(Op::Gemm, rows, columns, columns, f::kSymmetric, count);
+      recorder.describe(Op::Gemm, rows, rows, columns, f::kSymmetric | f::kTransposeB, count);
+      recorder.describe(Op::Ldlt, rows, rows, 0, f::kSymmetric, count);
+      recorder.describe(Op::Trsv, rows, 1, 0, f::kLower, 2 * count);
+      recorder.describe(Op::Gemm, 1, 1, rows, f::kTransposeA, count);
+    }
+  }
+
+ private:
+  std::map<Eigen::Index, std::int64_t> projections_;
+  std::map<std::pair<Eigen::Index, Eigen::Index>, std::int64_t> gates_;
+};
 
 /// Groups of whole features of at most max_rows rows each, in order (a feature larger than
 /// max_rows is a group of its own).
@@ -255,14 +302,18 @@ MsckfUpdater::StackedRows MsckfUpdater::project_out_points(const VioState& state
   const int n = state.dim();
   std::vector<FeatureRows*> accepted;
   int rows_total = 0;
+  ProjectionOps ops;
   for (FeatureRows& f : features) {
     if (f.H_f.rows() <= 3) continue;
+    ops.add_projection(f.H_f.rows());
     project_out_point(f);
     // Gate at the white per-observation noise pixel_sigma, not at the update's inflated sigma:
     // the slow drift the inflation stands for is mostly absorbed by the point and passes, while
     // a track whose residual white pixel_sigma noise cannot explain (a sliding feature, a wrong
     // stereo match) is an outlier. Gating at sigma_eff (3 px) let nearly all of them in.
-    const double gamma = normalized_innovation(f, state.P, gate_variance_);
+    const Innovation innovation = normalized_innovation(f, state.P, gate_variance_);
+    ops.add_gate(f.r.size(), innovation.columns);
+    const double gamma = innovation.gamma;
     if (gamma > chi2_threshold(static_cast<int>(f.r.size()))) continue;
     report.gamma_sum += gamma;
     report.gamma_dof += static_cast<int>(f.r.size());
@@ -281,6 +332,7 @@ MsckfUpdater::StackedRows MsckfUpdater::project_out_points(const VioState& state
     row += static_cast<int>(k);
   }
   report.accepted = static_cast<int>(accepted.size());
+  ops.record(recorder, n);
   kernel.record().m = rows_total;
   kernel.record().n = n;
   kernel.record().k = report.accepted;

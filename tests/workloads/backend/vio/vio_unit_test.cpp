@@ -1,6 +1,7 @@
 // Unit tests of the VIO backend's pieces against hand-computed or independently known values.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <numeric>
 #include <random>
@@ -582,6 +583,52 @@ TEST(MsckfUpdater, UpdateMovesPerturbedClonesTowardTheTruth) {
     }
     EXPECT_EQ(names, expected);
   }
+}
+
+// The null-space projection records what it computes, a batch per shape: per feature of R rows
+// a qr R x 3 and the three products applying Qᵀ to [H_x r] (n + 1 columns); per gated feature
+// an LDLᵀ of its R - 3 projected rows. The projected rows add up to the gates' rows, and the
+// accepted ones (report.rows) are among them.
+TEST(MsckfUpdater, NullSpaceProjectionRecordsItsOpsByShape) {
+  VioOptions options;
+  options.estimate_extrinsics = false;
+  options.track_error_correlation = 0;
+  PerturbedScene scene = perturbed_scene(6, 60);
+  const std::int64_t n = scene.state.dim();
+  MsckfUpdater updater(options, scene.baseline, scene.fx);
+  KernelRecorder recorder;
+  const UpdateReport report = updater.update(scene.state, scene.pointers(), recorder);
+  const auto kernels = recorder.take();
+  const auto k = std::find_if(kernels.begin(), kernels.end(),
+                              [](const auto& r) { return r.kernel == "nullspace_projection"; });
+  ASSERT_NE(k, kernels.end());
+  std::int64_t features = 0, projected_rows = 0, gated = 0, gated_rows = 0;
+  for (std::size_t i = 0; i < k->ops.size(); ++i) {
+    const trace::OpRecord& op = k->ops[i];
+    EXPECT_GE(op.batch, 1);
+    if (op.op == trace::Op::Qr) {
+      EXPECT_EQ(op.n, 3);
+      ASSERT_LT(i + 3, k->ops.size());
+      EXPECT_EQ(k->ops[i + 1].op, trace::Op::Gemm);
+      EXPECT_EQ(k->ops[i + 1].n, n + 1);
+      EXPECT_EQ(k->ops[i + 1].k, op.m);
+      EXPECT_EQ(k->ops[i + 3].m, op.m);
+      EXPECT_EQ(k->ops[i + 3].batch, op.batch);
+      features += op.batch;
+      projected_rows += (op.m - 3) * op.batch;
+    }
+    if (op.op == trace::Op::Ldlt) {
+      gated += op.batch;
+      gated_rows += op.m * op.batch;
+    }
+  }
+  EXPECT_EQ(features, report.triangulated);  // six observations each: all are projected
+  EXPECT_EQ(gated, features);
+  EXPECT_EQ(gated_rows, projected_rows);
+  EXPECT_EQ(k->m, report.rows);
+  EXPECT_LE(k->m, projected_rows);
+  EXPECT_EQ(k->k, report.accepted);
+  EXPECT_LT(k->ops.size(), static_cast<std::size_t>(features));  // batched by shape
 }
 
 // The random-walk track noise (rows whitened per feature before the null-space projection)
