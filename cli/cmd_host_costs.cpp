@@ -22,6 +22,8 @@ struct HostCostsArguments {
   std::string out;
   std::string costs;
   std::string provenance;
+  std::vector<std::string> only;  ///< re-fit these kinds of `base`, keep the others
+  std::string base;
   bool json = false;
 };
 
@@ -56,7 +58,12 @@ void fit(const HostCostsArguments& args) {
   const std::string provenance = args.provenance.empty()
                                      ? "fitted by edx host-costs fit on " + sources
                                      : args.provenance + "; fitted on " + sources;
-  const arch::HostCostModel model = arch::fit_host_costs(inputs, provenance);
+  const arch::HostCostModel model =
+      args.only.empty()
+          ? arch::fit_host_costs(inputs, provenance)
+          : arch::replace_kinds(args.base.empty() ? arch::HostCostModel::bundled()
+                                                  : arch::HostCostModel::load(args.base),
+                                arch::fit_host_costs(inputs, provenance), args.only);
   common::write_file_atomically(
       args.out,
       "# The op-count host model's costs (docs/MODEL.md, \"Host CPU\"): ns per unit of work on a\n"
@@ -108,12 +115,21 @@ void add_host_costs_command(CLI::App& app) {
   cmd->require_subcommand(1);
   CLI::App* fit_cmd =
       cmd->add_subcommand("fit", "Fit the costs on traces' measured CPU times and write the table");
-  fit_cmd->add_option("--trace", args->traces, "Trace(s) to fit on (edx trace, schema 3)")
+  fit_cmd->add_option("--trace", args->traces, "Trace(s) to fit on (edx trace)")
       ->required()
       ->check(CLI::ExistingFile);
   fit_cmd->add_option("--out", args->out, "Cost table to write (YAML)")->required();
   fit_cmd->add_option("--provenance", args->provenance,
                       "What the traces are (machine, load, date), kept in the table");
+  CLI::Option* only = fit_cmd->add_option("--only", args->only,
+                      "Re-fit only these kinds (e.g. normal_equations), keeping the others' costs "
+                      "from --base")
+      ->delimiter(',');
+  fit_cmd->add_option("--base", args->base,
+                      "The table whose other kinds are kept with --only (default: the bundled "
+                      "configs/host/host_costs.yaml)")
+      ->check(CLI::ExistingFile)
+      ->needs(only);
   fit_cmd->callback([args] { fit(*args); });
   CLI::App* check_cmd =
       cmd->add_subcommand("check", "Per kind, a trace's measured against modeled host time and R²");

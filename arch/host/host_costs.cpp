@@ -157,6 +157,8 @@ const std::map<std::string, std::vector<KernelFeature>>& kernel_table() {
       {"keyframe_selection", {kCall, EDX_K("m", m)}},
       {"preintegration", {kCall, EDX_K("m", m)}},
       {"linearization", {kCall, EDX_K("m", m), EDX_K("n", n), EDX_K("n2", n * n)}},
+      // m terms, k of them across keyframes (6x6 blocks), n camera columns (H_cc zeroed).
+      {"normal_equations", {kCall, EDX_K("m", m), EDX_K("k", k), EDX_K("n2", n * n)}},
       {"schur_complement", {kCall, EDX_K("m", m), EDX_K("mn", m * n), EDX_K("n2", n * n)}},
       {"solve", {kCall, EDX_K("m2", m * m), EDX_K("m3", m * m * m)}},
       {"lm_iteration", {kCall, EDX_K("m", m), EDX_K("mn", m * n), EDX_K("n3", n * n * n)}},
@@ -593,6 +595,29 @@ HostCostModel fit_host_costs(const std::vector<CostFitInput>& traces,
     (is_frontend(s.part) ? model.frontend : model.backend)[kind] = std::move(cost);
   }
   return model;
+}
+
+HostCostModel replace_kinds(HostCostModel base, const HostCostModel& fitted,
+                            const std::vector<std::string>& kinds) {
+  if (base.suite != fitted.suite) {
+    throw std::runtime_error(fmt::format("the base table is of suite v{}, the traces of v{}",
+                                         base.suite, fitted.suite));
+  }
+  for (const std::string& kind : kinds) {
+    bool found = false;
+    for (auto [from, to] : {std::pair{&fitted.frontend, &base.frontend},
+                            std::pair{&fitted.backend, &base.backend}}) {
+      if (const auto it = from->find(kind); it != from->end()) {
+        (*to)[kind] = it->second;
+        found = true;
+      }
+    }
+    if (!found) {
+      throw std::runtime_error(fmt::format("kind '{}': the traces have no rows of it", kind));
+    }
+  }
+  base.provenance += fmt::format("; {} re-fitted: {}", fmt::join(kinds, ", "), fitted.provenance);
+  return base;
 }
 
 nlohmann::json compare_host_costs(const HostCostModel& model, const CostFitInput& trace) {

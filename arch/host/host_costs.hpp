@@ -99,6 +99,13 @@ struct CostFitInput {
 HostCostModel fit_host_costs(const std::vector<CostFitInput>& traces,
                              const std::string& provenance);
 
+/// `base` with the costs of `kinds` replaced by those of `fitted` (a partial re-fit: a kernel
+/// whose work changed is re-fitted on new traces, the other kinds keep their costs; the costs
+/// are per suite-ms, so traces of another day or machine fit the same table). Throws
+/// std::runtime_error when the suites differ or `fitted` has no costs for a kind.
+HostCostModel replace_kinds(HostCostModel base, const HostCostModel& fitted,
+                            const std::vector<std::string>& kinds);
+
 /// Per kind over a trace: rows, measured and modeled ns per suite-ms summed, and R² per row;
 /// `edx host-costs check` prints it.
 nlohmann::json compare_host_costs(const HostCostModel& model, const CostFitInput& trace);

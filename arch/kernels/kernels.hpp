@@ -12,6 +12,7 @@
 // one line of the registry in kernels.cpp (docs/MODEL.md, "Accelerable kernels").
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -64,6 +65,12 @@ struct AccelerableKernel {
   std::vector<trace::Op> op_kinds = {};
 };
 
+/// The integer `key` of a kernel's detail JSON, std::nullopt when absent. Throws
+/// std::runtime_error naming the kernel when the detail is not a JSON object or the value not an
+/// integer >= `min`.
+std::optional<std::int64_t> detail_integer(const trace::KernelRecord& kernel, std::string_view key,
+                                           std::int64_t min = 0);
+
 /// Every accelerable kernel, in registry order.
 const std::vector<const AccelerableKernel*>& accelerable_kernels();
 /// The kernel called `name`, nullptr when there is none.
@@ -83,6 +90,9 @@ const AccelerableKernel& schur_complement_kernel();
 const AccelerableKernel& covariance_update_kernel();
 const AccelerableKernel& gps_fusion_kernel();
 const AccelerableKernel& nullspace_projection_kernel();
+const AccelerableKernel& normal_equations_kernel();
+const AccelerableKernel& solve_kernel();
+const AccelerableKernel& compression_kernel();
 
 /// The paper's accelerated kernels (Sec. VI-A, Table II), the default of scheduler.offload.
 std::vector<std::string> paper_offload_set();

@@ -39,24 +39,7 @@ std::vector<trace::OpRecord> ops(std::int64_t m, std::int64_t n, const KernelMat
 /// Parameters per landmark l: the kernel's detail "landmark_dim" if given, else (inverse op size
 /// − p) / m when the kernel records the A_mm inverse, else the configured backend.landmark_dim.
 std::int64_t landmark_dim(const trace::KernelRecord& k, const KernelMatrixFormat& f) {
-  if (!k.detail_json.empty()) {
-    nlohmann::json detail;
-    try {
-      detail = nlohmann::json::parse(k.detail_json);
-    } catch (const nlohmann::json::exception&) {
-      throw std::runtime_error(fmt::format("kernel '{}': detail: expected a JSON object, got '{}'",
-                                           k.kernel, k.detail_json));
-    }
-    if (detail.is_object() && detail.contains("landmark_dim")) {
-      const nlohmann::json& v = detail["landmark_dim"];
-      if (!v.is_number_integer() || v.get<std::int64_t>() < 1) {
-        throw std::runtime_error(
-            fmt::format("kernel '{}': detail.landmark_dim: expected an integer >= 1, got {}",
-                        k.kernel, v.dump()));
-      }
-      return v.get<std::int64_t>();
-    }
-  }
+  if (const auto l = detail_integer(k, "landmark_dim", 1)) return *l;
   if (k.m > 0) {
     for (const trace::OpRecord& op : k.ops) {
       const std::int64_t landmark_part = op.m - f.pose_dim;

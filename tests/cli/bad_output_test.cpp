@@ -73,7 +73,7 @@ TEST(BadOutput, ATraceIsNeverWrittenIntoAsAResultsDatabase) {
                   "' --out '" + trace.string() + "'");
   EXPECT_EQ(simulate.exit_code, 1);
   EXPECT_EQ(simulate.err, "edx: error: " + trace.string() +
-                              ": is an edx trace (schema version 3), not a results database\n");
+                              ": is an edx trace (schema version 4), not a results database\n");
   std::ofstream(dir.path() / "s.yaml")
       << "base: " << config << "\ntrace: t.db\n"
       << "parameters:\n  backend.units.gemm.block: {values: [2, 4]}\n"
@@ -81,7 +81,7 @@ TEST(BadOutput, ATraceIsNeverWrittenIntoAsAResultsDatabase) {
   const CommandResult sweep = run_command(edx() + " sweep '" + (dir.path() / "s.yaml").string() +
                                           "' --db '" + trace.string() + "'");
   EXPECT_EQ(sweep.exit_code, 1);
-  EXPECT_THAT(sweep.err, HasSubstr(trace.string() + ": is an edx trace (schema version 3)"));
+  EXPECT_THAT(sweep.err, HasSubstr(trace.string() + ": is an edx trace (schema version 4)"));
   EXPECT_EQ(read_text_file(trace), before);  // not a byte changed
   EXPECT_FALSE(fs::exists(trace.string() + "-wal"));
 }

@@ -291,7 +291,7 @@ TEST(BackendConfigYaml, ReadsFieldsAndNamesFileLineKey) {
   expect_error("units:\n  gemm:\n    kind: systolic_array\n    blok: 4\n",
                "car.yaml:4: backend.units.gemm.blok: unknown key");
   expect_error("units:\n  gemm:\n    kind: tensor_core\n",
-               "car.yaml:3: backend.units.gemm.kind: expected one of decomposition, inverse, ");
+               "car.yaml:3: backend.units.gemm.kind: expected one of decomposition, householder, inverse, ");
   expect_error("units:\n  array2: {block: 4}\n",
                "backend.units.array2.kind: required for a unit not among the defaults");
   expect_error("units:\n  t2: {kind: transpose}\n",

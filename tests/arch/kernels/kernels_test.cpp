@@ -15,10 +15,10 @@ namespace flags = trace::op_flags;
 using trace::Op;
 
 TEST(AccelerableKernels, RegistryNamesAndLookups) {
-  ASSERT_EQ(accelerable_kernels().size(), 7u);
+  ASSERT_EQ(accelerable_kernels().size(), 10u);
   EXPECT_EQ(accelerable_kernel_names(),
             "projection, kalman_gain, marginalization, schur_complement, covariance_update, "
-            "gps_fusion or nullspace_projection");
+            "gps_fusion, nullspace_projection, normal_equations, solve or compression");
   EXPECT_EQ(paper_offload_set(),
             (std::vector<std::string>{"projection", "kalman_gain", "marginalization"}));
   EXPECT_EQ(&accelerable_kernel("kalman_gain"), &kalman_gain_kernel());
@@ -29,8 +29,8 @@ TEST(AccelerableKernels, RegistryNamesAndLookups) {
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()),
               "kernel 'pnp': expected an accelerable kernel (projection, kalman_gain, "
-              "marginalization, schur_complement, covariance_update, gps_fusion or "
-              "nullspace_projection)");
+              "marginalization, schur_complement, covariance_update, gps_fusion, "
+              "nullspace_projection, normal_equations, solve or compression)");
   }
   EXPECT_EQ(projection_kernel().host_model_degree, 1);
   EXPECT_EQ(kalman_gain_kernel().host_model_degree, 2);
@@ -105,6 +105,55 @@ TEST(AccelerableKernels, OperandBytesByHand) {
   EXPECT_EQ(marginalization_kernel().operands(marg, format, true).inputs["A_mm.A"], 3 * 2 * 2 * 8);
   marg.detail_json = R"({"landmark_dim": 0})";
   EXPECT_THROW(marginalization_kernel().operands(marg, format, true), std::runtime_error);
+}
+
+TEST(AccelerableKernels, OperandBytesOfTheBatchedKernelsByHand) {
+  const KernelMatrixFormat format{8, 6, 1};
+  // Null-space projection: two features of 6 rows and one of 9 (qr batches), state 20, 10 rows
+  // accepted: in H_x 21 x 20, H_f 21 x 3, r 21, P sym(20); out 10 x 20 and 10.
+  trace::KernelRecord ns;
+  ns.kernel = "nullspace_projection";
+  ns.m = 10;
+  ns.n = 20;
+  ns.ops = {{Op::Qr, 6, 3, 0, 0, 0, 2}, {Op::Gemm, 3, 21, 6, 0, 0, 2}, {Op::Qr, 9, 3, 0, 0, 0, 1}};
+  const KernelOperands p = nullspace_projection_kernel().operands(ns, format, true);
+  EXPECT_EQ(p.inputs["H_x"], 21 * 20 * 8);
+  EXPECT_EQ(p.inputs["H_f"], 21 * 3 * 8);
+  EXPECT_EQ(p.inputs["r"], 21 * 8);
+  EXPECT_EQ(p.inputs["P"], 210 * 8);
+  EXPECT_EQ(p.outputs["H"], 10 * 20 * 8);
+  EXPECT_EQ(p.outputs["r"], 10 * 8);
+  // Normal equations: 100 terms, 60 across keyframes, C = 13, 30 landmarks, 70 coupling
+  // blocks, 2 IMU factors, a 15 x 15 prior.
+  trace::KernelRecord ne;
+  ne.kernel = "normal_equations";
+  ne.m = 100;
+  ne.n = 13;
+  ne.k = 60;
+  ne.detail_json =
+      R"({"landmarks": 30, "coupling_blocks": 70, "imu_factors": 2, "prior_rows": 15,)"
+      R"( "prior_cols": 15})";
+  const KernelOperands q = normal_equations_kernel().operands(ne, format, true);
+  EXPECT_EQ(q.inputs["terms"], 100 * 13 * 8);
+  EXPECT_EQ(q.inputs["J_pose"], 60 * 48 * 8);
+  EXPECT_EQ(q.inputs["imu"], 2 * 690 * 8);
+  EXPECT_EQ(q.inputs["prior"], 15 * 16 * 8);
+  EXPECT_EQ(q.outputs["H_cc"], 91 * 8);  // sym(13)
+  EXPECT_EQ(q.outputs["b_c"], 13 * 8);
+  EXPECT_EQ(q.outputs["H_ll_b_l_H_lo"], 90 * 8);
+  EXPECT_EQ(q.outputs["H_lc"], 70 * 6 * 8);
+  ne.detail_json = R"({"landmarks": -1})";
+  EXPECT_THROW(normal_equations_kernel().operands(ne, format, true), std::runtime_error);
+  // Solve: C = 13, 30 landmarks, 70 coupling dot products (gemm 1x1x6).
+  trace::KernelRecord solve;
+  solve.kernel = "solve";
+  solve.m = 13;
+  solve.n = 30;
+  solve.ops = {{Op::Ldlt, 13, 13, 0, 0, 0}, {Op::Gemm, 1, 1, 6, 0, 0, 70}};
+  const KernelOperands v = solve_kernel().operands(solve, format, false);
+  EXPECT_EQ(v.inputs["S"], 169 * 8);
+  EXPECT_EQ(v.inputs["H_lc"], 70 * 6 * 8);
+  EXPECT_EQ(v.outputs["dx_l"], 30 * 8);
 }
 
 }  // namespace

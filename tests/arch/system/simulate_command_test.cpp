@@ -208,9 +208,10 @@ TEST(SimulateCommand, BadInputExitsOneNamingTheFile) {
 namespace edx::arch {
 namespace {
 
-// The offload set is data (issue 40): SLAM's Schur complement and VIO's covariance update named
-// in scheduler.offload are simulated on the backend units (the reference trace records their
-// ops), and their rows are in the results database.
+// The offload set is data (issue 40): SLAM's Schur complement, normal equations and solve and
+// VIO's covariance update and null-space projection named in scheduler.offload are simulated on
+// the backend units (the reference trace records their ops; the projection's QR runs on an added
+// householder unit), and their rows are in the results database.
 TEST(SimulateCommand, KernelsBeyondThePapersThreeCanBeOffloaded) {
   const testing::TempDir dir;
   const fs::path golden = fs::path(EDX_SOURCE_DIR) / "tests" / "data" / "golden" / "golden_mix.db";
@@ -218,7 +219,9 @@ TEST(SimulateCommand, KernelsBeyondThePapersThreeCanBeOffloaded) {
   std::ofstream(config) << "extends: " << kCarConfig.string()
                         << "\nname: edx_car_schur\nscheduler:\n  policy: always\n"
                            "  offload: [projection, kalman_gain, marginalization, "
-                           "schur_complement, covariance_update]\n";
+                           "schur_complement, covariance_update, nullspace_projection, "
+                           "normal_equations, solve]\n"
+                           "backend:\n  units:\n    qr: {kind: householder, lanes: 4}\n";
   const fs::path db = dir.path() / "r.db";
   const auto r =
       edx::testing::run_command(fmt::format("{} simulate --config {} --trace {} --out {}", kEdx,
@@ -235,6 +238,9 @@ TEST(SimulateCommand, KernelsBeyondThePapersThreeCanBeOffloaded) {
   // Policy always: every invocation after the training share runs on the units.
   EXPECT_GT(offloaded["schur_complement"], 0);
   EXPECT_GT(offloaded["covariance_update"], 0);
+  EXPECT_GT(offloaded["nullspace_projection"], 0);
+  EXPECT_GT(offloaded["normal_equations"], 0);
+  EXPECT_GT(offloaded["solve"], 0);
   EXPECT_EQ(offloaded.count("gps_fusion"), 0u);  // not in this platform's set
   EXPECT_THAT(r.out, HasSubstr("offload    schur_complement"));
   // A kernel nobody described is refused at the key.

@@ -11,7 +11,8 @@
 //   step acceptance    gain ratio q = (F(x) - F(x + dx)) / (1/2 dx^T (lambda diag(H) dx + b));
 //                      q > 0: accept, lambda *= max(1/3, 1 - (2q - 1)^3); else reject,
 //                      lambda *= nu, nu *= 2 (Nielsen).
-// Kernels recorded per iteration: linearization, schur_complement, solve, lm_iteration (update,
+// Kernels recorded per iteration: linearization (residuals and Jacobians), normal_equations (their
+// products, recorded as batched matrix ops), schur_complement, solve, lm_iteration (update,
 // cost of the candidate, acceptance).
 #include "workloads/backend/kernel_recorder.hpp"
 #include "workloads/backend/slam/slam_options.hpp"

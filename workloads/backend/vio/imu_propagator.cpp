@@ -28,7 +28,7 @@ void ImuPropagator::add(std::span<const datasets::ImuSample> samples) {
   }
 }
 
-int ImuPropagator::propagate(VioState& state, std::int64_t t_ns) {
+int ImuPropagator::propagate(VioState& state, std::int64_t t_ns, KernelRecorder* recorder) {
   if (buffer_.empty() || t_ns <= state.t_ns) {
     state.t_ns = std::max(state.t_ns, t_ns);
     return 0;
@@ -132,6 +132,24 @@ int ImuPropagator::propagate(VioState& state, std::int64_t t_ns) {
     P.bottomLeftCorner(rest, kImuDim) = P.topRightCorner(kImuDim, rest).transpose();
   }
   state.symmetrize();
+  if (recorder != nullptr) {
+    // Per step Φ Φ_total and Φ Q_total Φᵀ (3 gemm 15x15x15, the last symmetric); then
+    // Φ P_II Φᵀ (2 gemm), Φ P_IR (gemm 15 x rest x 15), P_RI = P_IRᵀ and the symmetrization.
+    namespace f = trace::op_flags;
+    using trace::Op;
+    if (steps > 0) {
+      recorder->describe(Op::Gemm, kImuDim, kImuDim, kImuDim, 0, 2 * steps);
+      recorder->describe(Op::Gemm, kImuDim, kImuDim, kImuDim, f::kSymmetric | f::kTransposeB,
+                         steps);
+    }
+    recorder->describe(Op::Gemm, kImuDim, kImuDim, kImuDim, 0);
+    recorder->describe(Op::Gemm, kImuDim, kImuDim, kImuDim, f::kSymmetric | f::kTransposeB);
+    if (rest > 0) {
+      recorder->describe(Op::Gemm, kImuDim, rest, kImuDim, 0);
+      recorder->describe(Op::Transpose, kImuDim, rest, 0, 0);
+    }
+    recorder->describe(Op::Transpose, n, n, 0, 0);
+  }
   return steps;
 }
 

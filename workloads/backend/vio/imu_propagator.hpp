@@ -17,6 +17,7 @@
 #include <span>
 
 #include "workloads/backend/imu_noise.hpp"
+#include "workloads/backend/kernel_recorder.hpp"
 #include "workloads/backend/vio/vio_state.hpp"
 #include "workloads/datasets/dataset.hpp"
 
@@ -29,8 +30,9 @@ class ImuPropagator {
   /// Feeds samples (increasing time); the ones up to t_ns are consumed by propagate().
   void add(std::span<const datasets::ImuSample> samples);
   /// Propagates state (mean and covariance) from state.t_ns to t_ns. Returns the number of
-  /// sample intervals integrated.
-  int propagate(VioState& state, std::int64_t t_ns);
+  /// sample intervals integrated. With `recorder` (its kernel open) the covariance's matrix ops
+  /// are described on it (docs/TRACE.md).
+  int propagate(VioState& state, std::int64_t t_ns, KernelRecorder* recorder = nullptr);
   const Eigen::Vector3d& gravity() const { return gravity_; }
 
  private:

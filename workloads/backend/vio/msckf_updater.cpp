@@ -351,6 +351,13 @@ bool MsckfUpdater::compress(StackedRows& rows, int state_dim, KernelRecorder& re
   for (int a = 0; a < used_cols; ++a) Hc.col(a) = rows.H.col(cols[static_cast<std::size_t>(a)]);
   Eigen::HouseholderQR<Eigen::MatrixXd> qr(Hc);
   rows.r.applyOnTheLeft(qr.householderQ().adjoint());
+  // Its ops: qr m x c, then Qᵀr in the WY form (gemm c x 1 x m, c x 1 x c, m x 1 x c).
+  namespace f = trace::op_flags;
+  const std::int64_t m = rows.H.rows();
+  recorder.describe(trace::Op::Qr, m, used_cols, 0, 0);
+  recorder.describe(trace::Op::Gemm, used_cols, 1, m, f::kTransposeA);
+  recorder.describe(trace::Op::Gemm, used_cols, 1, used_cols, f::kUpper | f::kTransposeA);
+  recorder.describe(trace::Op::Gemm, m, 1, used_cols, 0);
   const Eigen::MatrixXd T = qr.matrixQR().topRows(used_cols).triangularView<Eigen::Upper>();
   rows.H = Eigen::MatrixXd::Zero(used_cols, state_dim);
   for (int a = 0; a < used_cols; ++a) rows.H.col(cols[static_cast<std::size_t>(a)]) = T.col(a);

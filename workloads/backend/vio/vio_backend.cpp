@@ -191,7 +191,7 @@ BackendOutput VioBackend::process(const BackendInput& input) {
   } else {
     {
       auto kernel = recorder_.kernel("imu_propagation");
-      kernel.record().m = propagator_.propagate(state_, input.t_ns);
+      kernel.record().m = propagator_.propagate(state_, input.t_ns, &recorder_);
       kernel.record().n = state_.dim();
     }
     auto kernel = recorder_.kernel("cloning");

@@ -6,6 +6,8 @@
 // the DISABLED_ tests (run with --gtest_also_run_disabled_tests); docs/SLAM.md reports them.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -180,9 +182,38 @@ TEST(SlamEndToEnd, SyntheticIndoorUnknownSmall) {
   // With the IMU the removed keyframe's velocity and biases are eliminated first (a 9x9 LDLT),
   // then the inverse of A_mm (flagged diagonal + 6x6 block); the trace carries the IMU
   // preintegration kernel.
-  int marginalizations = 0, preintegrations = 0;
-  for (const trace::FrameTrace& frame : trace::TraceReader(dir.path() / "trace.db").read_all()) {
-    for (const trace::KernelRecord& k : frame.kernels) {
+  // Each linearization is followed by its normal equations over the same terms, recorded as
+  // batched products: 2 syrk 6x6 of 4 a cross term, at least 2 gemm 1x1x4 a term, one JᵀWJ
+  // (gemm 30x30x15) an IMU factor; each solve factors the C x C reduced system.
+  int marginalizations = 0, preintegrations = 0, normal_equations = 0;
+  const std::vector<trace::FrameTrace> frames = trace::TraceReader(dir.path() / "trace.db").read_all();
+  for (const trace::FrameTrace& frame : frames) {
+    for (std::size_t i = 0; i < frame.kernels.size(); ++i) {
+      const trace::KernelRecord& k = frame.kernels[i];
+      const auto batch_of = [&](trace::Op op, std::int64_t m, std::int64_t n, std::int64_t kk) {
+        std::int64_t b = 0;
+        for (const trace::OpRecord& o : k.ops) {
+          if (o.op == op && o.m == m && o.n == n && o.k == kk) b += o.batch;
+        }
+        return b;
+      };
+      if (k.kernel == "normal_equations") {
+        ++normal_equations;
+        ASSERT_GT(i, 0u);
+        EXPECT_EQ(frame.kernels[i - 1].kernel, "linearization");
+        EXPECT_EQ(frame.kernels[i - 1].m, k.m);
+        EXPECT_GT(k.k, 0);
+        EXPECT_EQ(batch_of(trace::Op::Syrk, 6, 6, 4), 2 * k.k);
+        EXPECT_GE(batch_of(trace::Op::Gemm, 1, 1, 4), 2 * k.m);
+        const auto detail = nlohmann::json::parse(k.detail_json);
+        EXPECT_GT(detail.at("imu_factors").get<std::int64_t>(), 0);
+        EXPECT_EQ(batch_of(trace::Op::Gemm, 30, 30, 15), detail.at("imu_factors").get<std::int64_t>());
+      }
+      if (k.kernel == "solve") {
+        ASSERT_FALSE(k.ops.empty());
+        EXPECT_EQ(k.ops[0].op, trace::Op::Ldlt);
+        EXPECT_EQ(k.ops[0].m, k.m);
+      }
       preintegrations += k.kernel == "preintegration" ? 1 : 0;
       if (k.kernel != "marginalization") continue;
       ++marginalizations;
@@ -200,6 +231,7 @@ TEST(SlamEndToEnd, SyntheticIndoorUnknownSmall) {
   }
   EXPECT_EQ(marginalizations, f.marginalizations);
   EXPECT_GE(preintegrations, 59);
+  EXPECT_GT(normal_equations, 0);
   // A_mm of the paper's Sec. VI on a real window: the landmark block A is diagonal (landmarks
   // couple only through poses) and no landmark couples to the removed keyframe's velocity and
   // biases, so once those 9 are eliminated D is the 6x6 pose block.
