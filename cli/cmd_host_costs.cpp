@@ -121,13 +121,16 @@ void add_host_costs_command(CLI::App& app) {
   fit_cmd->add_option("--out", args->out, "Cost table to write (YAML)")->required();
   fit_cmd->add_option("--provenance", args->provenance,
                       "What the traces are (machine, load, date), kept in the table");
-  CLI::Option* only = fit_cmd->add_option("--only", args->only,
-                      "Re-fit only these kinds (e.g. normal_equations), keeping the others' costs "
-                      "from --base")
-      ->delimiter(',');
-  fit_cmd->add_option("--base", args->base,
-                      "The table whose other kinds are kept with --only (default: the bundled "
-                      "configs/host/host_costs.yaml)")
+  CLI::Option* only =
+      fit_cmd
+          ->add_option("--only", args->only,
+                       "Re-fit only these kinds (e.g. normal_equations), keeping the others' costs "
+                       "from --base")
+          ->delimiter(',');
+  fit_cmd
+      ->add_option("--base", args->base,
+                   "The table whose other kinds are kept with --only (default: the bundled "
+                   "configs/host/host_costs.yaml)")
       ->check(CLI::ExistingFile)
       ->needs(only);
   fit_cmd->callback([args] { fit(*args); });

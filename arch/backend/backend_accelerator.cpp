@@ -45,17 +45,17 @@ sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::stri
     ops_.add();
     if (timeline_ != nullptr) {
       if (label.empty()) label = plan.kernel;
-      timeline_->span(
-          unit_tracks_[t.unit],
-          t.op.batch == 1 ? fmt::format("{} {} {}x{}x{}", label, trace::to_string(t.op.op), t.op.m,
+      timeline_->span(unit_tracks_[t.unit],
+                      t.op.batch == 1
+                          ? fmt::format("{} {} {}x{}x{}", label, trace::to_string(t.op.op), t.op.m,
                                         t.op.n, t.op.k)
                           : fmt::format("{} {} {}x{}x{} x{}", label, trace::to_string(t.op.op),
                                         t.op.m, t.op.n, t.op.k, t.op.batch),
-          begin, sim_->now(),
-          {{"cycles", cycles},
-           {"copies", copies},
-           {"spm_bytes", t.spm_bytes},
-           {"spill_bytes", t.spill.bytes()}});
+                      begin, sim_->now(),
+                      {{"cycles", cycles},
+                       {"copies", copies},
+                       {"spm_bytes", t.spm_bytes},
+                       {"spill_bytes", t.spill.bytes()}});
     }
   }
   kernels_.add();

@@ -2,9 +2,18 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+
 #include "common/yaml_fields.hpp"
 
 namespace edx::arch {
+
+std::int64_t MatrixUnit::batch_cycles(const trace::OpRecord& op, int copies,
+                                      const BackendConfig& backend) const {
+  const std::int64_t shared = cycles(op, copies, backend);
+  const std::int64_t rounds = (op.batch + std::max(1, copies) - 1) / std::max(1, copies);
+  return std::min(op.batch * shared, rounds * cycles(op, 1, backend));
+}
 
 cost::Arithmetic MatrixUnitInstance::arithmetic() const {
   return precision == "single" ? cost::Arithmetic::kSingle : cost::Arithmetic::kDouble;

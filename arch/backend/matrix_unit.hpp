@@ -50,6 +50,12 @@ class MatrixUnit : public Component {
   /// with a zero dimension.
   virtual std::int64_t cycles(const trace::OpRecord& op, int copies,
                               const BackendConfig& backend) const = 0;
+  /// Cycles of op.batch independent instances of `op` on `copies` copies. By default
+  /// min(b · cycles(op, c), ⌈b / c⌉ · cycles(op, 1)): all copies on each instance, or one
+  /// instance a copy in rounds, whichever is shorter; a kind that streams instances overrides it
+  /// (the systolic array: their tiles as one op's).
+  virtual std::int64_t batch_cycles(const trace::OpRecord& op, int copies,
+                                    const BackendConfig& backend) const;
   /// Multiply-accumulate lanes of one copy: a busy cycle is this many MACs (energy; 0: none).
   virtual double mac_lanes() const = 0;
   /// LUT, FF, DSP and BRAM of one copy with MACs of `arithmetic`.

@@ -61,11 +61,7 @@ std::int64_t op_cycles(const OpRecord& op, const BackendConfig& config) {
 std::int64_t op_cycles(const OpRecord& op, int copies, const BackendConfig& config) {
   check_dimensions(op);
   const MatrixUnit& unit = *serving_unit(op.op, config).unit;
-  const std::int64_t shared = unit.cycles(op, copies, config);
-  if (op.batch == 1) return shared;
-  // b independent instances: each shared by all copies, or ⌈b / c⌉ rounds of one per copy.
-  const std::int64_t one_each = ceil_div(op.batch, std::max(1, copies)) * unit.cycles(op, 1, config);
-  return std::min(op.batch * shared, one_each);
+  return op.batch == 1 ? unit.cycles(op, copies, config) : unit.batch_cycles(op, copies, config);
 }
 
 OperandScalars op_operand_scalars(const OpRecord& op, const BackendConfig& config) {

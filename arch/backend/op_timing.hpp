@@ -49,10 +49,9 @@ std::int64_t householder_macs(std::int64_t m, std::int64_t n);
 const MatrixUnitInstance& serving_unit(trace::Op op, const BackendConfig& config);
 
 /// Cycles of one op on its instance, all its copies sharing the work (the kind's formula,
-/// arch/backend/units/; docs/MODEL.md lists each). A batch of b independent instances takes
-/// min(b · cycles on c copies, ⌈b / c⌉ · cycles on one copy): all copies on each instance, or
-/// one instance per copy in rounds, whichever is shorter. Throws std::runtime_error for negative
-/// dimensions, a batch below 1 or an op no instance serves.
+/// arch/backend/units/; docs/MODEL.md lists each); a batch of independent instances by the kind's
+/// MatrixUnit::batch_cycles. Throws std::runtime_error for negative dimensions, a batch below 1
+/// or an op no instance serves.
 std::int64_t op_cycles(const trace::OpRecord& op, const BackendConfig& config);
 /// The same on `copies` copies of its instance (the DES when some copies are busy).
 std::int64_t op_cycles(const trace::OpRecord& op, int copies, const BackendConfig& config);

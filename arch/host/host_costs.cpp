@@ -600,13 +600,13 @@ HostCostModel fit_host_costs(const std::vector<CostFitInput>& traces,
 HostCostModel replace_kinds(HostCostModel base, const HostCostModel& fitted,
                             const std::vector<std::string>& kinds) {
   if (base.suite != fitted.suite) {
-    throw std::runtime_error(fmt::format("the base table is of suite v{}, the traces of v{}",
-                                         base.suite, fitted.suite));
+    throw std::runtime_error(
+        fmt::format("the base table is of suite v{}, the traces of v{}", base.suite, fitted.suite));
   }
   for (const std::string& kind : kinds) {
     bool found = false;
-    for (auto [from, to] : {std::pair{&fitted.frontend, &base.frontend},
-                            std::pair{&fitted.backend, &base.backend}}) {
+    for (auto [from, to] :
+         {std::pair{&fitted.frontend, &base.frontend}, std::pair{&fitted.backend, &base.backend}}) {
       if (const auto it = from->find(kind); it != from->end()) {
         (*to)[kind] = it->second;
         found = true;

@@ -4,7 +4,7 @@
 // interface, its kinds beside it in arch/host/processors/ (one file each, registered there by
 // name), one instance per platform (`host:`, docs/CONFIG.md):
 //
-//   host: {kind: suite_scaled, name: ..., frontend_suite_ms: 176.41, ..., cores: 4,
+//   host: {kind: suite_scaled, name: ..., frontend_suite_ms: 167.88, ..., cores: 4,
 //          active_w: 15, idle_w: 2}
 //
 // `kind` is optional (suite_scaled). A kind owns its parameters, how a trace's recorded work or

@@ -36,8 +36,9 @@ const AccelerableKernel& compression_kernel() {
   static const AccelerableKernel kernel{
       .name = "compression",
       .mode = "vio",
-      .what = "the stacked rows' thin QR on the columns they touch, H <- T, r <- Q1ᵀ r (QR, "
-              "multiplication)",
+      .what =
+          "the stacked rows' thin QR on the columns they touch, H <- T, r <- Q1ᵀ r (QR, "
+          "multiplication)",
       .sizes = "m: stacked rows; n: state columns touched",
       .host_model_degree = 1,  // m n²: linear in the rows at a given width
       .misc_add = false,

@@ -20,8 +20,9 @@ std::optional<std::int64_t> detail_integer(const trace::KernelRecord& kernel, st
   const auto it = detail.find(key);
   if (it == detail.end()) return std::nullopt;
   if (!it->is_number_integer() || it->get<std::int64_t>() < min) {
-    throw std::runtime_error(fmt::format("kernel '{}': detail.{}: expected an integer >= {}, got {}",
-                                         kernel.kernel, key, min, it->dump()));
+    throw std::runtime_error(
+        fmt::format("kernel '{}': detail.{}: expected an integer >= {}, got {}", kernel.kernel, key,
+                    min, it->dump()));
   }
   return it->get<std::int64_t>();
 }
@@ -29,9 +30,9 @@ std::optional<std::int64_t> detail_integer(const trace::KernelRecord& kernel, st
 const std::vector<const AccelerableKernel*>& accelerable_kernels() {
   // The registry: one line per kernel.
   static const std::vector<const AccelerableKernel*> kernels = {
-      &projection_kernel(),       &kalman_gain_kernel(),       &marginalization_kernel(),
-      &schur_complement_kernel(), &covariance_update_kernel(), &gps_fusion_kernel(),
-      &nullspace_projection_kernel(), &normal_equations_kernel(), &solve_kernel(),
+      &projection_kernel(),           &kalman_gain_kernel(),       &marginalization_kernel(),
+      &schur_complement_kernel(),     &covariance_update_kernel(), &gps_fusion_kernel(),
+      &nullspace_projection_kernel(), &normal_equations_kernel(),  &solve_kernel(),
       &compression_kernel()};
   return kernels;
 }

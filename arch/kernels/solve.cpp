@@ -32,8 +32,9 @@ const AccelerableKernel& solve_kernel() {
   static const AccelerableKernel kernel{
       .name = "solve",
       .mode = "slam",
-      .what = "the reduced camera system S dx_c = s (LDLᵀ, two triangular solves) and the "
-              "landmarks' back-substitution (decomposition, substitution, multiplication)",
+      .what =
+          "the reduced camera system S dx_c = s (LDLᵀ, two triangular solves) and the "
+          "landmarks' back-substitution (decomposition, substitution, multiplication)",
       .sizes = "m: camera-block columns C; n: landmarks L",
       .host_model_degree = 2,  // the LDLᵀ is cubic in C; the regression is quadratic
       .misc_add = false,

@@ -234,9 +234,10 @@ std::vector<FrameTrace> TraceReader::read_all() const {
     }
 
     SQLite::Statement op_query(
-        db, fmt::format("SELECT frame_id, kernel_seq, seq, op, m, n, k, flags, host_ns, {} AS batch "
-                        "FROM ops ORDER BY frame_id, kernel_seq, seq",
-                        schema_version_ == 3 ? "1" : "batch"));
+        db,
+        fmt::format("SELECT frame_id, kernel_seq, seq, op, m, n, k, flags, host_ns, {} AS batch "
+                    "FROM ops ORDER BY frame_id, kernel_seq, seq",
+                    schema_version_ == 3 ? "1" : "batch"));
     while (op_query.executeStep()) {
       const std::int64_t id = op_query.getColumn(0).getInt64();
       const std::int64_t kernel_seq = op_query.getColumn(1).getInt64();

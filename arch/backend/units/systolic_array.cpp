@@ -12,6 +12,8 @@
 //                  transposed operands (kTransposeA/B) cost nothing (the address generator reads
 //                  them transposed); a symmetric result counts only the upper tiles
 //   syrk m x m of k the same with n = m, the result always symmetric
+//   a batch of B instances: their B · tiles(m, n) result tiles stream through the array as one
+//                  op's (with overlap_tiles one fill and drain for the batch)
 //   resources      b^2 MACs with their operand registers, b-wide input registers, an address
 //                  generator
 #include <algorithm>
@@ -40,7 +42,13 @@ class SystolicArray final : public MatrixUnit {
   }
   std::string building_block() const override { return "matrix multiplication (b x b array)"; }
   std::int64_t cycles(const trace::OpRecord& op, int copies,
-                      const BackendConfig& backend) const override;
+                      const BackendConfig& backend) const override {
+    return cycles_of(op, 1, copies, backend);
+  }
+  std::int64_t batch_cycles(const trace::OpRecord& op, int copies,
+                            const BackendConfig& backend) const override {
+    return cycles_of(op, op.batch, copies, backend);
+  }
   double mac_lanes() const override { return double(params_.block) * params_.block; }
   cost::Resources resources(cost::Arithmetic arithmetic) const override;
   int tile() const override { return params_.block; }
@@ -51,6 +59,10 @@ class SystolicArray final : public MatrixUnit {
   std::int64_t array_cycles(std::int64_t tiles, std::int64_t k) const;
 
  private:
+  /// Cycles of `instances` instances of `op`, their result tiles dealt out over the copies.
+  std::int64_t cycles_of(const trace::OpRecord& op, std::int64_t instances, int copies,
+                         const BackendConfig& backend) const;
+
   Params params_;
 };
 
@@ -82,13 +94,13 @@ std::int64_t SystolicArray::array_cycles(std::int64_t tiles, std::int64_t k) con
   return tiles * (k + 2 * b);
 }
 
-std::int64_t SystolicArray::cycles(const trace::OpRecord& op, int copies,
-                                   const BackendConfig& backend) const {
+std::int64_t SystolicArray::cycles_of(const trace::OpRecord& op, std::int64_t instances, int copies,
+                                      const BackendConfig& backend) const {
   const bool syrk = op.op == trace::Op::Syrk;
   if (op.m == 0 || op.k == 0 || (!syrk && op.n == 0)) return 0;
   const bool symmetric = backend.symmetric_optimization && (syrk || symmetric_gemm_result(op));
   // The result's tiles are dealt out over the copies: each computes ⌈T / c⌉ of them.
-  const std::int64_t all = tiles(op.m, syrk ? op.m : op.n, symmetric);
+  const std::int64_t all = instances * tiles(op.m, syrk ? op.m : op.n, symmetric);
   return array_cycles(ceil_div(all, std::max(1, copies)), op.k);
 }
 

@@ -290,8 +290,9 @@ TEST(BackendConfigYaml, ReadsFieldsAndNamesFileLineKey) {
                "car.yaml:3: backend.units.gemm.block: expected an integer in [1, 256], got '0'");
   expect_error("units:\n  gemm:\n    kind: systolic_array\n    blok: 4\n",
                "car.yaml:4: backend.units.gemm.blok: unknown key");
-  expect_error("units:\n  gemm:\n    kind: tensor_core\n",
-               "car.yaml:3: backend.units.gemm.kind: expected one of decomposition, householder, inverse, ");
+  expect_error(
+      "units:\n  gemm:\n    kind: tensor_core\n",
+      "car.yaml:3: backend.units.gemm.kind: expected one of decomposition, householder, inverse, ");
   expect_error("units:\n  array2: {block: 4}\n",
                "backend.units.array2.kind: required for a unit not among the defaults");
   expect_error("units:\n  t2: {kind: transpose}\n",

@@ -102,12 +102,17 @@ TEST(BackendUnits, ABatchRunsOnTheCopiesInRoundsOrSharedWhicheverIsShorter) {
   EXPECT_EQ(op_cycles(qr, 1, c), 3 * 194);
   EXPECT_EQ(op_macs(qr, c), 3 * 49);
   EXPECT_EQ(op_spm_bytes(qr, c), 6 * 3 * 8);  // one instance at a time
-  // A gemm batch on the one 4x4 array of the default backend is b times the single op.
+  // A gemm batch on the one 4x4 array of the default backend (tiles not overlapped) is b times
+  // the single op: 5 x 4 tiles x (4 + 2 x 4).
   const trace::OpRecord gemm{Op::Gemm, 6, 6, 4, 0, 0};
   trace::OpRecord batch = gemm;
   batch.batch = 5;
-  EXPECT_EQ(op_cycles(batch, c), 5 * op_cycles(gemm, c));
+  EXPECT_EQ(op_cycles(batch, c), 5 * 4 * (4 + 8));
   EXPECT_EQ(op_macs(batch, c), 5 * 6 * 6 * 4);
+  // With overlapped tiles the batch's 5 x 4 tiles stream as one op's: 20 max(4, 4) + 2 x 4.
+  testing::set_unit(c, "gemm", "{overlap_tiles: true}");
+  EXPECT_EQ(op_cycles(gemm, c), 4 * 4 + 8);
+  EXPECT_EQ(op_cycles(batch, c), 20 * 4 + 8);
   batch.batch = 0;
   EXPECT_THROW(op_cycles(batch, c), std::runtime_error);
 }

@@ -130,9 +130,8 @@ TEST(AccelerableKernels, OperandBytesOfTheBatchedKernelsByHand) {
   ne.m = 100;
   ne.n = 13;
   ne.k = 60;
-  ne.detail_json =
-      R"({"landmarks": 30, "coupling_blocks": 70, "imu_factors": 2, "prior_rows": 15,)"
-      R"( "prior_cols": 15})";
+  ne.detail_json = R"({"landmarks": 30, "coupling_blocks": 70, "imu_factors": 2, "prior_rows": 15,)"
+                   R"( "prior_cols": 15})";
   const KernelOperands q = normal_equations_kernel().operands(ne, format, true);
   EXPECT_EQ(q.inputs["terms"], 100 * 13 * 8);
   EXPECT_EQ(q.inputs["J_pose"], 60 * 48 * 8);

@@ -1,10 +1,10 @@
 #include "workloads/backend/slam/lm_solver.hpp"
 
 #include <Eigen/Cholesky>
-#include <nlohmann/json.hpp>
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -72,8 +72,8 @@ double prior_residual(const Window& window, Eigen::VectorXd* residual) {
 
 /// Adds the prior's JᵀJ and -Jᵀr (r its residual) to (H, b). Its variables are the prior's
 /// keyframes (at slot * d) and, when it has one, the disparity offset.
-void add_prior_products(const Window& window, const SlamOptions& options,
-                        const Eigen::VectorXd& r, Eigen::MatrixXd& H, Eigen::VectorXd& b) {
+void add_prior_products(const Window& window, const SlamOptions& options, const Eigen::VectorXd& r,
+                        Eigen::MatrixXd& H, Eigen::VectorXd& b) {
   const Prior& prior = window.prior;
   if (prior.empty()) return;
   const int d = window.state_dim;
@@ -375,12 +375,13 @@ LmReport optimize_window(Window& window, const SlamOptions& options, KernelRecor
       k.record().m = ne.observations;
       k.record().n = C;
       k.record().k = counts.cross;
-      k.record().detail_json = nlohmann::json{{"landmarks", ne.rows.size()},
-                                              {"coupling_blocks", coupling_blocks(ne)},
-                                              {"imu_factors", lin.imu.size()},
-                                              {"prior_rows", window.prior.J.rows()},
-                                              {"prior_cols", window.prior.J.cols()}}
-                                   .dump();
+      k.record().detail_json = nlohmann::json{
+          {"landmarks", ne.rows.size()},
+          {"coupling_blocks", coupling_blocks(ne)},
+          {"imu_factors", lin.imu.size()},
+          {"prior_rows", window.prior.J.rows()},
+          {"prior_cols",
+           window.prior.J.cols()}}.dump();
       if (it == 0) {
         report.initial_cost = ne.cost;
         report.landmarks = static_cast<int>(ne.rows.size());

@@ -5,8 +5,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <map>
-#include <utility>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include "workloads/backend/vio/chi_square.hpp"
 #include "workloads/backend/vio/ekf_update.hpp"

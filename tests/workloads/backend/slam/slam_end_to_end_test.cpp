@@ -6,13 +6,12 @@
 // the DISABLED_ tests (run with --gtest_also_run_disabled_tests); docs/SLAM.md reports them.
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
@@ -186,7 +185,8 @@ TEST(SlamEndToEnd, SyntheticIndoorUnknownSmall) {
   // batched products: 2 syrk 6x6 of 4 a cross term, at least 2 gemm 1x1x4 a term, one JᵀWJ
   // (gemm 30x30x15) an IMU factor; each solve factors the C x C reduced system.
   int marginalizations = 0, preintegrations = 0, normal_equations = 0;
-  const std::vector<trace::FrameTrace> frames = trace::TraceReader(dir.path() / "trace.db").read_all();
+  const std::vector<trace::FrameTrace> frames =
+      trace::TraceReader(dir.path() / "trace.db").read_all();
   for (const trace::FrameTrace& frame : frames) {
     for (std::size_t i = 0; i < frame.kernels.size(); ++i) {
       const trace::KernelRecord& k = frame.kernels[i];
@@ -207,7 +207,8 @@ TEST(SlamEndToEnd, SyntheticIndoorUnknownSmall) {
         EXPECT_GE(batch_of(trace::Op::Gemm, 1, 1, 4), 2 * k.m);
         const auto detail = nlohmann::json::parse(k.detail_json);
         EXPECT_GT(detail.at("imu_factors").get<std::int64_t>(), 0);
-        EXPECT_EQ(batch_of(trace::Op::Gemm, 30, 30, 15), detail.at("imu_factors").get<std::int64_t>());
+        EXPECT_EQ(batch_of(trace::Op::Gemm, 30, 30, 15),
+                  detail.at("imu_factors").get<std::int64_t>());
       }
       if (k.kernel == "solve") {
         ASSERT_FALSE(k.ops.empty());
