@@ -80,10 +80,12 @@ double instance_elements(const OpRecord& op) {
 double op_flops(const OpRecord& op) { return d(op.batch) * instance_flops(op); }
 double op_elements(const OpRecord& op) { return d(op.batch) * instance_elements(op); }
 
-/// A regressor of a kernel row.
+/// A regressor of a kernel row; `uses_detail` when it reads the kernel's detail JSON (which is
+/// parsed only for kinds that have such a regressor).
 struct KernelFeature {
   const char* name;
   double (*value)(const KernelRecord&, const nlohmann::json& detail);
+  bool uses_detail = false;
 };
 struct TaskFeature {
   const char* name;
@@ -97,14 +99,19 @@ double detail_count(const nlohmann::json& detail, const char* key) {
 
 // Kernel regressors: a call, and the sizes its algorithm's cost grows with (docs/TRACE.md for
 // m, n, k per kernel; docs/MODEL.md "Host CPU: modeled times" for the table).
-#define EDX_K(name, expr)                                                \
-  KernelFeature {                                                        \
-    name, [](const KernelRecord& r, const nlohmann::json& j) -> double { \
-      [[maybe_unused]] const double m = d(r.m), n = d(r.n), k = d(r.k);  \
-      (void)j;                                                           \
-      return (expr);                                                     \
-    }                                                                    \
+#define EDX_KERNEL_FEATURE(name, expr, detail)                              \
+  KernelFeature {                                                           \
+    name,                                                                   \
+        [](const KernelRecord& r, const nlohmann::json& j) -> double {      \
+          [[maybe_unused]] const double m = d(r.m), n = d(r.n), k = d(r.k); \
+          (void)j;                                                          \
+          return (expr);                                                    \
+        },                                                                  \
+        detail                                                              \
   }
+#define EDX_K(name, expr) EDX_KERNEL_FEATURE(name, expr, false)
+/// A regressor that reads the detail JSON `j`.
+#define EDX_KD(name, expr) EDX_KERNEL_FEATURE(name, expr, true)
 
 const KernelFeature kCall = EDX_K("call", 1.0);
 
@@ -142,7 +149,7 @@ const std::map<std::string, std::vector<KernelFeature>>& kernel_table() {
       {"cloning", {kCall, EDX_K("n2", n * n)}},
       {"jacobians",
        {kCall, EDX_K("mn", m * n), EDX_K("k", k),
-        EDX_K("whitening_flops", detail_count(j, "whitening_flops"))}},
+        EDX_KD("whitening_flops", detail_count(j, "whitening_flops"))}},
       {"nullspace_projection", {kCall, EDX_K("mn", m * n), EDX_K("kn2", k * n * n)}},
       {"compression", {kCall, EDX_K("mn", m * n), EDX_K("mn2", m * n * n)}},
       {"covariance_update", {kCall, EDX_K("n2", n * n), EDX_K("mn2", m * n * n)}},
@@ -151,7 +158,7 @@ const std::map<std::string, std::vector<KernelFeature>>& kernel_table() {
       {"triangulation", {kCall, EDX_K("m", m), EDX_K("n", n)}},
       // m observations aligned, n first windows cut, Gauss-Newton updates (docs/VIO.md).
       {"track_check",
-       {kCall, EDX_K("m", m), EDX_K("n", n), EDX_K("iterations", detail_count(j, "iterations"))}},
+       {kCall, EDX_K("m", m), EDX_K("n", n), EDX_KD("iterations", detail_count(j, "iterations"))}},
       // SLAM (docs/SLAM.md).
       {"tracking", {kCall, EDX_K("m", m)}},
       {"keyframe_selection", {kCall, EDX_K("m", m)}},
@@ -164,14 +171,14 @@ const std::map<std::string, std::vector<KernelFeature>>& kernel_table() {
       {"lm_iteration", {kCall, EDX_K("m", m), EDX_K("mn", m * n), EDX_K("n3", n * n * n)}},
       {"outlier_rejection", {kCall}},
       // Registration (docs/REGISTRATION.md).
-      {"bow_query", {kCall, EDX_K("postings", detail_count(j, "postings"))}},
-      {"matching", {kCall, EDX_K("comparisons", detail_count(j, "comparisons"))}},
+      {"bow_query", {kCall, EDX_KD("postings", detail_count(j, "postings"))}},
+      {"matching", {kCall, EDX_KD("comparisons", detail_count(j, "comparisons"))}},
       {"pnp", {kCall, EDX_K("m", m)}},
       {"local_map", {kCall, EDX_K("m", m), EDX_K("k", k)}},
       {"projection_matching",
-       {kCall, EDX_K("m", m), EDX_K("comparisons", detail_count(j, "comparisons"))}},
+       {kCall, EDX_K("m", m), EDX_KD("comparisons", detail_count(j, "comparisons"))}},
       {"pose_refinement",
-       {kCall, EDX_K("m_iterations", m * std::max(1.0, detail_count(j, "iterations")))}},
+       {kCall, EDX_KD("m_iterations", m * std::max(1.0, detail_count(j, "iterations")))}},
   };
   return table;
 }
@@ -183,6 +190,8 @@ const std::vector<KernelFeature>& generic_kernel() {
   return features;
 }
 #undef EDX_K
+#undef EDX_KD
+#undef EDX_KERNEL_FEATURE
 
 const std::vector<KernelFeature>& kernel_features(const std::string& kernel) {
   const auto& table = kernel_table();
@@ -389,8 +398,12 @@ WorkRow work_of(const TaskRecord& task, double image_pixels) {
 }
 
 WorkRow work_of(const KernelRecord& kernel) {
-  // Most kernels record no detail ("{}"): no parse for them (this runs per kernel per frame).
-  const nlohmann::json detail = kernel.detail_json == "{}"
+  // The detail is parsed only for a kind with a regressor in it (this runs per kernel per
+  // frame; the trace reader checked that every detail is a JSON object).
+  const std::vector<KernelFeature>& features = kernel_features(kernel.kernel);
+  const bool uses_detail = std::any_of(features.begin(), features.end(),
+                                       [](const KernelFeature& f) { return f.uses_detail; });
+  const nlohmann::json detail = !uses_detail || kernel.detail_json == "{}"
                                     ? nlohmann::json::object()
                                     : nlohmann::json::parse(kernel.detail_json, nullptr, false);
   if (detail.is_discarded() || !detail.is_object()) {
@@ -398,7 +411,7 @@ WorkRow work_of(const KernelRecord& kernel) {
                                          kernel.kernel, kernel.detail_json));
   }
   WorkRow row{CostPart::kBackendKernel, kernel.kernel, {}};
-  for (const KernelFeature& f : kernel_features(kernel.kernel)) {
+  for (const KernelFeature& f : features) {
     row.x.push_back(f.value(kernel, detail));
   }
   return row;

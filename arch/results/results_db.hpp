@@ -23,7 +23,7 @@ namespace edx::arch {
 
 /// Checks that `db` (opened from `path`) is a results database or empty, before anything is
 /// written into it; throws std::runtime_error naming the file otherwise ("x.db: is an edx trace
-/// (schema version 3), not a results database").
+/// (schema version 4), not a results database").
 void require_results_database(SQLite::Database& db, const std::string& path);
 
 /// Creates the tables of `group` when missing and brings every declared table the database has
