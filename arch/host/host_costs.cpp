@@ -146,6 +146,8 @@ const std::map<std::string, std::vector<KernelFeature>>& kernel_table() {
       // VIO (docs/VIO.md): m, n, k as docs/TRACE.md lists them.
       {"initialization", {kCall, EDX_K("m", m)}},
       {"imu_propagation", {kCall, EDX_K("m", m), EDX_K("n2", n * n)}},
+      // Φ and Q per interval (m), Φ P_IR (n), the symmetrization (n²).
+      {"covariance_propagation", {kCall, EDX_K("m", m), EDX_K("n", n), EDX_K("n2", n * n)}},
       {"cloning", {kCall, EDX_K("n2", n * n)}},
       {"jacobians",
        {kCall, EDX_K("mn", m * n), EDX_K("k", k),

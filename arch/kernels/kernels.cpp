@@ -30,10 +30,10 @@ std::optional<std::int64_t> detail_integer(const trace::KernelRecord& kernel, st
 const std::vector<const AccelerableKernel*>& accelerable_kernels() {
   // The registry: one line per kernel.
   static const std::vector<const AccelerableKernel*> kernels = {
-      &projection_kernel(),           &kalman_gain_kernel(),       &marginalization_kernel(),
-      &schur_complement_kernel(),     &covariance_update_kernel(), &gps_fusion_kernel(),
-      &nullspace_projection_kernel(), &normal_equations_kernel(),  &solve_kernel(),
-      &compression_kernel()};
+      &projection_kernel(),           &kalman_gain_kernel(),           &marginalization_kernel(),
+      &schur_complement_kernel(),     &covariance_update_kernel(),     &gps_fusion_kernel(),
+      &nullspace_projection_kernel(), &normal_equations_kernel(),      &solve_kernel(),
+      &compression_kernel(),          &covariance_propagation_kernel()};
   return kernels;
 }
 

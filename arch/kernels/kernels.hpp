@@ -93,6 +93,7 @@ const AccelerableKernel& nullspace_projection_kernel();
 const AccelerableKernel& normal_equations_kernel();
 const AccelerableKernel& solve_kernel();
 const AccelerableKernel& compression_kernel();
+const AccelerableKernel& covariance_propagation_kernel();
 
 /// The paper's accelerated kernels (Sec. VI-A, Table II), the default of scheduler.offload.
 std::vector<std::string> paper_offload_set();

@@ -68,8 +68,9 @@ namespace edx::arch {
 namespace {
 
 // The kernels beyond the paper's three record their ops in the trace (issue 40): on the
-// reference trace, every Schur complement's and covariance update's recorded ops are those their
-// descriptors derive from the kernel's sizes, and every GPS fusion's are whole fused fixes.
+// reference trace, every Schur complement's, covariance update's and covariance propagation's
+// recorded ops are those their descriptors derive from the kernel's sizes, and every GPS
+// fusion's are whole fused fixes.
 TEST(BackendRecordedKernel, TheReferenceTracesNewKernelsRecordTheirDerivedOps) {
   const std::string golden = std::string(EDX_SOURCE_DIR) + "/tests/data/golden/golden_mix.db";
   const std::vector<trace::FrameTrace> frames = trace::TraceReader(golden).read_all();
@@ -78,7 +79,7 @@ TEST(BackendRecordedKernel, TheReferenceTracesNewKernelsRecordTheirDerivedOps) {
   for (const trace::FrameTrace& frame : frames) {
     for (const trace::KernelRecord& k : frame.kernels) {
       if (k.kernel != "schur_complement" && k.kernel != "covariance_update" &&
-          k.kernel != "gps_fusion") {
+          k.kernel != "covariance_propagation" && k.kernel != "gps_fusion") {
         continue;
       }
       // A GPS fusion that fused no fix ran no matrix op.
@@ -99,6 +100,7 @@ TEST(BackendRecordedKernel, TheReferenceTracesNewKernelsRecordTheirDerivedOps) {
           EXPECT_EQ(k.ops[i].n, derived[i].n) << k.kernel << " op " << i;
           EXPECT_EQ(k.ops[i].k, derived[i].k) << k.kernel << " op " << i;
           EXPECT_EQ(k.ops[i].flags, derived[i].flags) << k.kernel << " op " << i;
+          EXPECT_EQ(k.ops[i].batch, derived[i].batch) << k.kernel << " op " << i;
         }
       }
       ++checked[k.kernel];
@@ -106,6 +108,7 @@ TEST(BackendRecordedKernel, TheReferenceTracesNewKernelsRecordTheirDerivedOps) {
   }
   EXPECT_GT(checked["schur_complement"], 10);
   EXPECT_GT(checked["covariance_update"], 10);
+  EXPECT_GT(checked["covariance_propagation"], 10);
   EXPECT_GT(checked["gps_fusion"], 0);
 }
 

@@ -15,10 +15,11 @@ namespace flags = trace::op_flags;
 using trace::Op;
 
 TEST(AccelerableKernels, RegistryNamesAndLookups) {
-  ASSERT_EQ(accelerable_kernels().size(), 10u);
+  ASSERT_EQ(accelerable_kernels().size(), 11u);
   EXPECT_EQ(accelerable_kernel_names(),
             "projection, kalman_gain, marginalization, schur_complement, covariance_update, "
-            "gps_fusion, nullspace_projection, normal_equations, solve or compression");
+            "gps_fusion, nullspace_projection, normal_equations, solve, compression or "
+            "covariance_propagation");
   EXPECT_EQ(paper_offload_set(),
             (std::vector<std::string>{"projection", "kalman_gain", "marginalization"}));
   EXPECT_EQ(&accelerable_kernel("kalman_gain"), &kalman_gain_kernel());
@@ -30,7 +31,8 @@ TEST(AccelerableKernels, RegistryNamesAndLookups) {
     EXPECT_EQ(std::string(e.what()),
               "kernel 'pnp': expected an accelerable kernel (projection, kalman_gain, "
               "marginalization, schur_complement, covariance_update, gps_fusion, "
-              "nullspace_projection, normal_equations, solve or compression)");
+              "nullspace_projection, normal_equations, solve, compression or "
+              "covariance_propagation)");
   }
   EXPECT_EQ(projection_kernel().host_model_degree, 1);
   EXPECT_EQ(kalman_gain_kernel().host_model_degree, 2);

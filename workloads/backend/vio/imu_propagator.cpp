@@ -28,10 +28,11 @@ void ImuPropagator::add(std::span<const datasets::ImuSample> samples) {
   }
 }
 
-int ImuPropagator::propagate(VioState& state, std::int64_t t_ns, KernelRecorder* recorder) {
+ImuInterval ImuPropagator::integrate(VioState& state, std::int64_t t_ns) {
+  ImuInterval interval;
   if (buffer_.empty() || t_ns <= state.t_ns) {
     state.t_ns = std::max(state.t_ns, t_ns);
-    return 0;
+    return interval;
   }
   // Readings at the interval ends: interpolated at state.t_ns and t_ns (held constant beyond
   // the buffer), and every sample strictly between.
@@ -54,16 +55,14 @@ int ImuPropagator::propagate(VioState& state, std::int64_t t_ns, KernelRecorder*
   for (const auto& s : buffer_)
     if (s.t_ns > state.t_ns && s.t_ns < t_ns) readings.push_back(s);
   readings.push_back(at(t_ns));
+  interval.propagated = true;
 
   // First estimates of the interval start (FEJ): the values propagated to it, before the
   // updates of that image.
   const Eigen::Vector3d p0_fe = state.p_lin(), v0_fe = state.v_lin();
   const std::int64_t t0_ns = state.t_ns;
-  using Mat15 = Eigen::Matrix<double, kImuDim, kImuDim>;
-  Mat15 Phi_total = Mat15::Identity();
-  Mat15 Q_total = Mat15::Zero();
+  using Mat15 = ImuInterval::Mat15;
   const Eigen::Matrix3d I3 = Eigen::Matrix3d::Identity();
-  int steps = 0;
   for (std::size_t k = 0; k + 1 < readings.size(); ++k) {
     const double dt = static_cast<double>(readings[k + 1].t_ns - readings[k].t_ns) * 1e-9;
     if (dt <= 0) continue;
@@ -96,9 +95,8 @@ int ImuPropagator::propagate(VioState& state, std::int64_t t_ns, KernelRecorder*
     Q.block<3, 3>(kVel, kPos) = sa2 * dt * dt / 2.0 * I3;
     Q.block<3, 3>(kGyroBias, kGyroBias) = noise_.gyro_walk * noise_.gyro_walk * dt * I3;
     Q.block<3, 3>(kAccelBias, kAccelBias) = noise_.accel_walk * noise_.accel_walk * dt * I3;
-    Phi_total = (Phi * Phi_total).eval();
-    Q_total = (Phi * Q_total * Phi.transpose() + Q).eval();
-    ++steps;
+    interval.Phi.push_back(Phi);
+    interval.Q.push_back(Q);
   }
   state.t_ns = t_ns;
   // First-estimate Jacobian of the whole interval T: the dtheta columns of dp and dv evaluated
@@ -107,11 +105,10 @@ int ImuPropagator::propagate(VioState& state, std::int64_t t_ns, KernelRecorder*
   //   Phi_v,theta = -[v1 - v0_fe - g T]x,  Phi_p,theta = -[p1 - p0_fe - v0_fe T - g T^2/2]x.
   // (The per-sample product gives the same up to the linearization point of the interval start
   // and the first-order rotation of the specific force.)
-  if (steps > 0) {
+  if (interval.steps() > 0) {
     const double T = static_cast<double>(t_ns - t0_ns) * 1e-9;
-    Phi_total.block<3, 3>(kVel, kTheta) = -skew(state.v_WI - v0_fe - gravity_ * T);
-    Phi_total.block<3, 3>(kPos, kTheta) =
-        -skew(state.p_WI - p0_fe - v0_fe * T - 0.5 * gravity_ * T * T);
+    interval.Phi_v_theta = -skew(state.v_WI - v0_fe - gravity_ * T);
+    interval.Phi_p_theta = -skew(state.p_WI - p0_fe - v0_fe * T - 0.5 * gravity_ * T * T);
   }
   state.p_fe = state.p_WI;
   state.v_fe = state.v_WI;
@@ -121,7 +118,25 @@ int ImuPropagator::propagate(VioState& state, std::int64_t t_ns, KernelRecorder*
       std::lower_bound(buffer_.begin(), buffer_.end(), t_ns,
                        [](const datasets::ImuSample& s, std::int64_t v) { return s.t_ns < v; });
   if (keep != buffer_.begin()) buffer_.erase(buffer_.begin(), keep - 1);
+  return interval;
+}
 
+void ImuPropagator::propagate_covariance(VioState& state, const ImuInterval& interval,
+                                         KernelRecorder* recorder) {
+  if (!interval.propagated) return;
+  using Mat15 = ImuInterval::Mat15;
+  const int steps = interval.steps();
+  Mat15 Phi_total = Mat15::Identity();
+  Mat15 Q_total = Mat15::Zero();
+  for (int k = 0; k < steps; ++k) {
+    const Mat15& Phi = interval.Phi[static_cast<std::size_t>(k)];
+    Phi_total = (Phi * Phi_total).eval();
+    Q_total = (Phi * Q_total * Phi.transpose() + interval.Q[static_cast<std::size_t>(k)]).eval();
+  }
+  if (steps > 0) {  // the first-estimate blocks (integrate)
+    Phi_total.block<3, 3>(kVel, kTheta) = interval.Phi_v_theta;
+    Phi_total.block<3, 3>(kPos, kTheta) = interval.Phi_p_theta;
+  }
   const int n = state.dim();
   const int rest = n - kImuDim;
   Eigen::MatrixXd& P = state.P;
@@ -150,7 +165,12 @@ int ImuPropagator::propagate(VioState& state, std::int64_t t_ns, KernelRecorder*
     }
     recorder->describe(Op::Transpose, n, n, 0, 0);
   }
-  return steps;
+}
+
+int ImuPropagator::propagate(VioState& state, std::int64_t t_ns) {
+  const ImuInterval interval = integrate(state, t_ns);
+  propagate_covariance(state, interval, nullptr);
+  return interval.steps();
 }
 
 }  // namespace edx::backend::vio

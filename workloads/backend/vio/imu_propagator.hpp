@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "workloads/backend/imu_noise.hpp"
 #include "workloads/backend/kernel_recorder.hpp"
@@ -23,16 +24,34 @@
 
 namespace edx::backend::vio {
 
+/// The IMU interval to an image time: each sample interval's transition Φ_k and discrete noise
+/// Q_k, and the first-estimate blocks of the whole interval's Φ (integrate), from which the
+/// covariance is propagated (propagate_covariance).
+struct ImuInterval {
+  using Mat15 = Eigen::Matrix<double, kImuDim, kImuDim>;
+  bool propagated = false;  ///< false: nothing to propagate (no samples, or no time passed)
+  std::vector<Mat15> Phi, Q;
+  Eigen::Matrix3d Phi_v_theta = Eigen::Matrix3d::Zero();  ///< -[v1 - v0_fe - g T]x
+  Eigen::Matrix3d Phi_p_theta = Eigen::Matrix3d::Zero();  ///< -[p1 - p0_fe - v0_fe T - g T²/2]x
+  int steps() const { return static_cast<int>(Phi.size()); }
+};
+
 class ImuPropagator {
  public:
   ImuPropagator(const ImuNoiseDensities& noise, double gravity_m_s2);
 
   /// Feeds samples (increasing time); the ones up to t_ns are consumed by propagate().
   void add(std::span<const datasets::ImuSample> samples);
-  /// Propagates state (mean and covariance) from state.t_ns to t_ns. Returns the number of
-  /// sample intervals integrated. With `recorder` (its kernel open) the covariance's matrix ops
-  /// are described on it (docs/TRACE.md).
-  int propagate(VioState& state, std::int64_t t_ns, KernelRecorder* recorder = nullptr);
+  /// Integrates the mean from state.t_ns to t_ns (kernel "imu_propagation") and returns the
+  /// interval's transitions for the covariance.
+  ImuInterval integrate(VioState& state, std::int64_t t_ns);
+  /// P_II <- Φ P_II Φᵀ + Q and P_IR <- Φ P_IR with Φ = Π Φ_k (its first-estimate blocks) and
+  /// Q accumulated over the interval (kernel "covariance_propagation"). With `recorder` (its
+  /// kernel open) the matrix ops are described on it (docs/TRACE.md).
+  void propagate_covariance(VioState& state, const ImuInterval& interval,
+                            KernelRecorder* recorder = nullptr);
+  /// Both. Returns the number of sample intervals integrated.
+  int propagate(VioState& state, std::int64_t t_ns);
   const Eigen::Vector3d& gravity() const { return gravity_; }
 
  private:

@@ -189,9 +189,17 @@ BackendOutput VioBackend::process(const BackendInput& input) {
     state_.augment_clone();
     kernel.record().n = state_.dim();
   } else {
+    ImuInterval interval;
     {
       auto kernel = recorder_.kernel("imu_propagation");
-      kernel.record().m = propagator_.propagate(state_, input.t_ns, &recorder_);
+      interval = propagator_.integrate(state_, input.t_ns);
+      kernel.record().m = interval.steps();
+      kernel.record().n = state_.dim();
+    }
+    {
+      auto kernel = recorder_.kernel("covariance_propagation");
+      propagator_.propagate_covariance(state_, interval, &recorder_);
+      kernel.record().m = interval.steps();
       kernel.record().n = state_.dim();
     }
     auto kernel = recorder_.kernel("cloning");

@@ -77,14 +77,18 @@ TEST(VioEndToEnd, IndoorDroneWithoutGps) {
   EXPECT_GT(run.visual_updates, 100);
   EXPECT_LT(run.accuracy->ate_m.rmse, 0.10);
   EXPECT_LT(run.final_drift_m, 0.01 * run.distance_m);
-  // The kernels of the trace: every frame after the first propagates, clones and (window full)
-  // marginalizes; kalman_gain is accelerable with m = rows of H, n = state dim and six ops.
+  // The kernels of the trace: every frame after the first propagates (the mean, then the
+  // covariance with its ops), clones and (window full) marginalizes; kalman_gain is accelerable
+  // with m = rows of H, n = state dim and six ops.
   std::set<std::string> names;
   int gains = 0;
   for (std::size_t f = 1; f < run.kernels.size(); ++f) {
-    ASSERT_GE(run.kernels[f].size(), 2u);
+    ASSERT_GE(run.kernels[f].size(), 3u);
     EXPECT_EQ(run.kernels[f][0].kernel, "imu_propagation");
-    EXPECT_EQ(run.kernels[f][1].kernel, "cloning");
+    EXPECT_EQ(run.kernels[f][1].kernel, "covariance_propagation");
+    EXPECT_EQ(run.kernels[f][1].m, run.kernels[f][0].m);
+    EXPECT_FALSE(run.kernels[f][1].ops.empty());
+    EXPECT_EQ(run.kernels[f][2].kernel, "cloning");
     for (const auto& k : run.kernels[f]) {
       names.insert(k.kernel);
       if (k.kernel != "kalman_gain") continue;
@@ -101,8 +105,8 @@ TEST(VioEndToEnd, IndoorDroneWithoutGps) {
   }
   EXPECT_GT(gains, 100);
   for (const char* name :
-       {"imu_propagation", "cloning", "triangulation", "jacobians", "nullspace_projection",
-        "kalman_gain", "covariance_update", "clone_marginalization"}) {
+       {"imu_propagation", "covariance_propagation", "cloning", "triangulation", "jacobians",
+        "nullspace_projection", "kalman_gain", "covariance_update", "clone_marginalization"}) {
     EXPECT_TRUE(names.contains(name)) << name;
   }
   EXPECT_FALSE(names.contains("compression"));  // off by default: Eq. 1 on the stacked H
