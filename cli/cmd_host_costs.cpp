@@ -6,6 +6,7 @@
 #include <fmt/core.h>
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -58,12 +59,16 @@ void fit(const HostCostsArguments& args) {
   const std::string provenance = args.provenance.empty()
                                      ? "fitted by edx host-costs fit on " + sources
                                      : args.provenance + "; fitted on " + sources;
-  const arch::HostCostModel model =
-      args.only.empty()
-          ? arch::fit_host_costs(inputs, provenance)
-          : arch::replace_kinds(args.base.empty() ? arch::HostCostModel::bundled()
-                                                  : arch::HostCostModel::load(args.base),
-                                arch::fit_host_costs(inputs, provenance), args.only);
+  arch::HostCostModel model = arch::fit_host_costs(inputs, provenance);
+  if (!args.only.empty()) {
+    const arch::HostCostModel base =
+        args.base.empty() ? arch::HostCostModel::bundled() : arch::HostCostModel::load(args.base);
+    try {
+      model = arch::replace_kinds(base, model, args.only);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(fmt::format("--only: {}", e.what()));
+    }
+  }
   common::write_file_atomically(
       args.out,
       "# The op-count host model's costs (docs/MODEL.md, \"Host CPU\"): ns per unit of work on a\n"

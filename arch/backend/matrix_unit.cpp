@@ -15,6 +15,14 @@ std::int64_t MatrixUnit::batch_cycles(const trace::OpRecord& op, int copies,
   return std::min(op.batch * shared, rounds * cycles(op, 1, backend));
 }
 
+cost::Resources factorization_datapath(double lanes, cost::Arithmetic arithmetic) {
+  cost::Datapath d;
+  d.macs(lanes, arithmetic).sqrt(1, arithmetic).divider(1, arithmetic);
+  d.registers(2.0 * lanes * cost::word_bits(arithmetic));
+  cost::address_generator(d);
+  return d.resources();
+}
+
 cost::Arithmetic MatrixUnitInstance::arithmetic() const {
   return precision == "single" ? cost::Arithmetic::kSingle : cost::Arithmetic::kDouble;
 }

@@ -75,6 +75,11 @@ class MatrixUnit : public Component {
   }
 };
 
+/// LUT, FF, DSP and BRAM of a factorization datapath (decomposition, householder): `lanes` MACs
+/// of `arithmetic` with two operand registers each, one square root, one divider, an address
+/// generator.
+cost::Resources factorization_datapath(double lanes, cost::Arithmetic arithmetic);
+
 /// One instance of a unit kind in a platform: `backend.units.<name>`.
 struct MatrixUnitInstance {
   std::string name;                        ///< its key under backend.units ("gemm")

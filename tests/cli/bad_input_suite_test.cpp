@@ -337,6 +337,9 @@ std::vector<BadInputCase> cases() {
        "'{edx}' host-costs check --trace '{golden}' --costs '{dir}/costs.yaml'", 1,
        "edx: error: {dir}/costs.yaml:3: frontend.IF: features [call, area], but this edx models "
        "[call, pixels] (re-fit: edx host-costs fit)"},
+      {"c7_host_cost_refit_of_a_kind_the_traces_lack", [](const fs::path&) {},
+       "'{edx}' host-costs fit --trace '{golden}' --only no_such_kernel --out '{dir}/costs.yaml'",
+       1, "edx: error: --only: kind 'no_such_kernel': the traces have no rows of it"},
       {"c7_tilde_is_described_as_nothing",
        [](const fs::path& d) {
          write(d, "p.yaml", "name: p\nbackend:\n  units: {gemm: {block: ~}}\n");

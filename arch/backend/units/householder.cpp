@@ -58,12 +58,7 @@ class Householder final : public MatrixUnit {
   }
 
   cost::Resources resources(cost::Arithmetic a) const override {
-    const double lanes = mac_lanes();
-    cost::Datapath d;
-    d.macs(lanes, a).sqrt(1, a).divider(1, a);
-    d.registers(2.0 * lanes * cost::word_bits(a));
-    cost::address_generator(d);
-    return d.resources();
+    return factorization_datapath(mac_lanes(), a);
   }
 
  private:

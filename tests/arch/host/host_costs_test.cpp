@@ -197,6 +197,27 @@ TEST(HostCosts, ATableRoundTripsThroughYaml) {
   }
 }
 
+// A partial re-fit (edx host-costs fit --only): the named kinds take the new fit's costs, the
+// others keep the base table's; a kind the traces lack and a base of another suite are errors.
+TEST(HostCosts, APartialRefitReplacesOnlyTheNamedKinds) {
+  const std::vector<FrameTrace> frames = synthetic_frames(30, 5);
+  HostCostModel base = fit_host_costs({{"s.db", &frames, &kMeta}}, "base");
+  base.frontend.at("IF").costs = {1.0, 2.0};
+  base.backend.at("solve").costs = {3.0, 4.0, 5.0};
+  const HostCostModel fitted = fit_host_costs({{"s.db", &frames, &kMeta}}, "new");
+  const HostCostModel merged = replace_kinds(base, fitted, {"solve"});
+  EXPECT_EQ(merged.backend.at("solve").costs, fitted.backend.at("solve").costs);
+  EXPECT_EQ(merged.frontend.at("IF").costs, (std::vector<double>{1.0, 2.0}));
+  EXPECT_EQ(merged.provenance, "base; solve re-fitted: new");
+  EXPECT_THAT([&] { replace_kinds(base, fitted, {"normal_equations"}); },
+              ::testing::ThrowsMessage<std::runtime_error>(
+                  HasSubstr("kind 'normal_equations': the traces have no rows of it")));
+  base.suite = 2;
+  EXPECT_THAT([&] { replace_kinds(base, fitted, {"solve"}); },
+              ::testing::ThrowsMessage<std::runtime_error>(
+                  HasSubstr("the base table is of suite v2, the traces of v1")));
+}
+
 TEST(HostCosts, ErrorsNameTheFileLineAndKey) {
   const auto error_of = [](const std::string& text) {
     try {
