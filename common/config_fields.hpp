@@ -251,7 +251,8 @@ Field<Config> enum_field(std::string key, Enum Config::*member, std::vector<std:
 }
 
 /// The fields of `inner`, a nested struct in `member` of Outer, as fields of Outer keyed
-/// "prefix.key" (JSON: {"prefix": {"key": ...}}; errors and the reference: "prefix.key").
+/// "prefix.key" (JSON: {"prefix": {"key": ...}}; errors and the reference: "prefix.key"); an
+/// empty prefix keeps the inner keys as they are (a struct whose keys sit beside Outer's own).
 template <class Outer, class Inner>
 FieldList<Outer> nested_fields(const std::string& prefix, Inner Outer::*member,
                                const FieldList<Inner>& inner) {
@@ -259,7 +260,7 @@ FieldList<Outer> nested_fields(const std::string& prefix, Inner Outer::*member,
   for (const Field<Inner>& f : inner) {
     Field<Outer> nested;
     static_cast<FieldSpec&>(nested) = f;
-    nested.key = prefix + "." + f.key;
+    nested.key = prefix.empty() ? f.key : prefix + "." + f.key;
     nested.get = [member, get = f.get](const Outer& o) { return get(o.*member); };
     nested.set = [member, set = f.set](Outer& o, const FieldValue& v) { set(o.*member, v); };
     list.push_back(std::move(nested));

@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <map>
 #include <optional>
 #include <stdexcept>
 
@@ -109,7 +110,8 @@ PlatformHostTimes PlatformHostTimes::suite_scaled(const SuiteTimes& host, HostTi
                                                   const std::vector<trace::FrameTrace>& frames,
                                                   const trace::TraceMeta& trace_meta,
                                                   const std::string& trace_name,
-                                                  const HostCostModel* costs) {
+                                                  const HostCostModel* costs,
+                                                  const RowFactor& factor) {
   PlatformHostTimes t;
   const bool modeled = source == HostTimeSource::kModeled && !host.identity();
   t.source = modeled ? HostTimeSource::kModeled : HostTimeSource::kMeasured;
@@ -137,35 +139,84 @@ PlatformHostTimes PlatformHostTimes::suite_scaled(const SuiteTimes& host, HostTi
   } else {
     t.mapping = map_host(host, trace_meta, trace_name);
   }
+  // The factor of a row (1 without one), looked up once per kind: this runs per row per frame.
+  std::map<std::pair<CostPart, std::string>, double, std::less<>> factors;
+  const auto factor_of = [&](CostPart part, const std::string& kind) {
+    if (!factor) return 1.0;
+    const auto key = std::make_pair(part, kind);
+    auto it = factors.find(key);
+    if (it == factors.end()) it = factors.emplace(key, factor(part, kind)).first;
+    return it->second;
+  };
+  const std::string frontend_rest = "frontend_rest";
   for (const trace::FrameTrace& frame : frames) {
     const std::int64_t id = frame.frame.frame_id;
     const double fe = t.mapping.frontend_scale(id) * 1e-6;  // ns -> ms
     const double be = t.mapping.backend_scale(id) * 1e-6;
-    std::vector<double> kernels;
+    std::vector<double> tasks, kernels;
+    tasks.reserve(frame.tasks.size());
+    kernels.reserve(frame.kernels.size());
+    double frontend = 0, backend = 0;  // the parts' times, ms: their rows and rests
     if (modeled) {
-      // The row's modeled time; an error names the frame (formatted only then).
+      // The row's modeled time; an error names the frame (formatted only then). The sums are
+      // in ns per suite-ms, scaled once at the end.
       const auto cost = [&](const WorkRow& row) {
         if (const std::optional<double> t = costs->try_predict(row)) return *t;
         return costs->predict(row, fmt::format("{}: frame {}", trace_name, id));
       };
-      double frontend = 0, backend = 0;  // ns per suite-ms
-      if (!frame.tasks.empty()) frontend = cost(frontend_rest_of(frame));
+      double frontend_units = 0, backend_units = 0;
+      if (!frame.tasks.empty()) {
+        frontend_units = cost(frontend_rest_of(frame)) *
+                         factor_of(CostPart::kFrontendRest, frontend_rest);
+      }
       const double pixels = image_pixels(frame);
-      for (const trace::TaskRecord& task : frame.tasks) frontend += cost(work_of(task, pixels));
-      if (ran_backend(frame)) backend = cost(backend_rest_of(frame));
-      for (const trace::KernelRecord& kernel : frame.kernels) {
-        kernels.push_back(cost(work_of(kernel)) * be);
-        backend += kernels.back() / be;
+      for (const trace::TaskRecord& task : frame.tasks) {
+        const double units = cost(work_of(task, pixels)) *
+                             factor_of(CostPart::kFrontendTask, trace::to_string(task.task));
+        tasks.push_back(units * fe);
+        frontend_units += units;
       }
-      t.frontend_ms.push_back(frontend * fe);
-      t.backend_ms.push_back(backend * be);
+      if (ran_backend(frame)) {
+        const WorkRow rest = backend_rest_of(frame);
+        backend_units = cost(rest) * factor_of(CostPart::kBackendRest, rest.kind);
+      }
+      for (const trace::KernelRecord& kernel : frame.kernels) {
+        kernels.push_back(cost(work_of(kernel)) *
+                          factor_of(CostPart::kBackendKernel, kernel.kernel) * be);
+        backend_units += kernels.back() / be;
+      }
+      frontend = frontend_units * fe;
+      backend = backend_units * be;
     } else {
-      for (const trace::KernelRecord& kernel : frame.kernels) {
-        kernels.push_back(static_cast<double>(kernel.host_ns) * be);
+      // Measured: the rows' times, and the part's time outside them as its rest.
+      const double frontend_total = static_cast<double>(frame.frame.frontend_host_ns) * fe;
+      const double backend_total = static_cast<double>(frame.frame.backend_host_ns) * be;
+      double task_sum = 0, kernel_sum = 0;
+      for (const trace::TaskRecord& task : frame.tasks) {
+        const double ms = static_cast<double>(task.host_ns) * fe;
+        task_sum += ms;
+        tasks.push_back(ms * factor_of(CostPart::kFrontendTask, trace::to_string(task.task)));
+        frontend += tasks.back();
       }
-      t.frontend_ms.push_back(static_cast<double>(frame.frame.frontend_host_ns) * fe);
-      t.backend_ms.push_back(static_cast<double>(frame.frame.backend_host_ns) * be);
+      for (const trace::KernelRecord& kernel : frame.kernels) {
+        const double ms = static_cast<double>(kernel.host_ns) * be;
+        kernel_sum += ms;
+        kernels.push_back(ms * factor_of(CostPart::kBackendKernel, kernel.kernel));
+        backend += kernels.back();
+      }
+      if (!factor) {  // the part's measured time as it is
+        frontend = frontend_total;
+        backend = backend_total;
+      } else {
+        frontend += std::max(0.0, frontend_total - task_sum) *
+                    factor_of(CostPart::kFrontendRest, frontend_rest);
+        backend += std::max(0.0, backend_total - kernel_sum) *
+                   factor_of(CostPart::kBackendRest, backend_rest_of(frame).kind);
+      }
     }
+    t.frontend_ms.push_back(frontend);
+    t.backend_ms.push_back(backend);
+    t.task_ms.push_back(std::move(tasks));
     t.kernel_ms.push_back(std::move(kernels));
   }
   return t;

@@ -20,6 +20,8 @@
 // overall medians. A host that declares no suite times replays the trace's host times as they
 // are.
 #include <cstdint>
+#include <functional>
+#include <string_view>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -66,6 +68,11 @@ class HostMapping {
   /// e.g. "x1.86 = 172.1 ms / 92.6 ms on the suite v1 (calibrated: ...)".
   const std::string& frontend_basis() const { return frontend_basis_; }
   const std::string& backend_basis() const { return backend_basis_; }
+  /// Adds `text` to both parts' basis (a processor that scales the rows further says how).
+  void append_basis(const std::string& text) {
+    frontend_basis_ += text;
+    backend_basis_ += text;
+  }
   nlohmann::json to_json() const;
 
  private:
@@ -89,10 +96,16 @@ HostMapping map_host(const SuiteTimes& host, const trace::TraceMeta& trace_meta,
                      const std::string& trace_name);
 
 struct HostCostModel;
+enum class CostPart;
+
+/// A factor on each row's host time by the row's part and kind (a datasheet processor's ratio
+/// to its reference, arch/host/throughput.hpp); nullptr: 1 for every row.
+using RowFactor = std::function<double(CostPart part, std::string_view kind)>;
 
 /// A trace's host times on a platform's host (ms): what HostProcessor::host_times answers.
 struct PlatformHostTimes {
   std::vector<double> frontend_ms;             ///< per frame, the whole frontend
+  std::vector<std::vector<double>> task_ms;    ///< per frame, per task row (trace order)
   std::vector<double> backend_ms;              ///< per frame, kernels and the rest
   std::vector<std::vector<double>> kernel_ms;  ///< per frame, per kernel row
   HostMapping mapping;                         ///< the factors and their basis
@@ -105,6 +118,8 @@ struct PlatformHostTimes {
   ///     mode's backend rest;
   ///   measured: t = t_trace × S_platform / S_trace(f) (map_host);
   ///   a host without suite times (either source): the trace's times as they are.
+  /// Each row (a task, a kernel, a part's rest: a frame's measured time outside its rows) then
+  /// times `factor(part, kind)` when given.
   /// `costs`: the cost table of modeled times (nullptr: the bundled one). Throws
   /// std::runtime_error naming `trace_name` (map_host's errors; a row the cost table has no
   /// costs for; a cost table of another suite version than the host's).
@@ -112,7 +127,8 @@ struct PlatformHostTimes {
                                         const std::vector<trace::FrameTrace>& frames,
                                         const trace::TraceMeta& trace_meta,
                                         const std::string& trace_name,
-                                        const HostCostModel* costs = nullptr);
+                                        const HostCostModel* costs = nullptr,
+                                        const RowFactor& factor = nullptr);
 };
 
 }  // namespace edx::arch

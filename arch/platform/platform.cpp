@@ -83,6 +83,9 @@ std::vector<ReferenceRow> Platform::reference() {
   };
   add(reference_rows("", fields()));
   add(component_reference<HostProcessor>("host", kDefaultHostKind));
+  add({reference_row("", "baseline_host", FieldKind::kText, "", std::string(), {}, {},
+                     "the CPU-only baseline's host when it is another CPU than `host` (a map "
+                     "with the keys of `host`, any kind; absent: the baseline runs on `host`)")});
   add(FrontendConfig::reference());
   add(component_reference<OffloadAccelerator>("backend", kDefaultOffloadKind));
   add(component_reference<Link>("link", kDefaultLinkKind));
@@ -96,7 +99,7 @@ std::vector<ReferenceRow> Platform::reference() {
 }
 
 nlohmann::json Platform::to_json() const {
-  return {{"name", name},
+  nlohmann::json j = {{"name", name},
           {"description", description},
           {"device", device},
           {"host", component_json(*host)},
@@ -109,6 +112,8 @@ nlohmann::json Platform::to_json() const {
           {"power", power.to_json()},
           {"scheduler", scheduler.to_json()},
           {"system", system.to_json()}};
+  if (baseline_host) j["baseline_host"] = component_json(*baseline_host);
+  return j;
 }
 
 std::string config_reference_markdown() {
@@ -211,18 +216,22 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   YamlFields top(root, where, "platform");
   parse_fields(top, p, Platform::fields());
   // Sections are parsed by their own structs; mark them read here.
-  for (const char* section : {"host", "frontend", "backend", "link", "memory", "transfers", "cost",
-                              "power", "scheduler", "system"}) {
+  for (const char* section : {"host", "baseline_host", "frontend", "backend", "link", "memory",
+                              "transfers", "cost", "power", "scheduler", "system"}) {
     if (root[section] && !root[section].IsMap()) top.fail(section, "expected a map of keys");
   }
-  top.finish_except({"host", "frontend", "backend", "link", "memory", "transfers", "cost", "power",
-                     "scheduler", "system"});
+  top.finish_except({"host", "baseline_host", "frontend", "backend", "link", "memory",
+                     "transfers", "cost", "power", "scheduler", "system"});
   if (p.name.empty()) top.fail("name", "required: the platform's name");
   if (!Device::find(p.device)) {
     top.fail(InputError::expected("device", Device::known_names(), p.device));
   }
   YamlFields host(root["host"], where, "host");
   p.host = parse_component<HostProcessor>(host, kDefaultHostKind);
+  if (root["baseline_host"]) {
+    YamlFields baseline_host(root["baseline_host"], where, "baseline_host");
+    p.baseline_host = parse_component<HostProcessor>(baseline_host, kDefaultHostKind);
+  }
   p.frontend = FrontendConfig::from_yaml(root["frontend"], where);
   YamlFields link(root["link"], where, "link");
   p.link = parse_component<Link>(link, kDefaultLinkKind);

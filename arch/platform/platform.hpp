@@ -86,9 +86,17 @@ struct Platform {
   std::string name;
   std::string description;
   std::string device = "xc7v690t";  ///< the FPGA (arch/memory/bram.hpp Device::by_name)
-  /// The host CPU (`host:`): its times, cores and power.
+  /// The host CPU (`host:`): its times, cores and power; the accelerated system's host.
   std::shared_ptr<const HostProcessor> host =
       ComponentRegistry<HostProcessor>::instance().make(kDefaultHostKind);
+  /// The CPU-only baseline's host (`baseline_host:`, a host map of any kind) when it is another
+  /// CPU than the accelerated system's (Edx-Drone: the TX1 against the ZU9CG's own cores);
+  /// nullptr: the baseline runs on `host`.
+  std::shared_ptr<const HostProcessor> baseline_host;
+  /// The host of a variant: `host`, or the baseline's own.
+  const HostProcessor& host_of(bool accelerated) const {
+    return accelerated || !baseline_host ? *host : *baseline_host;
+  }
   FrontendConfig frontend;
   /// Host <-> FPGA (`link:`; default the dma kind's defaults, PCIe 3.0 x8).
   std::shared_ptr<const Link> link = ComponentRegistry<Link>::instance().make(kDefaultLinkKind);

@@ -87,8 +87,11 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   }
   FrontendStudy study;
   study.platform = platform.name;
-  study.host = platform.host;
-  study.host_times = platform.host->host_times(frames, trace_meta, trace_name);
+  study.host = platform.baseline_host ? platform.baseline_host : platform.host;
+  study.host_times = study.host->host_times(frames, trace_meta, trace_name);
+  if (platform.baseline_host) {
+    study.accelerated_times = platform.host->host_times(frames, trace_meta, trace_name);
+  }
   study.frames = frames.size();
   std::tie(study.width, study.height) = parse_wxh(resolution->second, trace_name);
   const std::int64_t level0 = static_cast<std::int64_t>(study.width) * study.height;

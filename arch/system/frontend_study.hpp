@@ -29,6 +29,13 @@ struct FrontendStudy {
   std::string platform;
   std::shared_ptr<const HostProcessor> host;  ///< the CPU baseline's host
   PlatformHostTimes host_times;  ///< this trace's host times on that host (frontend and backend)
+  /// The trace's host times on the accelerated system's host when it is another CPU
+  /// (Platform::baseline_host); empty: the same as host_times.
+  std::optional<PlatformHostTimes> accelerated_times;
+  /// The accelerated system's host times: its backend work and the kernels it keeps.
+  const PlatformHostTimes& accelerated_host_times() const {
+    return accelerated_times ? *accelerated_times : host_times;
+  }
   std::size_t frames = 0;
   int width = 0, height = 0;
   Distribution cpu_ms;    ///< the frontend's host time per frame (host_times.frontend_ms)

@@ -72,10 +72,11 @@ cost::ByteEnergies byte_energies(const Platform& platform) {
 }
 
 /// Energy of a frame from its activity, period and host busy time (docs/MODEL.md, "Energy").
-void set_energy(FrameResult& f, const Platform& platform) {
+/// `accelerated`: the frame of the accelerated variant (its host's power), else the baseline's.
+void set_energy(FrameResult& f, const Platform& platform, bool accelerated) {
   f.activity.frame_s = std::max(1e-3 * f.e2e_ms, 1e-12);
   f.activity.host_busy_s = std::min(1e-3 * f.host_busy_ms, f.activity.frame_s);
-  f.energy = cost::frame_energy(f.activity, platform.power, platform.host->power(),
+  f.energy = cost::frame_energy(f.activity, platform.power, platform.host_of(accelerated).power(),
                                 byte_energies(platform));
 }
 
@@ -163,7 +164,7 @@ StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResu
   host.name = "host.cores";
   host.busy_s = std::min(1e-3 * run.host_busy_ms, span);
   host.idle_s = span - host.busy_s;
-  const HostPower package = platform.host->power();
+  const HostPower package = platform.host_of(run.accelerated).power();
   host.active_w = power.host_power_scale * package.active_w;
   host.idle_w = power.host_power_scale * package.idle_w;
   host.energy_j = host.busy_s * host.active_w + host.idle_s * host.idle_w;
@@ -182,7 +183,7 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
                            const std::vector<std::unique_ptr<const OffloadPlan>>& accel,
                            const std::vector<KernelTransfer>& transfers,
                            const SystemSimOptions& options) {
-  const PlatformHostTimes& host = r.frontend.host_times;
+  const PlatformHostTimes& host = r.frontend.accelerated_host_times();
   const std::int64_t level0 = static_cast<std::int64_t>(r.frontend.width) * r.frontend.height;
   std::vector<SystemFrameWork> work(frames.size());
   std::size_t next = 0;  // index into decisions
@@ -212,7 +213,7 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
       }
       offloaded.push_back(off);
     }
-    w.backend_steps = split_backend(frame, w.backend_host_ms, kernel_ms, offloaded);
+    w.backend_steps = split_backend(frame, host.backend_ms[f], kernel_ms, offloaded);
   }
   sim::Timeline timeline;
   SystemTimelineOptions timeline_options;
@@ -221,7 +222,8 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
   }
   const auto run = [&](bool accelerated, bool isolated, const SystemTimelineOptions& t) {
     return run_system(work, platform.frontend, *platform.backend, *platform.link,
-                      platform.host->cores(), platform.system, accelerated, isolated, t);
+                      platform.host_of(accelerated).cores(), platform.system, accelerated,
+                      isolated, t);
   };
   for (VariantResult* v : {&r.baseline, &r.accelerated}) {
     const bool accelerated = v == &r.accelerated;
@@ -428,11 +430,12 @@ std::string trace_hash(std::size_t frames, const trace::TraceMeta& trace_meta) {
 }
 
 std::string frontend_study_key(const Platform& platform) {
-  return nlohmann::json{
+  nlohmann::json key = {
       {"host", component_json(*platform.host)},    {"frontend", platform.frontend.to_json()},
       {"link", component_json(*platform.link)},    {"memory", component_json(*platform.memory)},
-      {"transfers", platform.transfers.to_json()}, {"device", platform.device}}
-      .dump();
+      {"transfers", platform.transfers.to_json()}, {"device", platform.device}};
+  if (platform.baseline_host) key["baseline_host"] = component_json(*platform.baseline_host);
+  return key.dump();
 }
 
 SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
@@ -470,8 +473,9 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   r.frontend.platform = platform.name;
 
   // Every accelerable kernel: host time, accelerator time (units + link), SPM check.
-  // The study's mapping: frontend_study_key includes the host, so it is this platform's.
-  const PlatformHostTimes& host = r.frontend.host_times;
+  // The study's mapping: frontend_study_key includes the host, so it is this platform's. The
+  // kernels' host times and the accelerated backend's are the accelerated system's host's.
+  const PlatformHostTimes& host = r.frontend.accelerated_host_times();
   std::vector<KernelInvocation> invocations;
   std::vector<std::unique_ptr<const OffloadPlan>> accel;
   std::vector<KernelTransfer> transfers;
@@ -531,7 +535,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     base.frame_id = frame.frame.frame_id;
     base.mode = trace::to_string(frame.frame.mode);
     base.frontend_ms = r.frontend.frame_cpu_ms[f];
-    base.backend_ms = host.backend_ms[f];
+    base.backend_ms = r.frontend.host_times.backend_ms[f];
     base.e2e_ms = base.frontend_ms + base.backend_ms;
     base.host_busy_ms = base.e2e_ms;
     base.activity.fpga_present = false;
@@ -552,7 +556,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     }
     std::vector<cost::FrameActivity> resource_activity(backend_resources);
     double to_fpga_bytes = 0, to_host_bytes = acc.activity.link_bytes;
-    double backend_ms = base.backend_ms, host_ms = base.backend_ms;
+    double backend_ms = host.backend_ms[f], host_ms = host.backend_ms[f];
     for (; next < r.decisions.size() && r.decisions[next].frame_id == frame.frame.frame_id;
          ++next) {
       const KernelDecision& d = r.decisions[next];
@@ -597,8 +601,8 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   if (options.model == SystemModelKind::kDes) {
     simulate_platform_des(platform, frames, r, accel, transfers, options);
   }
-  for (FrameResult& f : r.baseline.frames) set_energy(f, platform);
-  for (FrameResult& f : r.accelerated.frames) set_energy(f, platform);
+  for (FrameResult& f : r.baseline.frames) set_energy(f, platform, false);
+  for (FrameResult& f : r.accelerated.frames) set_energy(f, platform, true);
   finish_variant(r.baseline, cpu_fe_end);
   finish_variant(r.accelerated, r.frontend.frame_pipelined_end_ms);
 

@@ -67,6 +67,8 @@ TEST(ConfigCommand, ReferenceCoversEveryKeyOfTheShippedPlatforms) {
         const std::size_t dot = key.find('.', units.size());
         key = units + placeholder + key.substr(dot);
       }
+      // The baseline's host has the keys of `host:` (its reference row says so).
+      if (key.starts_with("baseline_host.")) key = "host." + key.substr(14);
       EXPECT_THAT(result.out, HasSubstr("| `" + key + "` |")) << file;
     }
   }

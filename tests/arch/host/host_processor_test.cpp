@@ -67,7 +67,7 @@ TEST(SuiteScaledHost, ItsJsonHasItsKindAndEveryParameter) {
 
 TEST(SuiteScaledHost, ErrorsNameTheFileLineAndKey) {
   EXPECT_EQ(error_of("name: p\nhost:\n  kind: gpu\n"),
-            "p.yaml:3: host.kind: expected one of fixed_speed or suite_scaled, got 'gpu'");
+            "p.yaml:3: host.kind: expected one of datasheet, fixed_speed or suite_scaled, got 'gpu'");
   EXPECT_EQ(error_of("name: p\nhost:\n  kind: fixed_speed\n  frontend_suite_ms: 1\n"),
             "p.yaml:4: host.frontend_suite_ms: unknown key");
   EXPECT_EQ(error_of("name: p\nhost:\n  active_w: 5\n  idle_w: 6\n"),
@@ -98,7 +98,7 @@ TEST(HostReference, ListsTheKindThenEachKindsKeys) {
                                  [](const ReferenceRow& r) { return r.key == "host.kind"; });
   ASSERT_NE(kind, rows.end());
   EXPECT_EQ(kind->value, "suite_scaled");
-  EXPECT_EQ(kind->accepted, "fixed_speed or suite_scaled");
+  EXPECT_EQ(kind->accepted, "datasheet, fixed_speed or suite_scaled");
   EXPECT_NE(row("host.active_w", "suite_scaled"), rows.end());
   EXPECT_NE(row("host.frontend_suite_ms", "suite_scaled"), rows.end());
   EXPECT_NE(row("host.speed", "fixed_speed"), rows.end());
