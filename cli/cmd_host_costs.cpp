@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "arch/host/host_costs.hpp"
+#include "arch/host/throughput.hpp"
 #include "cli/commands.hpp"
 #include "common/atomic_file.hpp"
 #include "workloads/trace/reader.hpp"
@@ -148,6 +149,10 @@ void add_host_costs_command(CLI::App& app) {
       ->check(CLI::ExistingFile);
   check_cmd->add_flag("--json", args->json, "Print JSON only");
   check_cmd->callback([args] { check(*args); });
+  cmd->add_subcommand("bounds",
+                      "Each kind's throughput bound, which carries its time across processors "
+                      "(docs/MODEL.md, Processors from their datasheets)")
+      ->callback([] { fmt::print("{}", arch::bounds_markdown()); });
 }
 
 }  // namespace edx::cli

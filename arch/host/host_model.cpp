@@ -166,8 +166,8 @@ PlatformHostTimes PlatformHostTimes::suite_scaled(const SuiteTimes& host, HostTi
       };
       double frontend_units = 0, backend_units = 0;
       if (!frame.tasks.empty()) {
-        frontend_units = cost(frontend_rest_of(frame)) *
-                         factor_of(CostPart::kFrontendRest, frontend_rest);
+        frontend_units =
+            cost(frontend_rest_of(frame)) * factor_of(CostPart::kFrontendRest, frontend_rest);
       }
       const double pixels = image_pixels(frame);
       for (const trace::TaskRecord& task : frame.tasks) {

@@ -21,9 +21,9 @@
 // are.
 #include <cstdint>
 #include <functional>
-#include <string_view>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "workloads/trace/host_speed.hpp"

@@ -20,12 +20,14 @@ const std::map<std::string, Bound, std::less<>>& task_bounds() {
       {"FD", {C::kSimdInteger, "FAST's circle test over every pixel, 8-bit vector compares"}},
       {"IF", {C::kSimdInteger, "Gaussian over every pyramid pixel, 8/16-bit vector multiply-adds"}},
       {"DC", {C::kSimdInteger, "pyramid and Scharr derivatives, 16-bit vector arithmetic"}},
-      {"DR", {C::kSimdInteger, "sums of absolute differences over the search windows, 8-bit vectors"}},
+      {"DR",
+       {C::kSimdInteger, "sums of absolute differences over the search windows, 8-bit vectors"}},
       {"LSS",
        {C::kSimdInteger, "LK window products in 16-bit fixed point (OpenCV's vectorized LK)"}},
       {"FC",
-       {C::kScalar, "rBRIEF: 256 gathered pixel-pair comparisons and the orientation moment per "
-                    "keypoint (gathers do not vectorize)"}},
+       {C::kScalar,
+        "rBRIEF: 256 gathered pixel-pair comparisons and the orientation moment per "
+        "keypoint (gathers do not vectorize)"}},
       {"MO", {C::kScalar, "Hamming distances (popcount) and the branchy best-match bookkeeping"}},
       {"frontend_rest", {C::kScalar, "keypoint bookkeeping between the tasks"}},
   };
@@ -35,8 +37,9 @@ const std::map<std::string, Bound, std::less<>>& task_bounds() {
 /// Backend kernels (Eigen 3, double precision, workloads/backends).
 const std::map<std::string, Bound, std::less<>>& kernel_bounds() {
   const Bound dense{C::kFloat64, "dense double-precision matrix products and factorizations"};
-  const Bound scalar{C::kScalar, "per-feature or per-point loops of small fixed-size algebra, "
-                                 "branches and lookups"};
+  const Bound scalar{C::kScalar,
+                     "per-feature or per-point loops of small fixed-size algebra, "
+                     "branches and lookups"};
   const Bound copy{C::kMemory, "copies of covariance blocks (no arithmetic)"};
   static const std::map<std::string, Bound, std::less<>> table = {
       {"kalman_gain", dense},
@@ -84,6 +87,22 @@ const Bound* find_bound(CostPart part, std::string_view kind) {
 }
 
 }  // namespace
+
+std::string bounds_markdown() {
+  std::string text = "| kind | part | bound | why |\n|---|---|---|---|\n";
+  const auto rows = [&text](const auto& table, const char* part) {
+    for (const auto& [kind, bound] : table) {
+      text += "| `" + kind + "` | " + part + " | " + to_string(bound.bound) + " | " + bound.reason +
+              " |\n";
+    }
+  };
+  rows(task_bounds(), "frontend");
+  rows(kernel_bounds(), "backend");
+  Bound rest = *find_bound(CostPart::kBackendRest, "");
+  text += std::string("| `backend_rest:<mode>` | backend | ") + to_string(rest.bound) + " | " +
+          rest.reason + " |\n";
+  return text;
+}
 
 const char* to_string(ThroughputClass c) {
   switch (c) {

@@ -42,6 +42,10 @@ bool has_declared_bound(CostPart part, std::string_view kind);
 /// The bound's reason for a kind, one line (docs/MODEL.md lists the table from it).
 std::string bound_reason(CostPart part, std::string_view kind);
 
+/// Every declared bound as a Markdown table (kind, part, class, reason), frontend tasks first:
+/// `edx host-costs bounds`, docs/MODEL.md "Each kind's bound".
+std::string bounds_markdown();
+
 /// Width of the traced pipeline's vector code, bits (see the header comment).
 inline constexpr int kCodeSimdBits = 128;
 /// Sustained scalar throughput of an in-order core relative to an out-of-order core of the same
@@ -51,15 +55,15 @@ inline constexpr double kInOrderScalarFactor = (2.3 / 4.1) / (2.0 / 3.0);
 
 /// A processor core's throughput as its datasheet states it (per core; `cores` of them).
 struct ProcessorDatasheet {
-  double clock_ghz = 1.6;   ///< sustained clock of the cores running the pipeline
-  int issue_width = 4;      ///< instructions decoded and issued a cycle
+  double clock_ghz = 1.6;  ///< sustained clock of the cores running the pipeline
+  int issue_width = 4;     ///< instructions decoded and issued a cycle
   bool out_of_order = true;
-  int simd_bits = 256;       ///< vector register width the core executes at full rate
-  int simd_int_pipes = 3;    ///< vector integer ALU pipes
+  int simd_bits = 256;               ///< vector register width the core executes at full rate
+  int simd_int_pipes = 3;            ///< vector integer ALU pipes
   double fp32_flops_per_cycle = 32;  ///< peak, FMA = 2 flops, at simd_bits
   double fp64_flops_per_cycle = 16;
   double l1d_kib = 32, l2_kib = 256, llc_kib = 9216;  ///< per core / per core / shared
-  double memory_gb_per_s = 38.4;  ///< DRAM bandwidth, 10^9 B/s
+  double memory_gb_per_s = 38.4;                      ///< DRAM bandwidth, 10^9 B/s
 
   /// Work units a ns on one core of class `c` (see the header comment).
   double rate(ThroughputClass c) const;

@@ -100,18 +100,18 @@ std::vector<ReferenceRow> Platform::reference() {
 
 nlohmann::json Platform::to_json() const {
   nlohmann::json j = {{"name", name},
-          {"description", description},
-          {"device", device},
-          {"host", component_json(*host)},
-          {"frontend", frontend.to_json()},
-          {"link", component_json(*link)},
-          {"memory", component_json(*memory)},
-          {"transfers", transfers.to_json()},
-          {"backend", component_json(*backend)},
-          {"cost", cost.to_json()},
-          {"power", power.to_json()},
-          {"scheduler", scheduler.to_json()},
-          {"system", system.to_json()}};
+                      {"description", description},
+                      {"device", device},
+                      {"host", component_json(*host)},
+                      {"frontend", frontend.to_json()},
+                      {"link", component_json(*link)},
+                      {"memory", component_json(*memory)},
+                      {"transfers", transfers.to_json()},
+                      {"backend", component_json(*backend)},
+                      {"cost", cost.to_json()},
+                      {"power", power.to_json()},
+                      {"scheduler", scheduler.to_json()},
+                      {"system", system.to_json()}};
   if (baseline_host) j["baseline_host"] = component_json(*baseline_host);
   return j;
 }
@@ -220,8 +220,8 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
                               "transfers", "cost", "power", "scheduler", "system"}) {
     if (root[section] && !root[section].IsMap()) top.fail(section, "expected a map of keys");
   }
-  top.finish_except({"host", "baseline_host", "frontend", "backend", "link", "memory",
-                     "transfers", "cost", "power", "scheduler", "system"});
+  top.finish_except({"host", "baseline_host", "frontend", "backend", "link", "memory", "transfers",
+                     "cost", "power", "scheduler", "system"});
   if (p.name.empty()) top.fail("name", "required: the platform's name");
   if (!Device::find(p.device)) {
     top.fail(InputError::expected("device", Device::known_names(), p.device));

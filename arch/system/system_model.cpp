@@ -222,8 +222,8 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
   }
   const auto run = [&](bool accelerated, bool isolated, const SystemTimelineOptions& t) {
     return run_system(work, platform.frontend, *platform.backend, *platform.link,
-                      platform.host_of(accelerated).cores(), platform.system, accelerated,
-                      isolated, t);
+                      platform.host_of(accelerated).cores(), platform.system, accelerated, isolated,
+                      t);
   };
   for (VariantResult* v : {&r.baseline, &r.accelerated}) {
     const bool accelerated = v == &r.accelerated;

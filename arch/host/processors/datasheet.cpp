@@ -91,8 +91,8 @@ class Datasheet final : public HostProcessor {
                   "measured CPU times (measured)"),
               field("active_w", &C::active_w, "W", "package power while any core computes",
                     non_negative),
-              field("idle_w", &C::idle_w, "W",
-                    "package power while every core waits (<= active_w)", non_negative),
+              field("idle_w", &C::idle_w, "W", "package power while every core waits (<= active_w)",
+                    non_negative),
           },
       });
       return list;
@@ -107,8 +107,7 @@ class Datasheet final : public HostProcessor {
         require_field(efficiency == 1.0, "host", "efficiency",
                       "1 on an anchor (its suite times are its speed)");
       } else {
-        require_field(frontend_suite_ms == 0 && backend_suite_ms == 0, "host",
-                      "frontend_suite_ms",
+        require_field(frontend_suite_ms == 0 && backend_suite_ms == 0, "host", "frontend_suite_ms",
                       "no suite times on a processor predicted from a `reference`");
       }
       require_field(idle_w <= active_w, "host", "idle_w", "a power in [0, active_w] W");
@@ -159,7 +158,8 @@ class Datasheet final : public HostProcessor {
                                                p.efficiency_of));
       }
       p.efficiency = other.efficiency;
-      p.efficiency_provenance = fmt::format("{}'s: {}", other.processor, other.efficiency_provenance);
+      p.efficiency_provenance =
+          fmt::format("{}'s: {}", other.processor, other.efficiency_provenance);
     }
 
     /// `processor:` first (its keys the defaults), then the keys here.
@@ -210,7 +210,8 @@ class Datasheet final : public HostProcessor {
   };
 
   explicit Datasheet(const Params& params) : params_(params) {
-    if (!params_.anchor()) reference_ = std::make_unique<Params>(Params::bundled(params_.reference_name));
+    if (!params_.anchor())
+      reference_ = std::make_unique<Params>(Params::bundled(params_.reference_name));
   }
 
   std::string_view kind() const override { return "datasheet"; }

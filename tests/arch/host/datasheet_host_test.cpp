@@ -6,6 +6,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -60,7 +62,8 @@ TEST(Throughput, EachClassRateFollowsTheDatasheet) {
 TEST(Throughput, EveryKindOfTheBundledCostTableHasADeclaredBound) {
   const HostCostModel& table = HostCostModel::bundled();
   for (const auto& [kind, cost] : table.frontend) {
-    const CostPart part = kind == "frontend_rest" ? CostPart::kFrontendRest : CostPart::kFrontendTask;
+    const CostPart part =
+        kind == "frontend_rest" ? CostPart::kFrontendRest : CostPart::kFrontendTask;
     EXPECT_TRUE(has_declared_bound(part, kind)) << kind;
   }
   for (const auto& [kind, cost] : table.backend) {
@@ -77,6 +80,13 @@ TEST(Throughput, EveryKindOfTheBundledCostTableHasADeclaredBound) {
   EXPECT_EQ(bound_of(CostPart::kBackendKernel, "a_newer_kernel"), C::kScalar);
 }
 
+TEST(Throughput, TheModelDocListsEveryBound) {
+  std::ifstream in(std::string(EDX_SOURCE_DIR) + "/docs/MODEL.md");
+  const std::string model((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_THAT(model, HasSubstr(bounds_markdown()))
+      << "docs/MODEL.md's bound table is stale: paste `edx host-costs bounds` into it";
+}
+
 TEST(DatasheetHost, AnAnchorHasTheTimesOfItsSuiteTimes) {
   const Platform anchor = parse("name: p\nhost: {kind: datasheet, processor: kaby_lake_4c}\n");
   EXPECT_EQ(anchor.host->kind(), "datasheet");
@@ -87,8 +97,8 @@ TEST(DatasheetHost, AnAnchorHasTheTimesOfItsSuiteTimes) {
   for (const char* times : {"modeled", "measured"}) {
     const std::string set = std::string("\n  times: ") + times + "\n";
     const Platform a = parse("name: p\nhost:\n  kind: datasheet\n  processor: kaby_lake_4c" + set);
-    const Platform s = parse(
-        "name: p\nhost:\n  frontend_suite_ms: 167.88\n  backend_suite_ms: 21.50" + set);
+    const Platform s =
+        parse("name: p\nhost:\n  frontend_suite_ms: 167.88\n  backend_suite_ms: 21.50" + set);
     const PlatformHostTimes ta = a.host->host_times(frames, hand_meta(), "hand.db");
     const PlatformHostTimes ts = s.host->host_times(frames, hand_meta(), "hand.db");
     EXPECT_EQ(ta.frontend_ms, ts.frontend_ms) << times;
@@ -133,8 +143,8 @@ TEST(DatasheetHost, APredictedProcessorScalesEachRowByItsBoundsRateRatio) {
   EXPECT_THAT(t.mapping.backend_basis(), HasSubstr("efficiency 1.25"));
 
   // Modeled times scale the same way: each row's modeled time x its ratio.
-  const Platform modeled = parse(
-      "name: p\nhost:\n  kind: datasheet\n  reference: kaby_lake_4c\n  clock_ghz: 0.8\n");
+  const Platform modeled =
+      parse("name: p\nhost:\n  kind: datasheet\n  reference: kaby_lake_4c\n  clock_ghz: 0.8\n");
   const Platform anchor = parse("name: p\nhost: {kind: datasheet, processor: kaby_lake_4c}\n");
   const PlatformHostTimes tm = modeled.host->host_times(frames, hand_meta(), "hand.db");
   const PlatformHostTimes ta = anchor.host->host_times(frames, hand_meta(), "hand.db");

@@ -66,8 +66,9 @@ TEST(SuiteScaledHost, ItsJsonHasItsKindAndEveryParameter) {
 }
 
 TEST(SuiteScaledHost, ErrorsNameTheFileLineAndKey) {
-  EXPECT_EQ(error_of("name: p\nhost:\n  kind: gpu\n"),
-            "p.yaml:3: host.kind: expected one of datasheet, fixed_speed or suite_scaled, got 'gpu'");
+  EXPECT_EQ(
+      error_of("name: p\nhost:\n  kind: gpu\n"),
+      "p.yaml:3: host.kind: expected one of datasheet, fixed_speed or suite_scaled, got 'gpu'");
   EXPECT_EQ(error_of("name: p\nhost:\n  kind: fixed_speed\n  frontend_suite_ms: 1\n"),
             "p.yaml:4: host.frontend_suite_ms: unknown key");
   EXPECT_EQ(error_of("name: p\nhost:\n  active_w: 5\n  idle_w: 6\n"),
