@@ -96,7 +96,21 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   std::tie(study.width, study.height) = parse_wxh(resolution->second, trace_name);
   const std::int64_t level0 = static_cast<std::int64_t>(study.width) * study.height;
 
-  const std::vector<double>& cpu = study.host_times.frontend_ms;
+  // The CPU baseline's frontend latency: the traced task graph on the host's cores (its chains
+  // side by side, arch/host/frontend_graph.hpp).
+  const int cores = study.host->cores();
+  std::vector<double> cpu;
+  cpu.reserve(frames.size());
+  study.frame_cpu_chains.reserve(frames.size());
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const std::vector<double>& tasks = study.host_times.task_ms[f];
+    double task_sum = 0;
+    for (double ms : tasks) task_sum += ms;
+    const double rest = std::max(0.0, study.host_times.frontend_ms[f] - task_sum);
+    study.frame_cpu_chains.push_back(
+        chain_times(frontend_graph(frames[f].tasks), tasks, rest));
+    cpu.push_back(frontend_latency_ms(study.frame_cpu_chains.back(), cores));
+  }
   FrontendConfig sequential = platform.frontend;
   sequential.pipeline_fe_sm = false;
   sequential.frame_interval_ms = 0;

@@ -203,7 +203,19 @@ class SystemSimulation {
       if (f == kEnd) break;
       admissions_[f] = std::move(admit);
       frames_[f].start = sim_.now();
-      co_await host_work(f, work_[f].frontend_host_ms, frontend_thread_track_);
+      if (work_[f].frontend_host_chains.empty()) {
+        co_await host_work(f, work_[f].frontend_host_ms, frontend_thread_track_);
+      } else {
+        // Each stage's chains side by side on the cores, the stages one after the other.
+        for (const std::vector<double>& stage : work_[f].frontend_host_chains) {
+          std::vector<sim::ProcessHandle> chains;
+          chains.reserve(stage.size());
+          for (double ms : stage) {
+            chains.push_back(sim_.spawn(host_chain(f, ms), "frontend chain"));
+          }
+          for (const sim::ProcessHandle& h : chains) co_await h;
+        }
+      }
       frames_[f].frontend_end = sim_.now();
       co_await results_.put(f);
     }
@@ -232,6 +244,11 @@ class SystemSimulation {
       frames_[f].end = sim_.now();
       admissions_[f].release();
     }
+  }
+
+  /// A frontend chain of the CPU baseline: `ms` of host work on a core.
+  sim::Process host_chain(std::size_t f, double ms) {
+    co_await host_work(f, ms, frontend_thread_track_);
   }
 
   /// Host work of `ms` on a core (waits for one when all are busy).

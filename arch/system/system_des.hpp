@@ -58,6 +58,9 @@ struct BackendStep {
 struct SystemFrameWork {
   std::int64_t frame_id = 0;
   double frontend_host_ms = 0;             ///< CPU baseline: the frontend thread's work
+  /// CPU baseline: the frontend's chains by stage (ms; arch/host/frontend_graph.hpp), each chain
+  /// on a core of its own when one is free; empty: frontend_host_ms on one core.
+  std::vector<std::vector<double>> frontend_host_chains;
   double backend_host_ms = 0;              ///< CPU baseline: the backend thread's work
   std::vector<BackendStep> backend_steps;  ///< accelerated: host work and offloads in order
   std::vector<OffloadWork> offloads;

@@ -192,6 +192,7 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
     SystemFrameWork& w = work[f];
     w.frame_id = frame.frame.frame_id;
     w.frontend_host_ms = r.baseline.frames[f].frontend_ms;
+    w.frontend_host_chains = r.frontend.frame_cpu_chains[f];
     w.backend_host_ms = r.baseline.frames[f].backend_ms;
     w.frontend = prepare_frontend_frame(frame, level0, platform.frontend, platform.transfers);
     const std::vector<double>& kernel_ms = host.kernel_ms[f];

@@ -3,6 +3,7 @@
 // table with a declared bound, an anchor equal to the suite_scaled host of the same suite
 // times, a predicted processor's rows scaled by their bounds' rate ratios (hand-computed), the
 // bundled descriptions and their errors, and a platform whose baseline runs on another host.
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -94,11 +95,14 @@ TEST(DatasheetHost, AnAnchorHasTheTimesOfItsSuiteTimes) {
   EXPECT_EQ(anchor.host->power().active_w, 15.0);
   EXPECT_EQ(anchor.host->params_json()["processor"], "kaby_lake_4c");
   const std::vector<trace::FrameTrace> frames = {hand_frame()};
+  const double fe_suite = anchor.host->params_json()["frontend_suite_ms"];
+  const double be_suite = anchor.host->params_json()["backend_suite_ms"];
   for (const char* times : {"modeled", "measured"}) {
     const std::string set = std::string("\n  times: ") + times + "\n";
     const Platform a = parse("name: p\nhost:\n  kind: datasheet\n  processor: kaby_lake_4c" + set);
-    const Platform s =
-        parse("name: p\nhost:\n  frontend_suite_ms: 167.88\n  backend_suite_ms: 21.50" + set);
+    const Platform s = parse(fmt::format(
+        "name: p\nhost:\n  frontend_suite_ms: {}\n  backend_suite_ms: {}{}", fe_suite, be_suite,
+        set));
     const PlatformHostTimes ta = a.host->host_times(frames, hand_meta(), "hand.db");
     const PlatformHostTimes ts = s.host->host_times(frames, hand_meta(), "hand.db");
     EXPECT_EQ(ta.frontend_ms, ts.frontend_ms) << times;
@@ -132,8 +136,11 @@ TEST(DatasheetHost, APredictedProcessorScalesEachRowByItsBoundsRateRatio) {
   const Platform half = parse(predicted + "  memory_gb_per_s: 38.4\n");
   const std::vector<trace::FrameTrace> frames = {measured_frame()};
   const PlatformHostTimes t = half.host->host_times(frames, hand_meta(), "hand.db");
-  // The anchor maps measured times by 167.88 / 10 (frontend) and 21.50 / 4 (backend).
-  const double fe = 167.88 / 10, be = 21.50 / 4;
+  // The anchor maps measured times by its suite times over the trace's, 10 ms and 4 ms.
+  const nlohmann::json kaby_lake =
+      parse("name: p\nhost: {kind: datasheet, processor: kaby_lake_4c}\n").host->params_json();
+  const double fe = kaby_lake["frontend_suite_ms"].get<double>() / 10;
+  const double be = kaby_lake["backend_suite_ms"].get<double>() / 4;
   EXPECT_NEAR(t.frontend_ms[0], 1.6 * 3 * fe, 1e-9);  // every frontend row is compute
   EXPECT_NEAR(t.task_ms[0][0], 1.6 * 1 * fe, 1e-9);   // FD
   // tracking (scalar), cloning (memory, the same bandwidth: 1 / 1.25), the rest (scalar).

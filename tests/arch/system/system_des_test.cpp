@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "arch/host/frontend_graph.hpp"
 #include "arch/system/system_model.hpp"
 #include "workloads/trace/reader.hpp"
 
@@ -65,6 +66,26 @@ TEST(SystemDes, IsolatedRunIsOneFrameAtATime) {
     EXPECT_NEAR(ms(r.frames[f].start), 8.0 * double(f), 1e-9);
     EXPECT_NEAR(ms(r.frames[f].end - r.frames[f].start), 8.0, 1e-9);
   }
+}
+
+TEST(SystemDes, TheBaselineFrontendsChainsRunSideBySideOnTheCores) {
+  // Stage 1: chains of 4, 3 and 2 ms; stage 2: 1 and 1 ms; stage 3: 0.5 ms. Isolated, two
+  // cores: stage 1 takes 5 ms (4 on one core; 3 then 2 on the other), stage 2 1 ms, stage 3
+  // 0.5 ms: 6.5 ms, as frontend_latency_ms says. One core: the sum, 11.5 ms.
+  const std::vector<std::vector<double>> chains = {{4, 3, 2}, {1, 1}, {0.5}};
+  std::vector<SystemFrameWork> work = host_frames(2, 11.5, 2);
+  for (SystemFrameWork& w : work) w.frontend_host_chains = chains;
+  for (int cores : {1, 2, 3}) {
+    const SystemRun r = run_baseline(work, SystemConfig{}, cores, /*isolated=*/true);
+    const double expected = frontend_latency_ms(chains, cores);
+    for (const SystemFrameTiming& t : r.frames) {
+      EXPECT_NEAR(ms(t.frontend_end - t.start), expected, 1e-9) << cores;
+    }
+    EXPECT_NEAR(r.host_busy_ms, 2 * (11.5 + 2), 1e-9) << cores;  // the work, not the latency
+  }
+  EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 1), 11.5);
+  EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 2), 6.5);
+  EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 3), 5.5);
 }
 
 /// Camera at 200 FPS (every 5 ms), fe 3 ms, be 11.5 ms, both queues of depth 1.

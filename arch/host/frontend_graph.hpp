@@ -1,0 +1,44 @@
+#pragma once
+// The frontend's work on the host's cores as the traced pipeline runs it (docs/MODEL.md, "Host
+// CPU: the frontend on the cores"; issue 41): stages one after the other, each stage's chains
+// side by side, a chain's tasks one after another (workloads/frontend/stereo_frontend.cpp):
+//
+//   stage 1  [DC, LSS]  [FD L, IF L]  [FD R, IF R]    temporal matching beside both detections
+//   stage 2  [FC L]  [FC R]                           the two descriptions
+//   stage 3  [MO, DR, the frame's rest]               matching, refinement, bookkeeping
+//
+// The graph is the pipeline's dependency structure, whatever the tracing machine did with it: a
+// trace made with `frontend.parallel_images: false` ran the chains one after the other on the
+// tracing machine, but its task rows are the same work (their CPU times, or the op-count model
+// of their work). The latency on c cores list-schedules each stage's chains in the order above (the
+// pipeline starts the longest chain first) onto the earliest free of min(c, chains) cores:
+//
+//   t_fe = Σ_stages makespan(stage, c)        (c = 1: the sum of every task and the rest)
+//
+// The whole-system DES runs the same chains on the host's cores, where the backend thread
+// competes for them when frames stream.
+#include <cstddef>
+#include <vector>
+
+#include "workloads/trace/records.hpp"
+
+namespace edx::arch {
+
+/// Task indices (into a frame's task rows) by stage and chain; kRest stands for the frame's
+/// time outside its tasks.
+struct HostFrontendGraph {
+  static constexpr std::size_t kRest = static_cast<std::size_t>(-1);
+  std::vector<std::vector<std::vector<std::size_t>>> stages;
+};
+
+/// The graph of a frame's task rows; a task the pipeline does not know joins the last stage.
+HostFrontendGraph frontend_graph(const std::vector<trace::TaskRecord>& tasks);
+
+/// Each stage's chains' times (ms): the sums of their tasks' `task_ms` (and `rest_ms`).
+std::vector<std::vector<double>> chain_times(const HostFrontendGraph& graph,
+                                             const std::vector<double>& task_ms, double rest_ms);
+
+/// Σ over stages of the list-scheduled makespan of its chains on `cores` cores (>= 1).
+double frontend_latency_ms(const std::vector<std::vector<double>>& stage_chains, int cores);
+
+}  // namespace edx::arch
