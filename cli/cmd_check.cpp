@@ -13,6 +13,7 @@
 #include "arch/system/result_rows.hpp"
 #include "arch/system/system_model.hpp"
 #include "cli/commands.hpp"
+#include "common/resources.hpp"
 #include "reports/metrics.hpp"
 #include "reports/paper_check.hpp"
 #include "reports/results_reader.hpp"
@@ -46,30 +47,46 @@ const reports::RunData& pick_run(const reports::ResultsData& data, const std::st
 }
 
 void run(const CheckArguments& args) {
-  const std::vector<reports::PaperTarget> targets = reports::load_targets(
-      args.targets.empty() ? reports::default_targets_path() : std::filesystem::path(args.targets));
+  const std::filesystem::path targets_path =
+      args.targets.empty() ? reports::default_targets_path() : std::filesystem::path(args.targets);
+  const std::vector<reports::PaperTarget> targets = reports::load_targets(targets_path);
+  const std::vector<reports::ComparedBaseline> baselines = reports::load_baselines(targets_path);
   nlohmann::json metrics;
   std::string run_id;
   if (!args.results.empty()) {
     const reports::ResultsData data = reports::read_results(args.results);
     const reports::RunData& r = pick_run(data, args.run_id);
     metrics = reports::run_metrics(r);
+    reports::add_baseline_metrics(metrics, data, r, baselines);
     run_id = r.run_id;
   } else {
-    // Simulate, pass the run through a scratch results database (one reading path), and add the
-    // frontend study, which the results database does not hold.
+    // Simulate it and the compared baselines' platforms on the same trace, pass the runs through
+    // a scratch results database (one reading path), and add the frontend study, which the
+    // results database does not hold.
     const arch::Platform platform = arch::Platform::load(args.config);
     const trace::TraceReader reader(args.trace);
+    const std::vector<trace::FrameTrace> frames = reader.read_all();
     const arch::SystemResult result =
-        arch::simulate_system(platform, reader.read_all(), reader.meta(), args.trace);
+        arch::simulate_system(platform, frames, reader.meta(), args.trace);
     const std::filesystem::path scratch =
         std::filesystem::temp_directory_path() / fmt::format("edx-check-{}.db", ::getpid());
     std::filesystem::remove(scratch);
     try {
-      arch::write_results(scratch, arch::result_rows(result));
+      const results::RunRows rows = arch::result_rows(result);
+      arch::write_results(scratch, rows);
+      for (const reports::ComparedBaseline& b : baselines) {
+        const arch::Platform other = arch::Platform::load(common::find_resource(b.config).string());
+        if (other.name == platform.name) continue;  // this run is that baseline's
+        arch::write_results(scratch, arch::result_rows(arch::simulate_system(
+                                         other, frames, reader.meta(), args.trace)));
+      }
       const reports::ResultsData data = reports::read_results(scratch);
-      metrics = reports::run_metrics(data.runs.front());
-      run_id = data.runs.front().run_id;
+      const reports::RunData* r = data.find(rows.run.run_id);
+      if (r == nullptr)
+        throw std::logic_error("edx check: the simulated run is not in its database");
+      metrics = reports::run_metrics(*r);
+      reports::add_baseline_metrics(metrics, data, *r, baselines);
+      run_id = r->run_id;
     } catch (...) {
       std::filesystem::remove(scratch);
       throw;

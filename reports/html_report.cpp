@@ -842,6 +842,7 @@ std::string paper_check_html(const ResultsData& data, const std::vector<std::siz
                              const fs::path& dir, const std::string& gnuplot, bool plot,
                              std::vector<std::string>& images) {
   const std::vector<PaperTarget> targets = load_targets(default_targets_path());
+  const std::vector<ComparedBaseline> baselines = load_baselines(default_targets_path());
   // Misses are explained in docs/MODEL.md: each target's own paragraph (its `explained`
   // anchor), else the section of all misses.
   const std::string model_file =
@@ -852,7 +853,9 @@ std::string paper_check_html(const ResultsData& data, const std::vector<std::siz
   for (std::size_t i : sections) {
     const RunData& r = data.runs[i];
     if (r.platform != "edx_car") continue;
-    const CheckResult check = check_targets(targets, run_metrics(r), r.run_id);
+    nlohmann::json metrics = run_metrics(r);
+    add_baseline_metrics(metrics, data, r, baselines);  // the runs of the compared platforms
+    const CheckResult check = check_targets(targets, metrics, r.run_id);
     h += fmt::format(
         "<h2 id=\"check{0}\">Paper check: {1} <small>{2}</small></h2>\n<p class=\"cap\">{3} of "
         "{4} of the paper's Edx-Car figures within tolerance (as <code>edx check --results DB "

@@ -10,6 +10,7 @@
 #include "common/config_fields.hpp"
 #include "common/resources.hpp"
 #include "reports/metrics.hpp"
+#include "reports/results_reader.hpp"
 
 namespace edx::reports {
 namespace {
@@ -36,6 +37,20 @@ const FieldList<PaperTarget>& target_fields() {
       field("source", &C::source, "", "where in the paper"),
       field("explained", &C::explained, "",
             "the anchor of docs/MODEL.md that explains why the model misses it, when it does"),
+  };
+  return list;
+}
+
+/// The keys of a compared baseline (`baselines:` items).
+const FieldList<ComparedBaseline>& baseline_fields() {
+  using C = ComparedBaseline;
+  static const FieldList<C> list = {
+      field("name", &C::name, "", "the baseline's key in the metric tree (baselines.<name>)")
+          .required("missing"),
+      field("config", &C::config, "",
+            "its platform file, relative to edx's data folder (configs/...)")
+          .required("missing (expected a platform file)"),
+      field("description", &C::description, "", "the paper's row"),
   };
   return list;
 }
@@ -73,7 +88,8 @@ std::vector<PaperTarget> load_targets(const std::filesystem::path& path) {
   const YAML::Node root =
       load_yaml_map(read_input_file(path, "targets file"), where, "'targets' and a 'tolerance'");
   YamlFields top(root, where, "");
-  top.refuse_unknown({"targets", "tolerance"}, "expected 'targets' or 'tolerance'");
+  top.refuse_unknown({"targets", "tolerance", "baselines"},
+                     "expected 'targets', 'tolerance' or 'baselines'");
   PaperTarget defaults;  // every target's tolerance, unless it has its own
   parse_fields(top, defaults, {tolerance_field()});
   const YAML::Node list = top.take("targets");
@@ -104,12 +120,80 @@ std::vector<PaperTarget> load_targets(const std::filesystem::path& path) {
   return targets;
 }
 
+std::vector<ComparedBaseline> load_baselines(const std::filesystem::path& path) {
+  const std::string where = path.string();
+  const YAML::Node root =
+      load_yaml_map(read_input_file(path, "targets file"), where, "'targets' and a 'tolerance'");
+  YamlFields top(root, where, "");
+  const YAML::Node list = top.take("baselines");
+  std::vector<ComparedBaseline> baselines;
+  if (!list) return baselines;
+  if (!list.IsSequence()) top.fail("baselines", "expected a list of baselines");
+  std::set<std::string> names;
+  for (const YAML::Node& item : list) {
+    if (!item.IsMap()) {
+      throw InputError({where, yaml_line(item)}, "baselines[]",
+                       "expected a map (name, config, description)");
+    }
+    ComparedBaseline b;
+    b.line = yaml_line(item);
+    YamlFields fields(item, where, "baselines[]");
+    fields.refuse_unknown(field_keys(baseline_fields()), "expected name, config, description");
+    parse_fields(fields, b, baseline_fields());
+    if (b.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos) {
+      fields.fail("name", "expected a metric key (a-z, 0-9, '_')");
+    }
+    if (!names.insert(b.name).second) {
+      fields.fail("name", fmt::format("duplicate baseline '{}'", b.name));
+    }
+    baselines.push_back(std::move(b));
+  }
+  return baselines;
+}
+
+std::string baseline_platform(const ComparedBaseline& baseline) {
+  const std::filesystem::path file = common::find_resource(baseline.config);
+  const YAML::Node root =
+      load_yaml_map(read_input_file(file, "platform file"), file.string(), "a platform");
+  const YAML::Node name = root["name"];
+  if (!name || !name.IsScalar() || name.Scalar().empty()) {
+    throw std::runtime_error(fmt::format(
+        "{}: name: missing (a compared baseline's platform needs its own name)", file.string()));
+  }
+  return name.Scalar();
+}
+
+void add_baseline_metrics(nlohmann::json& metrics, const ResultsData& data, const RunData& run,
+                          const std::vector<ComparedBaseline>& baselines) {
+  const nlohmann::json::json_pointer e2e("/system/baseline/modes/all/e2e_ms/mean");
+  const nlohmann::json::json_pointer accelerated("/system/accelerated/modes/all/e2e_ms/mean");
+  if (!metrics.contains(accelerated)) return;
+  const double accelerated_ms = metrics.at(accelerated).get<double>();
+  for (const ComparedBaseline& b : baselines) {
+    const std::string platform = baseline_platform(b);
+    for (const RunData& other : data.runs) {
+      if (other.platform != platform || other.trace_hash != run.trace_hash) continue;
+      const nlohmann::json m = &other == &run ? metrics : run_metrics(other);
+      if (!m.contains(e2e)) break;
+      const double baseline_ms = m.at(e2e).get<double>();
+      metrics["baselines"][b.name] = {{"e2e_ms", baseline_ms},
+                                      {"speedup", baseline_ms / accelerated_ms},
+                                      {"platform", platform}};
+      break;
+    }
+  }
+}
+
 std::vector<ReferenceRow> paper_targets_reference() {
   const std::string file = "Paper targets (`reports/paper_targets.yaml`)";
   std::vector<ReferenceRow> rows =
       reference_rows("", FieldList<PaperTarget>{tolerance_field()}, {}, file + ": top level");
   for (ReferenceRow& row :
        reference_rows("targets[]", target_fields(), {}, file + ": `targets: [{...}]`")) {
+    rows.push_back(std::move(row));
+  }
+  for (ReferenceRow& row : reference_rows("baselines[]", baseline_fields(), {},
+                                          file + ": `baselines: [{...}]` (compared platforms)")) {
     rows.push_back(std::move(row));
   }
   return rows;

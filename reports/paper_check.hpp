@@ -24,6 +24,31 @@ struct PaperTarget {
   int line = 0;  ///< 1-based line of the target in its file
 };
 
+/// A platform the paper compares Edx-Car with (its Table "Edx-Car speedup over CPU/GPU/DSP"):
+/// a platform file whose CPU-only baseline variant is that baseline, simulated on the same trace.
+struct ComparedBaseline {
+  std::string name;         ///< metric key: baselines.<name>.speedup
+  std::string config;       ///< the platform file, relative to edx's data folder
+  std::string description;  ///< the paper's row
+  int line = 0;
+};
+
+/// The `baselines:` list of a targets file (empty when it has none). Errors as load_targets.
+std::vector<ComparedBaseline> load_baselines(const std::filesystem::path& path);
+
+/// The platform name of a baseline's config file (its `name:`), its path resolved in edx's data
+/// folder. Throws std::runtime_error naming the file when it is missing or has no name.
+std::string baseline_platform(const ComparedBaseline& baseline);
+
+struct RunData;
+struct ResultsData;
+/// Adds `baselines.<name>.{e2e_ms, speedup}` to `metrics` (the metric tree of `run`) for each
+/// baseline that `data` holds a run of on the same trace (its platform, the run's trace hash):
+/// e2e_ms its baseline variant's mean end-to-end latency, speedup that over `run`'s
+/// accelerated mean. A baseline without such a run is left out (its targets: not found).
+void add_baseline_metrics(nlohmann::json& metrics, const ResultsData& data, const RunData& run,
+                          const std::vector<ComparedBaseline>& baselines);
+
 /// Reads and validates a targets file: a map with `targets` (a sequence of maps with name,
 /// metric, paper and optional unit, tolerance, source, explained) and an optional default
 /// `tolerance`, each map read from its field list (paper_check.cpp). Errors: InputError

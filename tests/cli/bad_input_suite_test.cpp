@@ -352,6 +352,20 @@ std::vector<BadInputCase> cases() {
        "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}' --out '{dir}/r.db'", 1,
        "edx: error: {dir}/p.yaml:2: platform.device: expected xc7v690t, zu9eg or zu9cg, got "
        "'virtex'"},
+      {"c7_unknown_bundled_processor",
+       [](const fs::path& d) {
+         write(d, "p.yaml", "name: p\nhost:\n  kind: datasheet\n  processor: pentium4\n");
+       },
+       "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}' --out '{dir}/r.db'", 1,
+       "edx: error: {dir}/p.yaml:4: host.processor: expected a bundled processor "
+       "(cortex_a53_zu9cg, cortex_a57_tx1, kaby_lake_4c), got 'pentium4'"},
+      {"c7_compared_baseline_without_a_config",
+       [](const fs::path& d) {
+         write(d, "t.yaml",
+               "baselines:\n  - {name: one}\ntargets:\n  - {name: a, metric: x.y, paper: 1}\n");
+       },
+       "'{edx}' check --config '{car}' --trace '{golden}' --targets '{dir}/t.yaml'", 1,
+       "edx: error: {dir}/t.yaml:2: baselines[].config: missing (expected a platform file)"},
       {"c7_missing_platform_file", none,
        "'{edx}' simulate --config '{dir}/none.yaml' --trace '{golden}'", 1,
        "edx: error: {dir}/none.yaml: cannot read the platform file"},

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -130,6 +131,37 @@ TEST(HostCostsCommand, FitsATableOnTheReferenceTraceAndChecksTheTraceAgainstIt) 
   }
   EXPECT_EQ(seen, frontend.size());
   EXPECT_NEAR(modeled, measured, 0.05 * measured);
+}
+
+TEST(CheckCommand, TheSpeedupOverABaselineIsItsCpuRunOverTheAcceleratedRun) {
+  const fs::path trace = fs::path(EDX_SOURCE_DIR) / "tests" / "data" / "golden" / "golden_mix.db";
+  const fs::path configs = fs::path(EDX_SOURCE_DIR) / "configs";
+  const auto simulate = [&](const fs::path& config) {
+    const CommandResult r =
+        run_command(fmt::format("'{}' simulate --config '{}' --trace '{}' --json",
+                                built_binary("edx"), config.string(), trace.string()));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return json::parse(r.out).at("system");
+  };
+  const json car = simulate(configs / "edx_car.yaml");
+  const json single = simulate(configs / "baselines" / "car_single_core.yaml");
+  const double accelerated = car.at("accelerated").at("modes").at("all").at("e2e_ms").at("mean");
+  const double one_core = single.at("baseline").at("modes").at("all").at("e2e_ms").at("mean");
+  const double four_cores = car.at("baseline").at("modes").at("all").at("e2e_ms").at("mean");
+  EXPECT_GT(one_core, four_cores);  // the frontend's chains one after the other
+  const CommandResult check =
+      run_command(fmt::format("'{}' check --config '{}' --trace '{}' --json", built_binary("edx"),
+                              (configs / "edx_car.yaml").string(), trace.string()));
+  ASSERT_TRUE(check.exit_code == 0 || check.exit_code == 1) << check.err;
+  std::map<std::string, double> simulated;
+  const json table = json::parse(check.out);
+  for (const json& row : table.at("rows")) {
+    if (row.at("simulated").is_number()) {
+      simulated[row.at("name").get<std::string>()] = row.at("simulated").get<double>();
+    }
+  }
+  EXPECT_NEAR(simulated.at("speedup over single-core w/o ROS"), one_core / accelerated, 1e-9);
+  EXPECT_NEAR(simulated.at("speedup over multi-core w/o ROS"), four_cores / accelerated, 1e-9);
 }
 
 }  // namespace

@@ -238,7 +238,35 @@ TEST(PaperCheck, BadYamlNamesFileLineAndKey) {
             file + ":1: tolerance: expected a relative tolerance in (0, 1), got '2'");
   EXPECT_NE(error_of("targets: [\n").find(file + ":"), std::string::npos);
   EXPECT_EQ(error_of("target:\n  - {name: a, metric: x, paper: 1}\n"),
-            file + ":1: target: unknown key (expected 'targets' or 'tolerance')");
+            file + ":1: target: unknown key (expected 'targets', 'tolerance' or 'baselines')");
+}
+
+TEST(PaperCheck, TheComparedBaselinesLoadAndTheirErrorsNameTheLine) {
+  TempDir dir;
+  const auto error_of = [&](const std::string& text) {
+    try {
+      load_baselines(write_targets(dir.path(), text));
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string file = (dir.path() / "targets.yaml").string();
+  const std::vector<ComparedBaseline> shipped = load_baselines(default_targets_path());
+  ASSERT_GE(shipped.size(), 2u);
+  EXPECT_EQ(shipped[1].name, "single_core");
+  EXPECT_EQ(baseline_platform(shipped[1]), "car_single_core");
+  EXPECT_EQ(baseline_platform(shipped[0]), "edx_car");
+  EXPECT_TRUE(load_baselines(write_targets(dir.path(), "targets: []\n")).empty());
+  EXPECT_EQ(error_of("baselines:\n  - {name: a, config: c.yaml, colour: red}\n"),
+            file + ":2: baselines[].colour: unknown key (expected name, config, description)");
+  EXPECT_EQ(error_of("baselines:\n  - {name: A-1, config: c.yaml}\n"),
+            file + ":2: baselines[].name: expected a metric key (a-z, 0-9, '_')");
+  EXPECT_EQ(error_of("baselines:\n  - {name: a}\n"),
+            file + ":2: baselines[].config: missing (expected a platform file)");
+  EXPECT_EQ(error_of("baselines:\n  - {name: a, config: x}\n  - {name: a, config: y}\n"),
+            file + ":3: baselines[].name: duplicate baseline 'a'");
+  EXPECT_EQ(error_of("baselines: 3\n"), file + ":1: baselines: expected a list of baselines");
 }
 
 TEST(Report, WritesIndexAndPlots) {
