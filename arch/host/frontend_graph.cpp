@@ -1,47 +1,63 @@
 #include "arch/host/frontend_graph.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <stdexcept>
 
 namespace edx::arch {
 
-HostFrontendGraph frontend_graph(const std::vector<trace::TaskRecord>& tasks) {
-  using trace::Image;
+namespace {
+
+/// Stage and chain of a task row (the table in the header); the rest: stage 3's chain.
+struct Slot {
+  std::size_t stage, chain;
+};
+constexpr std::size_t kChains[] = {3, 2, 1};  // chains per stage
+constexpr Slot kRestSlot = {2, 0};
+
+Slot slot_of(const trace::TaskRecord& task) {
   using trace::Task;
-  HostFrontendGraph g;
-  // stage 1: tracking, left detection, right detection; stage 2: the descriptions; stage 3.
-  g.stages = {{{}, {}, {}}, {{}, {}}, {{}}};
-  for (std::size_t i = 0; i < tasks.size(); ++i) {
-    const Task t = tasks[i].task;
-    const bool right = tasks[i].image == Image::Right;
-    if (t == Task::DC || t == Task::LSS) {
-      g.stages[0][0].push_back(i);
-    } else if (t == Task::FD || t == Task::IF) {
-      g.stages[0][right ? 2 : 1].push_back(i);
-    } else if (t == Task::FC) {
-      g.stages[1][right ? 1 : 0].push_back(i);
-    } else {
-      g.stages[2][0].push_back(i);
-    }
+  const bool right = task.image == trace::Image::Right;
+  switch (task.task) {
+    case Task::DC:
+    case Task::LSS:
+      return {0, 0};
+    case Task::FD:
+    case Task::IF:
+      return {0, right ? 2u : 1u};
+    case Task::FC:
+      return {1, right ? 1u : 0u};
+    default:
+      return kRestSlot;
   }
-  g.stages[2][0].push_back(HostFrontendGraph::kRest);
+}
+
+}  // namespace
+
+HostFrontendGraph frontend_graph(const std::vector<trace::TaskRecord>& tasks) {
+  HostFrontendGraph g;
+  for (std::size_t chains : kChains) g.stages.emplace_back(chains);
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    const Slot s = slot_of(tasks[i]);
+    g.stages[s.stage][s.chain].push_back(i);
+  }
+  g.stages[kRestSlot.stage][kRestSlot.chain].push_back(HostFrontendGraph::kRest);
   return g;
 }
 
-std::vector<std::vector<double>> chain_times(const HostFrontendGraph& graph,
+std::vector<std::vector<double>> chain_times(const std::vector<trace::TaskRecord>& tasks,
                                              const std::vector<double>& task_ms, double rest_ms) {
-  std::vector<std::vector<double>> out;
-  out.reserve(graph.stages.size());
-  for (const auto& stage : graph.stages) {
-    std::vector<double> chains;
-    chains.reserve(stage.size());
-    for (const auto& chain : stage) {
-      double ms = 0;
-      for (std::size_t i : chain) ms += i == HostFrontendGraph::kRest ? rest_ms : task_ms.at(i);
-      chains.push_back(ms);
-    }
-    out.push_back(std::move(chains));
+  if (task_ms.size() != tasks.size()) {
+    throw std::invalid_argument("chain_times: one time per task row expected");
   }
+  std::vector<std::vector<double>> out;
+  out.reserve(std::size(kChains));
+  for (std::size_t chains : kChains) out.emplace_back(chains, 0.0);
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    const Slot s = slot_of(tasks[i]);
+    out[s.stage][s.chain] += task_ms[i];
+  }
+  out[kRestSlot.stage][kRestSlot.chain] += rest_ms;
   return out;
 }
 

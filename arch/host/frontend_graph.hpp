@@ -34,8 +34,9 @@ struct HostFrontendGraph {
 /// The graph of a frame's task rows; a task the pipeline does not know joins the last stage.
 HostFrontendGraph frontend_graph(const std::vector<trace::TaskRecord>& tasks);
 
-/// Each stage's chains' times (ms): the sums of their tasks' `task_ms` (and `rest_ms`).
-std::vector<std::vector<double>> chain_times(const HostFrontendGraph& graph,
+/// Each stage's chains' times (ms) of a frame: the sums of its tasks' `task_ms` (one per row of
+/// `tasks`) by frontend_graph's stages and chains, the rest `rest_ms` in the last stage's chain.
+std::vector<std::vector<double>> chain_times(const std::vector<trace::TaskRecord>& tasks,
                                              const std::vector<double>& task_ms, double rest_ms);
 
 /// Σ over stages of the list-scheduled makespan of its chains on `cores` cores (>= 1).

@@ -140,15 +140,15 @@ PlatformHostTimes PlatformHostTimes::suite_scaled(const SuiteTimes& host, HostTi
     t.mapping = map_host(host, trace_meta, trace_name);
   }
   // The factor of a row (1 without one), looked up once per kind: this runs per row per frame.
-  std::map<std::pair<CostPart, std::string>, double, std::less<>> factors;
-  const auto factor_of = [&](CostPart part, const std::string& kind) {
+  std::map<std::pair<CostPart, std::string>, double> factors;
+  const auto factor_of = [&](CostPart part, std::string_view kind) {
     if (!factor) return 1.0;
-    const auto key = std::make_pair(part, kind);
+    const auto key = std::make_pair(part, std::string(kind));
     auto it = factors.find(key);
     if (it == factors.end()) it = factors.emplace(key, factor(part, kind)).first;
     return it->second;
   };
-  const std::string frontend_rest = "frontend_rest";
+  const std::string_view frontend_rest = "frontend_rest";
   for (const trace::FrameTrace& frame : frames) {
     const std::int64_t id = frame.frame.frame_id;
     const double fe = t.mapping.frontend_scale(id) * 1e-6;  // ns -> ms

@@ -108,7 +108,7 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
     for (double ms : tasks) task_sum += ms;
     const double rest = std::max(0.0, study.host_times.frontend_ms[f] - task_sum);
     study.frame_cpu_chains.push_back(
-        chain_times(frontend_graph(frames[f].tasks), tasks, rest));
+        chain_times(frames[f].tasks, tasks, rest));
     cpu.push_back(frontend_latency_ms(study.frame_cpu_chains.back(), cores));
   }
   FrontendConfig sequential = platform.frontend;

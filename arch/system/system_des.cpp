@@ -207,13 +207,15 @@ class SystemSimulation {
         co_await host_work(f, work_[f].frontend_host_ms, frontend_thread_track_);
       } else {
         // Each stage's chains side by side on the cores, the stages one after the other.
+        // The first chain runs on this thread, the others on threads of their own.
         for (const std::vector<double>& stage : work_[f].frontend_host_chains) {
-          std::vector<sim::ProcessHandle> chains;
-          chains.reserve(stage.size());
-          for (double ms : stage) {
-            chains.push_back(sim_.spawn(host_chain(f, ms), "frontend chain"));
+          std::vector<sim::ProcessHandle> others;
+          others.reserve(stage.size());
+          for (std::size_t c = 1; c < stage.size(); ++c) {
+            others.push_back(sim_.spawn(host_chain(f, stage[c]), "frontend chain"));
           }
-          for (const sim::ProcessHandle& h : chains) co_await h;
+          if (!stage.empty()) co_await host_work(f, stage.front(), frontend_thread_track_);
+          for (const sim::ProcessHandle& h : others) co_await h;
         }
       }
       frames_[f].frontend_end = sim_.now();

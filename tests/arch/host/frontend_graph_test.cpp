@@ -38,7 +38,7 @@ TEST(FrontendGraph, StagesAndChainsFollowThePipeline) {
 TEST(FrontendGraph, ChainTimesAndLatencyByHand) {
   // FD L 10, IF L 2, FD R 9, IF R 2, DC 3, LSS 12, FC L 5, FC R 4, MO 1, DR 1; rest 0.5.
   const std::vector<double> ms = {10, 2, 9, 2, 3, 12, 5, 4, 1, 1};
-  const auto chains = chain_times(frontend_graph(rows()), ms, 0.5);
+  const auto chains = chain_times(rows(), ms, 0.5);
   using Chains = std::vector<std::vector<double>>;
   EXPECT_EQ(chains, (Chains{{15, 12, 11}, {5, 4}, {2.5}}));
   EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 1), 49.5);  // every task and the rest
@@ -46,6 +46,7 @@ TEST(FrontendGraph, ChainTimesAndLatencyByHand) {
   EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 2), 23 + 5 + 2.5);
   EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 4), 15 + 5 + 2.5);
   EXPECT_THROW(frontend_latency_ms(chains, 0), std::invalid_argument);
+  EXPECT_THROW(chain_times(rows(), {1, 2}, 0), std::invalid_argument);
 }
 
 TEST(FrontendGraph, AnUnknownTaskJoinsTheLastStage) {
