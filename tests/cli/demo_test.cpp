@@ -57,6 +57,7 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
   }
   EXPECT_THAT(result.out, HasSubstr("targets within tolerance"));
   EXPECT_THAT(result.out, HasSubstr("e2e speedup overall"));
+  EXPECT_THAT(result.out, HasSubstr("speedup over single-core w/o ROS"));  // the baselines
   EXPECT_THAT(result.out, HasSubstr((out / "report" / "index.html").string()));
 
   // Four traces: the two mixes and the two real excerpts.
@@ -99,13 +100,17 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
     }
   }
   EXPECT_GE(svgs, 5);
-  // Sections for the four runs simulated by hand only (each with its latency CDF); the sweep's
-  // other 13 points are rows of the Runs table that link to the sweep.
+  // Sections for the five runs simulated by hand only (the two mixes, the single-core baseline,
+  // the two excerpts; each with its latency CDF); the sweep's other 13 points are rows of the
+  // Runs table that link to the sweep.
   int cdfs = 0;
   for (const auto& entry : fs::directory_iterator(out / "report")) {
     if (entry.path().filename().string().ends_with("_latency_cdf.svg")) ++cdfs;
   }
-  EXPECT_EQ(cdfs, 4);
+  EXPECT_EQ(cdfs, 5);
+  // The report's paper check compares Edx-Car with the single-core run of the same trace.
+  EXPECT_EQ(query_integer(results, "SELECT COUNT(*) FROM runs WHERE platform = 'car_single_core'"),
+            1);
   std::size_t sweep_rows = 0;
   for (std::size_t at = page.find("(point of sweep"); at != std::string::npos;
        at = page.find("(point of sweep", at + 1)) {
