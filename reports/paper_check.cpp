@@ -167,8 +167,9 @@ void add_baseline_metrics(nlohmann::json& metrics, const ResultsData& data, cons
                           const std::vector<ComparedBaseline>& baselines) {
   const nlohmann::json::json_pointer e2e("/system/baseline/modes/all/e2e_ms/mean");
   const nlohmann::json::json_pointer accelerated("/system/accelerated/modes/all/e2e_ms/mean");
-  if (!metrics.contains(accelerated)) return;
+  if (!metrics.contains(accelerated) || !metrics.contains(e2e)) return;
   const double accelerated_ms = metrics.at(accelerated).get<double>();
+  const double own_baseline_ms = metrics.at(e2e).get<double>();
   for (const ComparedBaseline& b : baselines) {
     const std::string platform = baseline_platform(b);
     for (const RunData& other : data.runs) {
@@ -178,6 +179,7 @@ void add_baseline_metrics(nlohmann::json& metrics, const ResultsData& data, cons
       const double baseline_ms = m.at(e2e).get<double>();
       metrics["baselines"][b.name] = {{"e2e_ms", baseline_ms},
                                       {"speedup", baseline_ms / accelerated_ms},
+                                      {"slowdown", baseline_ms / own_baseline_ms - 1},
                                       {"platform", platform}};
       break;
     }

@@ -42,10 +42,11 @@ std::string baseline_platform(const ComparedBaseline& baseline);
 
 struct RunData;
 struct ResultsData;
-/// Adds `baselines.<name>.{e2e_ms, speedup}` to `metrics` (the metric tree of `run`) for each
-/// baseline that `data` holds a run of on the same trace (its platform, the run's trace hash):
-/// e2e_ms its baseline variant's mean end-to-end latency, speedup that over `run`'s
-/// accelerated mean. A baseline without such a run is left out (its targets: not found).
+/// Adds `baselines.<name>.{e2e_ms, speedup, slowdown}` to `metrics` (the metric tree of `run`)
+/// for each baseline that `data` holds a run of on the same trace (its platform, the run's
+/// trace hash): e2e_ms its baseline variant's mean end-to-end latency, speedup that over `run`'s
+/// accelerated mean, slowdown that over `run`'s own baseline mean, minus 1. A baseline without
+/// such a run is left out (its targets: not found).
 void add_baseline_metrics(nlohmann::json& metrics, const ResultsData& data, const RunData& run,
                           const std::vector<ComparedBaseline>& baselines);
 

@@ -60,6 +60,7 @@ void Platform::validate() const {
   power.validate();
   scheduler.validate();
   system.validate();
+  ros.validate();
 }
 
 const FieldList<Platform>& Platform::fields() {
@@ -95,6 +96,7 @@ std::vector<ReferenceRow> Platform::reference() {
   add(reference_rows("power", cost::PowerConfig::fields()));
   add(reference_rows("scheduler", SchedulerConfig::fields()));
   add(reference_rows("system", SystemConfig::fields()));
+  add(reference_rows("ros", RosTransport::fields()));
   return rows;
 }
 
@@ -113,6 +115,7 @@ nlohmann::json Platform::to_json() const {
                       {"scheduler", scheduler.to_json()},
                       {"system", system.to_json()}};
   if (baseline_host) j["baseline_host"] = component_json(*baseline_host);
+  if (ros.enabled) j["ros"] = ros.to_json();  // absent while off: the hashes of runs without it
   return j;
 }
 
@@ -217,11 +220,11 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   parse_fields(top, p, Platform::fields());
   // Sections are parsed by their own structs; mark them read here.
   for (const char* section : {"host", "baseline_host", "frontend", "backend", "link", "memory",
-                              "transfers", "cost", "power", "scheduler", "system"}) {
+                              "transfers", "cost", "power", "scheduler", "system", "ros"}) {
     if (root[section] && !root[section].IsMap()) top.fail(section, "expected a map of keys");
   }
   top.finish_except({"host", "baseline_host", "frontend", "backend", "link", "memory", "transfers",
-                     "cost", "power", "scheduler", "system"});
+                     "cost", "power", "scheduler", "system", "ros"});
   if (p.name.empty()) top.fail("name", "required: the platform's name");
   if (!Device::find(p.device)) {
     top.fail(InputError::expected("device", Device::known_names(), p.device));
@@ -243,6 +246,7 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   p.cost = cost::CostConfig::from_yaml(root["cost"], where);
   p.power = cost::PowerConfig::from_yaml(root["power"], where);
   p.system = SystemConfig::from_yaml(root["system"], where);
+  p.ros = RosTransport::from_yaml(root["ros"], where);
   p.scheduler = parse_section<SchedulerConfig>(root["scheduler"], where, "scheduler");
   return p;
 }

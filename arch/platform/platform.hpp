@@ -41,6 +41,7 @@
 #include "arch/link/frame_transfers.hpp"
 #include "arch/link/link.hpp"
 #include "arch/memory/on_chip_memory.hpp"
+#include "arch/platform/ros_transport.hpp"
 #include "arch/platform/system_config.hpp"
 #include "arch/scheduler/scheduler.hpp"
 #include "common/input_error.hpp"
@@ -110,6 +111,7 @@ struct Platform {
   cost::PowerConfig power;  ///< energy model constants
   SchedulerConfig scheduler;
   SystemConfig system;  ///< the whole-system DES: camera, queues, contention
+  RosTransport ros;     ///< the CPU baseline as ROS 1 nodes (`ros:`; off by default)
   nlohmann::json to_json() const;
   /// Every section's validate() (a platform built or changed in code); load() already did.
   void validate() const;

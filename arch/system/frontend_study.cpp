@@ -107,8 +107,15 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
     double task_sum = 0;
     for (double ms : tasks) task_sum += ms;
     const double rest = std::max(0.0, study.host_times.frontend_ms[f] - task_sum);
-    study.frame_cpu_chains.push_back(
-        chain_times(frames[f].tasks, tasks, rest));
+    study.frame_cpu_chains.push_back(chain_times(frames[f].tasks, tasks, rest));
+    // With ROS, the frontend node first receives the two images (ros_transport.hpp).
+    const RosTransport::FrameCost ros =
+        platform.ros.frame_cost(frames[f], platform.transfers, study.width, study.height);
+    if (ros.frontend_ms > 0) {
+      study.frame_cpu_chains.back().insert(study.frame_cpu_chains.back().begin(),
+                                           {ros.frontend_ms});
+    }
+    study.frame_ros_backend_ms.push_back(ros.backend_ms);
     cpu.push_back(frontend_latency_ms(study.frame_cpu_chains.back(), cores));
   }
   FrontendConfig sequential = platform.frontend;

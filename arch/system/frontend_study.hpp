@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "arch/host/frontend_graph.hpp"
 #include "arch/frontend/frontend_model.hpp"
 #include "arch/frontend/memory_plan.hpp"
+#include "arch/host/frontend_graph.hpp"
 #include "arch/platform/platform.hpp"
 #include "workloads/trace/records.hpp"
 
@@ -48,9 +48,11 @@ struct FrontendStudy {
   std::vector<std::pair<std::string, double>> utilization;     ///< pipelined run
   FrontendMemoryPlan memory;  ///< SBs, FIFOs, SPM for the pipelined run's timing
   // Per frame, in trace order (not in to_json(); the system model reads them):
-  std::vector<double> frame_cpu_ms;               ///< CPU baseline frontend latency
+  std::vector<double> frame_cpu_ms;  ///< CPU baseline frontend latency
   /// CPU baseline: each frame's frontend chains (ms) by stage (arch/host/frontend_graph.hpp).
   std::vector<std::vector<std::vector<double>>> frame_cpu_chains;
+  /// CPU baseline with ROS (platform.ros): the backend node's messages, ms (0 without ROS).
+  std::vector<double> frame_ros_backend_ms;
   std::vector<double> frame_accel_ms;             ///< accelerator latency, frames one at a time
   std::vector<double> frame_pipelined_end_ms;     ///< end of each frame, frames back to back with
                                                   ///< FE/SM pipelining (from the first start)

@@ -436,6 +436,7 @@ std::string frontend_study_key(const Platform& platform) {
       {"link", component_json(*platform.link)},    {"memory", component_json(*platform.memory)},
       {"transfers", platform.transfers.to_json()}, {"device", platform.device}};
   if (platform.baseline_host) key["baseline_host"] = component_json(*platform.baseline_host);
+  if (platform.ros.enabled) key["ros"] = platform.ros.to_json();
   return key.dump();
 }
 
@@ -536,7 +537,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     base.frame_id = frame.frame.frame_id;
     base.mode = trace::to_string(frame.frame.mode);
     base.frontend_ms = r.frontend.frame_cpu_ms[f];
-    base.backend_ms = r.frontend.host_times.backend_ms[f];
+    base.backend_ms = r.frontend.host_times.backend_ms[f] + r.frontend.frame_ros_backend_ms[f];
     base.e2e_ms = base.frontend_ms + base.backend_ms;
     base.host_busy_ms = base.e2e_ms;
     base.activity.fpga_present = false;

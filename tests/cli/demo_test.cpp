@@ -58,6 +58,7 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
   EXPECT_THAT(result.out, HasSubstr("targets within tolerance"));
   EXPECT_THAT(result.out, HasSubstr("e2e speedup overall"));
   EXPECT_THAT(result.out, HasSubstr("speedup over single-core w/o ROS"));  // the baselines
+  EXPECT_THAT(result.out, HasSubstr("ROS slowdown of the multi-core baseline"));
   EXPECT_THAT(result.out, HasSubstr((out / "report" / "index.html").string()));
 
   // Four traces: the two mixes and the two real excerpts.
@@ -100,14 +101,20 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
     }
   }
   EXPECT_GE(svgs, 5);
-  // Sections for the five runs simulated by hand only (the two mixes, the single-core baseline,
-  // the two excerpts; each with its latency CDF); the sweep's other 13 points are rows of the
-  // Runs table that link to the sweep.
+  // Sections for the runs simulated by hand only (the two mixes, the two excerpts, the paper's
+  // other baselines of configs/baselines/; each with its latency CDF); the sweep's other 13
+  // points are rows of the Runs table that link to the sweep.
+  int baselines = 0;
+  for (const auto& entry :
+       fs::directory_iterator(fs::path(EDX_SOURCE_DIR) / "configs" / "baselines")) {
+    baselines += entry.path().extension() == ".yaml" ? 1 : 0;
+  }
+  EXPECT_GE(baselines, 3);
   int cdfs = 0;
   for (const auto& entry : fs::directory_iterator(out / "report")) {
     if (entry.path().filename().string().ends_with("_latency_cdf.svg")) ++cdfs;
   }
-  EXPECT_EQ(cdfs, 5);
+  EXPECT_EQ(cdfs, 4 + baselines);
   // The report's paper check compares Edx-Car with the single-core run of the same trace.
   EXPECT_EQ(query_integer(results, "SELECT COUNT(*) FROM runs WHERE platform = 'car_single_core'"),
             1);

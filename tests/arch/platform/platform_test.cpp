@@ -164,3 +164,50 @@ TEST(Platform, MissingFileIsNamed) {
 
 }  // namespace
 }  // namespace edx::arch
+
+namespace edx::arch {
+namespace {
+
+TEST(RosTransport, AFramesMessagesCostTheirCountAndBytesByHand) {
+  trace::FrameTrace frame;
+  frame.frame.gps_available = true;
+  trace::TaskRecord fc;
+  fc.task = trace::Task::FC;
+  fc.image = trace::Image::Left;
+  fc.keypoints = fc.descriptors = 100;
+  frame.tasks = {fc};
+  RosTransport ros;
+  const FrameTransferConfig transfers;  // 14 B features, 10 IMU samples of 56 B, 1 GPS of 32 B
+  EXPECT_EQ(ros.frame_cost(frame, transfers, 640, 480).frontend_ms, 0.0);  // off by default
+  ros.enabled = true;
+  ros.message_ms = 0.1;
+  ros.byte_ns = 2;
+  const RosTransport::FrameCost c = ros.frame_cost(frame, transfers, 640, 480);
+  // Two images of 307 200 B: 2 x (0.1 + 0.6144) ms.
+  EXPECT_NEAR(c.frontend_ms, 2 * (0.1 + 307200 * 2e-6), 1e-12);
+  // Features 100 x 14 B, a pose of 80 B (stamp, 7 doubles, 16-B frame id), 10 IMU samples of
+  // 56 B, a GPS fix of 32 B.
+  const double bytes = 1400 + 80 + 10 * 56 + 32;
+  EXPECT_NEAR(c.backend_ms, 13 * 0.1 + bytes * 2e-6, 1e-12);
+  frame.frame.gps_available = false;
+  EXPECT_NEAR(ros.frame_cost(frame, transfers, 640, 480).backend_ms, 12 * 0.1 + (bytes - 32) * 2e-6,
+              1e-12);
+}
+
+TEST(RosTransport, IsReadFromItsSectionAndOnlyThenInTheJson) {
+  const Platform off = Platform::parse("name: p\n", "p.yaml");
+  EXPECT_FALSE(off.ros.enabled);
+  EXPECT_FALSE(off.to_json().contains("ros"));
+  const Platform on = Platform::parse("name: p\nros: {enabled: true, message_ms: 0.2}\n", "p.yaml");
+  EXPECT_TRUE(on.ros.enabled);
+  EXPECT_EQ(on.to_json()["ros"]["message_ms"], 0.2);
+  try {
+    Platform::parse("name: p\nros:\n  byte_ns: -1\n", "p.yaml");
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "p.yaml:3: ros.byte_ns: expected a number in [0, 1000000], got '-1'");
+  }
+}
+
+}  // namespace
+}  // namespace edx::arch
