@@ -836,6 +836,45 @@ std::string summary_html(const ResultsData& data, const std::vector<std::size_t>
   return h + "</table>\n";
 }
 
+/// The comparison with the paper's other baselines (its Table "Edx-Car speedup over
+/// CPU/GPU/DSP"): one group of bars per compared baseline the check found, the paper's speedup
+/// beside edx's (the check's `baselines.<name>.speedup` rows). Empty when there are none.
+std::string baselines_chart_html(const CheckResult& check, const fs::path& dir, std::size_t n,
+                                 const std::string& gnuplot, std::vector<std::string>& images) {
+  std::string dat = "# label paper edx\n";
+  int bars = 0;
+  for (const CheckRow& row : check.rows) {
+    const std::string& m = row.target.metric;
+    if (!m.starts_with("baselines.") || !m.ends_with(".speedup") || !row.simulated) continue;
+    std::string label = row.target.name;
+    std::erase(label, '"');
+    if (label.starts_with("speedup over ")) label.erase(0, 13);  // the chart's title says it
+    dat += fmt::format("\"{}\" {:.6g} {:.6g}\n", label, row.target.paper, *row.simulated);
+    ++bars;
+  }
+  if (bars == 0) return "";
+  const std::string stem = fmt::format("baselines{}", n);
+  const std::string image = stem + kPlotExtension;
+  std::ofstream(dir / (stem + ".dat")) << dat;
+  std::ofstream(dir / (stem + ".gp"))
+      << svg_terminal(960, 360) << "set output " << gp_quote((dir / image).string()) << "\n"
+      << "datafile = " << gp_quote((dir / (stem + ".dat")).string()) << "\n"
+      << "set title 'Edx-Car speedup over each baseline: the paper and edx'\n"
+      << "set ylabel 'speedup (x)'\nset style data histograms\n"
+      << "set style histogram clustered gap 1\nset style fill solid 0.8 noborder\n"
+      << "set boxwidth 0.9\nset yrange [0:*]\nset grid ytics\nset key top left\n"
+      << "set xtics rotate by -20 scale 0\n"
+      << "plot datafile using 2:xtic(1) title 'paper' lc rgb '#999999', \\\n"
+      << "     '' using 3 title 'edx' lc rgb '#0072B2'\n";
+  run_gnuplot(gnuplot, dir / (stem + ".gp"), "baseline comparison plot");
+  images.push_back(image);
+  return fmt::format(
+      "<p class=\"cap\">Edx-Car against the paper's other baselines (the platforms of "
+      "<code>baselines:</code> in paper_targets.yaml, each run on the same trace): the paper's "
+      "speedup beside edx's.</p>\n<img src=\"{}\" alt=\"baseline comparison\">\n",
+      image);
+}
+
 /// The paper check (reports/paper_targets.yaml, as `edx check`) of each Edx-Car run with a
 /// section: a table and a plot of simulated / paper per target with the tolerance band.
 std::string paper_check_html(const ResultsData& data, const std::vector<std::size_t>& sections,
@@ -921,6 +960,7 @@ std::string paper_check_html(const ResultsData& data, const std::vector<std::siz
           image);
     }
     h += rows + "</table>\n";
+    if (plot) h += baselines_chart_html(check, dir, i + 1, gnuplot, images);
   }
   return h;
 }

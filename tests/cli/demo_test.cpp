@@ -129,7 +129,14 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
   EXPECT_LT(page.find("Paper check"), page.find("<h2>Runs</h2>"));
   EXPECT_THAT(page, HasSubstr("edx_car × car_mix.db"));
   EXPECT_THAT(page, HasSubstr("what-is-not-reachable-honestly-and-why"));
-  EXPECT_THAT(page, HasSubstr("MODEL.md#miss-"));  // misses link their own explanation
+  EXPECT_THAT(page, HasSubstr("MODEL.md#miss-"));               // misses link their own explanation
+  EXPECT_THAT(page, HasSubstr("alt=\"baseline comparison\""));  // the paper's other baselines
+  int comparison_charts = 0;
+  for (const auto& entry : fs::directory_iterator(out / "report")) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with("baselines") && name.ends_with(".svg")) ++comparison_charts;
+  }
+  EXPECT_GE(comparison_charts, 1);
   EXPECT_GT(fs::file_size(out / "car_system_timeline.json"), 1000u);
   // Every run the demo simulates keeps its whole-system timeline; the report links each,
   // written beside it.
