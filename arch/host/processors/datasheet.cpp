@@ -177,7 +177,10 @@ class Datasheet final : public HostProcessor {
       }
       // Keys here override the description's; an efficiency given here replaces a shared one.
       const bool own_efficiency_of = static_cast<bool>(yaml.take("efficiency_of"));
-      if (yaml.take("efficiency") && !own_efficiency_of) p.efficiency_of.clear();
+      if (yaml.take("efficiency") && !own_efficiency_of) {
+        p.efficiency_of.clear();
+        p.efficiency_provenance = "set in the platform file";  // unless it says more
+      }
       parse_fields(yaml, p, fields());
       if (own_efficiency_of) share_efficiency(yaml, p);
       if (!p.anchor()) {  // the reference must exist and be an anchor

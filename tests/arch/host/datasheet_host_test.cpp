@@ -174,6 +174,7 @@ TEST(DatasheetHost, TheBundledProcessorsLoadAndShareTheA57sEfficiency) {
       parse("name: p\nhost: {kind: datasheet, processor: cortex_a53_zu9cg, efficiency: 0.5}\n");
   EXPECT_EQ(own.host->params_json()["efficiency"], 0.5);
   EXPECT_EQ(own.host->params_json()["efficiency_of"], "");
+  EXPECT_EQ(own.host->params_json()["efficiency_provenance"], "set in the platform file");
 }
 
 TEST(DatasheetHost, ErrorsNameTheFileLineAndKey) {
