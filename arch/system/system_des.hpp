@@ -57,7 +57,7 @@ struct BackendStep {
 /// A frame's work, as both variants run it.
 struct SystemFrameWork {
   std::int64_t frame_id = 0;
-  double frontend_host_ms = 0;             ///< CPU baseline: the frontend thread's work
+  double frontend_host_ms = 0;  ///< CPU baseline: the frontend thread's work
   /// CPU baseline: the frontend's chains by stage (ms; arch/host/frontend_graph.hpp), each chain
   /// on a core of its own when one is free; empty: frontend_host_ms on one core.
   std::vector<std::vector<double>> frontend_host_chains;

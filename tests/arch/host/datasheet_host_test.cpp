@@ -100,9 +100,9 @@ TEST(DatasheetHost, AnAnchorHasTheTimesOfItsSuiteTimes) {
   for (const char* times : {"modeled", "measured"}) {
     const std::string set = std::string("\n  times: ") + times + "\n";
     const Platform a = parse("name: p\nhost:\n  kind: datasheet\n  processor: kaby_lake_4c" + set);
-    const Platform s = parse(fmt::format(
-        "name: p\nhost:\n  frontend_suite_ms: {}\n  backend_suite_ms: {}{}", fe_suite, be_suite,
-        set));
+    const Platform s =
+        parse(fmt::format("name: p\nhost:\n  frontend_suite_ms: {}\n  backend_suite_ms: {}{}",
+                          fe_suite, be_suite, set));
     const PlatformHostTimes ta = a.host->host_times(frames, hand_meta(), "hand.db");
     const PlatformHostTimes ts = s.host->host_times(frames, hand_meta(), "hand.db");
     EXPECT_EQ(ta.frontend_ms, ts.frontend_ms) << times;

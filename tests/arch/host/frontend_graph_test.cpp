@@ -22,9 +22,9 @@ trace::TaskRecord row(Task task, Image image) {
 
 /// The pipeline's rows in trace order (workloads/frontend/stereo_frontend.cpp).
 std::vector<trace::TaskRecord> rows() {
-  return {row(Task::FD, Image::Left),   row(Task::IF, Image::Left),  row(Task::FD, Image::Right),
-          row(Task::IF, Image::Right),  row(Task::DC, Image::Left),  row(Task::LSS, Image::Left),
-          row(Task::FC, Image::Left),   row(Task::FC, Image::Right), row(Task::MO, Image::Stereo),
+  return {row(Task::FD, Image::Left),  row(Task::IF, Image::Left),  row(Task::FD, Image::Right),
+          row(Task::IF, Image::Right), row(Task::DC, Image::Left),  row(Task::LSS, Image::Left),
+          row(Task::FC, Image::Left),  row(Task::FC, Image::Right), row(Task::MO, Image::Stereo),
           row(Task::DR, Image::Stereo)};
 }
 
