@@ -2,9 +2,57 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "common/config_fields.hpp"
 #include "common/yaml_fields.hpp"
 
 namespace edx::arch {
+
+const FieldList<HostPower>& HostPower::fields() {
+  using C = HostPower;
+  static const FieldList<C> list = {
+      field("active_w", &C::active_w, "W", "package power while any core computes",
+            Bounds::at_least(0)),
+      field("idle_w", &C::idle_w, "W", "package power while every core waits (<= active_w)",
+            Bounds::at_least(0)),
+  };
+  return list;
+}
+
+void HostPower::validate() const {
+  check_fields(*this, "host", fields());
+  require_field(idle_w <= active_w, "host", "idle_w", "a power in [0, active_w] W");
+}
+
+const FieldList<SuiteTimeKeys>& SuiteTimeKeys::fields() {
+  using C = SuiteTimeKeys;
+  const Bounds non_negative = Bounds::at_least(0);
+  static const FieldList<C> list = {
+      field("suite", &C::suite, "",
+            "reference-suite version the suite times are for (a trace's must match)",
+            Bounds::at_least(1)),
+      field("frontend_suite_ms", &C::frontend_suite_ms, "ms",
+            "the reference suite's frontend part on this host, CPU time (suite_scaled: 0 with "
+            "backend_suite_ms 0, the trace host is the target; datasheet: 0 on a processor "
+            "predicted from its `reference`)",
+            non_negative),
+      field("provenance", &C::provenance, "", "where frontend_suite_ms comes from"),
+      field("backend_suite_ms", &C::backend_suite_ms, "ms",
+            "the reference suite's backend part on this host, CPU time", non_negative),
+      field("backend_provenance", &C::backend_provenance, "", "where backend_suite_ms comes from"),
+      enum_field(
+          "times", &C::times, {"modeled", "measured"},
+          [](HostTimeSource t) { return std::string(to_string(t)); },
+          [](const std::string& text) { return parse_host_times(text); },
+          "host times from the op-count model of the trace's work (modeled: the same on any "
+          "tracing machine) or the trace's measured CPU times (measured); either is mapped by "
+          "the suite times"),
+  };
+  return list;
+}
+
+SuiteTimes SuiteTimeKeys::suite_times(const std::string& name) const {
+  return {name, suite, frontend_suite_ms, backend_suite_ms, provenance, backend_provenance};
+}
 
 std::shared_ptr<const HostProcessor> make_host_processor(std::string_view kind,
                                                          const std::string& params) {

@@ -17,6 +17,7 @@
 
 #include "arch/common/registry.hpp"
 #include "arch/host/host_model.hpp"
+#include "common/config_fields.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {
@@ -27,6 +28,25 @@ namespace edx::arch {
 struct HostPower {
   double active_w = 0;
   double idle_w = 0;
+  /// `active_w`, `idle_w`: the keys of every host kind (nested into its Params).
+  static const FieldList<HostPower>& fields();
+  /// Throws "host.idle_w: expected a power in [0, active_w] W" (and the fields' own checks).
+  void validate() const;
+};
+
+/// A host's times on the reference suite and where its host times come from, as the keys every
+/// host kind that maps a trace's times through them declares (nested into its Params): `suite`,
+/// `frontend_suite_ms`, `provenance`, `backend_suite_ms`, `backend_provenance`, `times`.
+struct SuiteTimeKeys {
+  int suite = trace::kHostSpeedSuite;
+  double frontend_suite_ms = 0;
+  std::string provenance;
+  double backend_suite_ms = 0;
+  std::string backend_provenance;
+  HostTimeSource times = HostTimeSource::kModeled;
+  static const FieldList<SuiteTimeKeys>& fields();
+  /// The suite times of host `name`.
+  SuiteTimes suite_times(const std::string& name) const;
 };
 
 class HostProcessor : public Component {

@@ -34,24 +34,20 @@ class Datasheet final : public HostProcessor {
     std::string datasheet = "see docs/MODEL.md";  ///< where the figures below come from
     int cores = 4;
     ProcessorDatasheet sheet;
-    // Anchor: its times on the reference suite.
-    int suite = trace::kHostSpeedSuite;
-    double frontend_suite_ms = 0, backend_suite_ms = 0;
-    std::string provenance, backend_provenance;
+    /// An anchor's times on the reference suite (0: predicted), and `times`.
+    SuiteTimeKeys suite;
     // Predicted: the anchor it is predicted from, and its efficiency relative to it.
     std::string reference_name;  ///< `reference:` ("" an anchor)
     double efficiency = 1.0;
     std::string efficiency_provenance = "1: the datasheet peaks' ratio as it is";
     /// A bundled processor whose efficiency this one shares (same ISA and code; "" none).
     std::string efficiency_of;
-    HostTimeSource times = HostTimeSource::kModeled;
-    double active_w = 15.0, idle_w = 2.0;
+    HostPower power{15.0, 2.0};
 
     bool anchor() const { return reference_name.empty(); }
 
     static const FieldList<Params>& fields() {
       using C = Params;
-      const Bounds non_negative = Bounds::at_least(0);
       static const FieldList<C> list = joined<C>({
           {
               field("name", &C::name, "", "the processor as reports name it"),
@@ -60,17 +56,8 @@ class Datasheet final : public HostProcessor {
                     Bounds::at_least(1).at_most(256)),
           },
           nested_fields<C>("", &C::sheet, ProcessorDatasheet::fields()),
+          nested_fields<C>("", &C::suite, SuiteTimeKeys::fields()),
           {
-              field("suite", &C::suite, "", "reference-suite version of the suite times",
-                    Bounds::at_least(1)),
-              field("frontend_suite_ms", &C::frontend_suite_ms, "ms",
-                    "an anchor's reference-suite frontend part (0: predicted from `reference`)",
-                    non_negative),
-              field("provenance", &C::provenance, "", "where frontend_suite_ms comes from"),
-              field("backend_suite_ms", &C::backend_suite_ms, "ms",
-                    "an anchor's reference-suite backend part", non_negative),
-              field("backend_provenance", &C::backend_provenance, "",
-                    "where backend_suite_ms comes from"),
               field("reference", &C::reference_name, "",
                     "the bundled anchor processor (configs/host/processors/) this one is "
                     "predicted from by its bounds' rate ratios (\"\": it is an anchor)"),
@@ -83,17 +70,8 @@ class Datasheet final : public HostProcessor {
               field("efficiency_of", &C::efficiency_of, "",
                     "a bundled predicted processor whose efficiency (and its provenance) this "
                     "one takes: the same instruction set running the same code (\"\": none)"),
-              enum_field(
-                  "times", &C::times, {"modeled", "measured"},
-                  [](HostTimeSource t) { return std::string(to_string(t)); },
-                  [](const std::string& text) { return parse_host_times(text); },
-                  "the reference rows' times from the op-count model (modeled) or the trace's "
-                  "measured CPU times (measured)"),
-              field("active_w", &C::active_w, "W", "package power while any core computes",
-                    non_negative),
-              field("idle_w", &C::idle_w, "W", "package power while every core waits (<= active_w)",
-                    non_negative),
           },
+          nested_fields<C>("", &C::power, HostPower::fields()),
       });
       return list;
     }
@@ -101,16 +79,18 @@ class Datasheet final : public HostProcessor {
     void validate() const {
       check_fields(*this, "host", fields());
       if (anchor()) {
-        require_field(frontend_suite_ms > 0 && backend_suite_ms > 0, "host", "frontend_suite_ms",
+        require_field(suite.frontend_suite_ms > 0 && suite.backend_suite_ms > 0, "host",
+                      "frontend_suite_ms",
                       "both suite times of an anchor processor, or a `reference` to predict "
                       "it from");
         require_field(efficiency == 1.0, "host", "efficiency",
                       "1 on an anchor (its suite times are its speed)");
       } else {
-        require_field(frontend_suite_ms == 0 && backend_suite_ms == 0, "host", "frontend_suite_ms",
+        require_field(suite.frontend_suite_ms == 0 && suite.backend_suite_ms == 0, "host",
+                      "frontend_suite_ms",
                       "no suite times on a processor predicted from a `reference`");
       }
-      require_field(idle_w <= active_w, "host", "idle_w", "a power in [0, active_w] W");
+      power.validate();
     }
 
     /// The file of bundled description `name`, configs/host/processors/NAME.yaml; throws
@@ -226,29 +206,24 @@ class Datasheet final : public HostProcessor {
   }
   std::string display_name() const override { return params_.name; }
   int cores() const override { return params_.cores; }
-  HostPower power() const override { return {params_.active_w, params_.idle_w}; }
+  HostPower power() const override { return params_.power; }
 
   PlatformHostTimes host_times(const std::vector<trace::FrameTrace>& frames,
                                const trace::TraceMeta& trace_meta, const std::string& trace_name,
                                const HostCostModel* costs) const override {
     const Params& anchor = reference_ ? *reference_ : params_;
-    const SuiteTimes suite{anchor.name,
-                           anchor.suite,
-                           anchor.frontend_suite_ms,
-                           anchor.backend_suite_ms,
-                           anchor.provenance,
-                           anchor.backend_provenance};
+    const SuiteTimes suite = anchor.suite.suite_times(anchor.name);
     if (!reference_) {
-      return PlatformHostTimes::suite_scaled(suite, params_.times, frames, trace_meta, trace_name,
-                                             costs);
+      return PlatformHostTimes::suite_scaled(suite, params_.suite.times, frames, trace_meta,
+                                             trace_name, costs);
     }
     // t(row) = t_ref(row) × rate_ref(class) / (rate(class) × efficiency).
     const RowFactor factor = [this](CostPart part, std::string_view kind) {
       const ThroughputClass c = bound_of(part, kind);
       return reference_->sheet.rate(c) / (params_.sheet.rate(c) * params_.efficiency);
     };
-    PlatformHostTimes t = PlatformHostTimes::suite_scaled(suite, params_.times, frames, trace_meta,
-                                                          trace_name, costs, factor);
+    PlatformHostTimes t = PlatformHostTimes::suite_scaled(suite, params_.suite.times, frames,
+                                                          trace_meta, trace_name, costs, factor);
     t.mapping.append_basis(fmt::format(
         "; on {}: each row x rate({}) / rate(this) per its bound, efficiency {:.4g} ({})",
         params_.name, reference_->processor, params_.efficiency, params_.efficiency_provenance));

@@ -17,61 +17,35 @@ class SuiteScaled final : public HostProcessor {
  public:
   struct Params {
     std::string name = "trace host";
-    /// Reference-suite version the times below are for (trace::kHostSpeedSuite when written).
-    int suite = trace::kHostSpeedSuite;
-    double frontend_suite_ms = 0;  ///< S_fe, CPU ms; 0 with backend_suite_ms 0: identity
-    std::string provenance = "identity: the trace host is the target";
-    double backend_suite_ms = 0;  ///< S_be, CPU ms
-    std::string backend_provenance = "identity: the trace host is the target";
-    HostTimeSource times = HostTimeSource::kModeled;
+    /// S_fe and S_be, CPU ms (both 0: identity, the trace host is the target), `times`.
+    SuiteTimeKeys suite{.provenance = "identity: the trace host is the target",
+                        .backend_provenance = "identity: the trace host is the target"};
     /// 2, the fewest that run the frontend and backend threads side by side.
     int cores = 2;
-    double active_w = 15.0;  ///< assumed: Kaby Lake U TDP (docs/MODEL.md, "Energy")
-    double idle_w = 2.0;     ///< assumed
+    /// Assumed: Kaby Lake U TDP, and idle (docs/MODEL.md, "Energy").
+    HostPower power{15.0, 2.0};
 
     static const FieldList<Params>& fields() {
       using C = Params;
-      const Bounds non_negative = Bounds::at_least(0);
-      static const FieldList<C> list = {
-          field("name", &C::name, "", "the target host CPU"),
-          field("suite", &C::suite, "",
-                "reference-suite version the suite times are for (a trace's must match)",
-                Bounds::at_least(1)),
-          field("frontend_suite_ms", &C::frontend_suite_ms, "ms",
-                "the reference suite's frontend part on this host, CPU time (0 with "
-                "backend_suite_ms 0: the trace host is the target)",
-                non_negative),
-          field("provenance", &C::provenance, "", "where frontend_suite_ms comes from"),
-          field("backend_suite_ms", &C::backend_suite_ms, "ms",
-                "the reference suite's backend part on this host, CPU time", non_negative),
-          field("backend_provenance", &C::backend_provenance, "",
-                "where backend_suite_ms comes from"),
-          enum_field(
-              "times", &C::times, {"modeled", "measured"},
-              [](HostTimeSource t) { return std::string(to_string(t)); },
-              [](const std::string& text) { return parse_host_times(text); },
-              "host times from the op-count model of the trace's work (modeled: the same on any "
-              "tracing machine) or the trace's measured CPU times (measured); either is mapped "
-              "by the suite times"),
-          field("cores", &C::cores, "", "cores the DES gives the host's threads",
-                Bounds::at_least(1)),
-          field("active_w", &C::active_w, "W", "package power while any core computes",
-                non_negative),
-          field("idle_w", &C::idle_w, "W", "package power while every core waits (<= active_w)",
-                non_negative),
-      };
+      static const FieldList<C> list = joined<C>({
+          {field("name", &C::name, "", "the target host CPU")},
+          nested_fields<C>("", &C::suite, SuiteTimeKeys::fields()),
+          {field("cores", &C::cores, "", "cores the DES gives the host's threads",
+                 Bounds::at_least(1))},
+          nested_fields<C>("", &C::power, HostPower::fields()),
+      });
       return list;
     }
 
     /// Throws "host.<key>: expected ..." (both suite times or neither; idle_w <= active_w).
     void validate() const {
       check_fields(*this, "host", fields());
-      if ((frontend_suite_ms > 0) != (backend_suite_ms > 0)) {
+      if ((suite.frontend_suite_ms > 0) != (suite.backend_suite_ms > 0)) {
         require_field(false, "host",
-                      frontend_suite_ms > 0 ? "backend_suite_ms" : "frontend_suite_ms",
+                      suite.frontend_suite_ms > 0 ? "backend_suite_ms" : "frontend_suite_ms",
                       "both suite times or neither (neither: the trace host is the target)");
       }
-      require_field(idle_w <= active_w, "host", "idle_w", "a power in [0, active_w] W");
+      power.validate();
     }
   };
 
@@ -81,18 +55,13 @@ class SuiteScaled final : public HostProcessor {
   nlohmann::json params_json() const override { return params_to_json(params_); }
   std::string display_name() const override { return params_.name; }
   int cores() const override { return params_.cores; }
-  HostPower power() const override { return {params_.active_w, params_.idle_w}; }
+  HostPower power() const override { return params_.power; }
 
   PlatformHostTimes host_times(const std::vector<trace::FrameTrace>& frames,
                                const trace::TraceMeta& trace_meta, const std::string& trace_name,
                                const HostCostModel* costs) const override {
-    const SuiteTimes suite{params_.name,
-                           params_.suite,
-                           params_.frontend_suite_ms,
-                           params_.backend_suite_ms,
-                           params_.provenance,
-                           params_.backend_provenance};
-    return PlatformHostTimes::suite_scaled(suite, params_.times, frames, trace_meta, trace_name,
+    return PlatformHostTimes::suite_scaled(params_.suite.suite_times(params_.name),
+                                           params_.suite.times, frames, trace_meta, trace_name,
                                            costs);
   }
 

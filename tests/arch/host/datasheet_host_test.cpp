@@ -17,6 +17,7 @@
 #include "arch/host/throughput.hpp"
 #include "arch/platform/platform.hpp"
 #include "arch/system/system_model.hpp"
+#include "tests/arch/host/platform_text.hpp"
 #include "tests/arch/system/hand_tasks.hpp"
 
 namespace edx::arch {
@@ -24,17 +25,6 @@ namespace {
 
 using ::testing::HasSubstr;
 using C = ThroughputClass;
-
-Platform parse(const std::string& yaml) { return Platform::parse(yaml, "p.yaml"); }
-
-std::string error_of(const std::string& yaml) {
-  try {
-    parse(yaml);
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "no error";
-}
 
 TEST(Throughput, EachClassRateFollowsTheDatasheet) {
   const ProcessorDatasheet kaby_lake;  // the defaults: the paper's Kaby Lake

@@ -15,23 +15,13 @@
 
 #include "arch/platform/platform.hpp"
 #include "arch/system/system_model.hpp"
+#include "tests/arch/host/platform_text.hpp"
 #include "tests/arch/system/hand_tasks.hpp"
 
 namespace edx::arch {
 namespace {
 
 using ::testing::HasSubstr;
-
-Platform parse(const std::string& yaml) { return Platform::parse(yaml, "p.yaml"); }
-
-std::string error_of(const std::string& yaml) {
-  try {
-    parse(yaml);
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "no error";
-}
 
 TEST(SuiteScaledHost, ReadsItsKeysOverItsDefaults) {
   const Platform p = parse("name: p\nhost:\n  cores: 3\n  active_w: 20\n");
