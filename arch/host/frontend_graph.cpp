@@ -45,33 +45,45 @@ HostFrontendGraph frontend_graph(const std::vector<trace::TaskRecord>& tasks) {
   return g;
 }
 
-std::vector<std::vector<double>> chain_times(const std::vector<trace::TaskRecord>& tasks,
-                                             const std::vector<double>& task_ms, double rest_ms) {
-  if (task_ms.size() != tasks.size()) {
-    throw std::invalid_argument("chain_times: one time per task row expected");
+StageChains chain_times(const std::vector<trace::TaskRecord>& tasks,
+                        const std::vector<double>& task_ms, double rest_ms,
+                        const std::vector<bool>& on_device) {
+  if (task_ms.size() != tasks.size() || (!on_device.empty() && on_device.size() != tasks.size())) {
+    throw std::invalid_argument("chain_times: one time (and device flag) per task row expected");
   }
-  std::vector<std::vector<double>> out;
+  StageChains out;
   out.reserve(std::size(kChains));
-  for (std::size_t chains : kChains) out.emplace_back(chains, 0.0);
+  for (std::size_t chains : kChains) out.emplace_back(chains);
   for (std::size_t i = 0; i < tasks.size(); ++i) {
     const Slot s = slot_of(tasks[i]);
-    out[s.stage][s.chain] += task_ms[i];
+    ChainTime& chain = out[s.stage][s.chain];
+    (!on_device.empty() && on_device[i] ? chain.device_ms : chain.host_ms) += task_ms[i];
   }
-  out[kRestSlot.stage][kRestSlot.chain] += rest_ms;
+  out[kRestSlot.stage][kRestSlot.chain].host_ms += rest_ms;
   return out;
 }
 
-double frontend_latency_ms(const std::vector<std::vector<double>>& stage_chains, int cores) {
+double frontend_latency_ms(const StageChains& stage_chains, int cores) {
   if (cores < 1) throw std::invalid_argument("frontend_latency_ms: cores must be >= 1");
   double total = 0;
   std::vector<double> free_at;
-  for (const std::vector<double>& chains : stage_chains) {
-    // Each chain in order on the earliest free core (list scheduling).
+  std::vector<std::pair<double, std::size_t>> ready;  // (D_i, i) of the chains with host work
+  for (const std::vector<ChainTime>& chains : stage_chains) {
+    double device_free = 0, makespan = 0;
+    ready.clear();
+    for (std::size_t i = 0; i < chains.size(); ++i) {
+      double at = 0;
+      if (chains[i].device_ms > 0) at = device_free += chains[i].device_ms;
+      makespan = std::max(makespan, at);
+      if (chains[i].host_ms > 0) ready.emplace_back(at, i);
+    }
+    std::stable_sort(ready.begin(), ready.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    // Each host part on the earliest free core, when it is ready (list scheduling).
     free_at.assign(std::min<std::size_t>(static_cast<std::size_t>(cores), chains.size()), 0.0);
-    double makespan = 0;
-    for (double ms : chains) {
+    for (const auto& [at, i] : ready) {
       const auto core = std::min_element(free_at.begin(), free_at.end());
-      *core += ms;
+      *core = std::max(*core, at) + chains[i].host_ms;
       makespan = std::max(makespan, *core);
     }
     total += makespan;

@@ -34,12 +34,31 @@ struct HostFrontendGraph {
 /// The graph of a frame's task rows; a task the pipeline does not know joins the last stage.
 HostFrontendGraph frontend_graph(const std::vector<trace::TaskRecord>& tasks);
 
-/// Each stage's chains' times (ms) of a frame: the sums of its tasks' `task_ms` (one per row of
-/// `tasks`) by frontend_graph's stages and chains, the rest `rest_ms` in the last stage's chain.
-std::vector<std::vector<double>> chain_times(const std::vector<trace::TaskRecord>& tasks,
-                                             const std::vector<double>& task_ms, double rest_ms);
+/// A chain's time, ms: on the baseline's offload coprocessor (arch/host/coprocessor.hpp), then on
+/// a host core. The chain's device rows run first (the coprocessors' image tasks lead their
+/// chains: FD before IF, DC before LSS; stage 3's one chain is the same latency in any order),
+/// the thread waiting for them without a core.
+struct ChainTime {
+  double host_ms = 0;
+  double device_ms = 0;
+  bool operator==(const ChainTime&) const = default;
+};
+/// A frame's chains by stage.
+using StageChains = std::vector<std::vector<ChainTime>>;
 
-/// Σ over stages of the list-scheduled makespan of its chains on `cores` cores (>= 1).
-double frontend_latency_ms(const std::vector<std::vector<double>>& stage_chains, int cores);
+/// Each stage's chains' times of a frame: the sums of its tasks' `task_ms` (one per row of
+/// `tasks`) by frontend_graph's stages and chains, the rest `rest_ms` in the last stage's chain.
+/// A task with `on_device[i]` (empty: none) counts as the chain's device time.
+StageChains chain_times(const std::vector<trace::TaskRecord>& tasks,
+                        const std::vector<double>& task_ms, double rest_ms,
+                        const std::vector<bool>& on_device = {});
+
+/// Σ over stages of the stage's latency on `cores` cores (>= 1) and one coprocessor. In a stage
+/// the device runs the chains' device parts back to back in chain order, chain i's ending at
+/// D_i = Σ_{j <= i} device_ms_j (0 for a chain without one); the host parts then take the
+/// earliest free of min(cores, chains) cores in the order they become ready (D_i, then chain
+/// order), each starting at max(D_i, the core's free time); the stage ends when the last part
+/// does. Without device parts: the chains list-scheduled in order (c = 1: their sum).
+double frontend_latency_ms(const StageChains& stage_chains, int cores);
 
 }  // namespace edx::arch

@@ -1,8 +1,15 @@
 #include "arch/host/host_processor.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <filesystem>
+
 #include "common/config_fields.hpp"
+#include "common/input_error.hpp"
+#include "common/resources.hpp"
 #include "common/yaml_fields.hpp"
 
 namespace edx::arch {
@@ -52,6 +59,20 @@ const FieldList<SuiteTimeKeys>& SuiteTimeKeys::fields() {
 
 SuiteTimes SuiteTimeKeys::suite_times(const std::string& name) const {
   return {name, suite, frontend_suite_ms, backend_suite_ms, provenance, backend_provenance};
+}
+
+std::string bundled_description_file(const std::string& dir, const std::string& what,
+                                     const std::string& name) {
+  const std::filesystem::path path = common::find_resource(dir);
+  std::vector<std::string> known;  // sorted: the message is the same on every machine
+  for (const auto& entry : std::filesystem::directory_iterator(path)) {
+    if (entry.path().extension() != ".yaml") continue;
+    if (entry.path().stem().string() == name) return entry.path().string();
+    known.push_back(entry.path().stem().string());
+  }
+  std::sort(known.begin(), known.end());
+  throw InputError::expected("", fmt::format("a bundled {} ({})", what, fmt::join(known, ", ")),
+                             name);
 }
 
 std::shared_ptr<const HostProcessor> make_host_processor(std::string_view kind,

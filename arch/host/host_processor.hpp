@@ -67,6 +67,12 @@ class HostProcessor : public Component {
   virtual HostPower power() const = 0;
 };
 
+/// The file of bundled description `name` in `dir` (configs/host/processors, ...): DIR/NAME.yaml;
+/// throws InputError "expected a bundled <what> (the names, sorted), got 'NAME'" when there is
+/// none.
+std::string bundled_description_file(const std::string& dir, const std::string& what,
+                                     const std::string& name);
+
 /// The host processor of kind `kind` with `params` (YAML text of its keys, e.g.
 /// "{cores: 1}") over its defaults: code and tests that build a host without a platform file.
 /// Errors name "code" and the key.

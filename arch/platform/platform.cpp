@@ -87,6 +87,7 @@ std::vector<ReferenceRow> Platform::reference() {
   add({reference_row("", "baseline_host", FieldKind::kText, "", std::string(), {}, {},
                      "the CPU-only baseline's host when it is another CPU than `host` (a map "
                      "with the keys of `host`, any kind; absent: the baseline runs on `host`)")});
+  add(component_reference<Coprocessor>("coprocessor", ""));
   add(FrontendConfig::reference());
   add(component_reference<OffloadAccelerator>("backend", kDefaultOffloadKind));
   add(component_reference<Link>("link", kDefaultLinkKind));
@@ -115,6 +116,7 @@ nlohmann::json Platform::to_json() const {
                       {"scheduler", scheduler.to_json()},
                       {"system", system.to_json()}};
   if (baseline_host) j["baseline_host"] = component_json(*baseline_host);
+  if (coprocessor) j["coprocessor"] = component_json(*coprocessor);
   if (ros.enabled) j["ros"] = ros.to_json();  // absent while off: the hashes of runs without it
   return j;
 }
@@ -219,12 +221,13 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   YamlFields top(root, where, "platform");
   parse_fields(top, p, Platform::fields());
   // Sections are parsed by their own structs; mark them read here.
-  for (const char* section : {"host", "baseline_host", "frontend", "backend", "link", "memory",
-                              "transfers", "cost", "power", "scheduler", "system", "ros"}) {
+  for (const char* section :
+       {"host", "baseline_host", "coprocessor", "frontend", "backend", "link", "memory",
+        "transfers", "cost", "power", "scheduler", "system", "ros"}) {
     if (root[section] && !root[section].IsMap()) top.fail(section, "expected a map of keys");
   }
-  top.finish_except({"host", "baseline_host", "frontend", "backend", "link", "memory", "transfers",
-                     "cost", "power", "scheduler", "system", "ros"});
+  top.finish_except({"host", "baseline_host", "coprocessor", "frontend", "backend", "link",
+                     "memory", "transfers", "cost", "power", "scheduler", "system", "ros"});
   if (p.name.empty()) top.fail("name", "required: the platform's name");
   if (!Device::find(p.device)) {
     top.fail(InputError::expected("device", Device::known_names(), p.device));
@@ -234,6 +237,10 @@ Platform parse_root(const YAML::Node& root, const std::string& where) {
   if (root["baseline_host"]) {
     YamlFields baseline_host(root["baseline_host"], where, "baseline_host");
     p.baseline_host = parse_component<HostProcessor>(baseline_host, kDefaultHostKind);
+  }
+  if (root["coprocessor"]) {
+    YamlFields coprocessor(root["coprocessor"], where, "coprocessor");
+    p.coprocessor = parse_component<Coprocessor>(coprocessor, "");
   }
   p.frontend = FrontendConfig::from_yaml(root["frontend"], where);
   YamlFields link(root["link"], where, "link");

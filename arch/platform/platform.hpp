@@ -37,6 +37,7 @@
 #include "arch/backend/offload_accelerator.hpp"
 #include "arch/cost/cost_config.hpp"
 #include "arch/frontend/frontend_config.hpp"
+#include "arch/host/coprocessor.hpp"
 #include "arch/host/host_processor.hpp"
 #include "arch/link/frame_transfers.hpp"
 #include "arch/link/link.hpp"
@@ -98,6 +99,10 @@ struct Platform {
   const HostProcessor& host_of(bool accelerated) const {
     return accelerated || !baseline_host ? *host : *baseline_host;
   }
+  /// The CPU-only baseline's offload coprocessor (`coprocessor:`, a mobile GPU or DSP,
+  /// arch/host/coprocessor.hpp): the rows it states run on it, the rest on the baseline's host;
+  /// nullptr: the baseline is the CPU alone. The accelerated system does not use it.
+  std::shared_ptr<const Coprocessor> coprocessor;
   FrontendConfig frontend;
   /// Host <-> FPGA (`link:`; default the dma kind's defaults, PCIe 3.0 x8).
   std::shared_ptr<const Link> link = ComponentRegistry<Link>::instance().make(kDefaultLinkKind);

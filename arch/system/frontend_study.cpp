@@ -97,26 +97,53 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   const std::int64_t level0 = static_cast<std::int64_t>(study.width) * study.height;
 
   // The CPU baseline's frontend latency: the traced task graph on the host's cores (its chains
-  // side by side, arch/host/frontend_graph.hpp).
+  // side by side, arch/host/frontend_graph.hpp), the rows its coprocessor states on that device
+  // (arch/host/coprocessor.hpp).
   const int cores = study.host->cores();
+  const Coprocessor* device = platform.coprocessor.get();
+  std::optional<PlatformHostTimes> device_times;
+  if (device != nullptr) device_times = device->device_times(frames, trace_meta, trace_name);
   std::vector<double> cpu;
   cpu.reserve(frames.size());
   study.frame_cpu_chains.reserve(frames.size());
   for (std::size_t f = 0; f < frames.size(); ++f) {
-    const std::vector<double>& tasks = study.host_times.task_ms[f];
+    std::vector<double> tasks = study.host_times.task_ms[f];
     double task_sum = 0;
     for (double ms : tasks) task_sum += ms;
     const double rest = std::max(0.0, study.host_times.frontend_ms[f] - task_sum);
-    study.frame_cpu_chains.push_back(chain_times(frames[f].tasks, tasks, rest));
+    std::vector<bool> on_device(tasks.size(), false);
+    double backend_host = study.host_times.backend_ms[f], backend_device = 0;
+    bool frontend_uses_device = false, backend_uses_device = false;
+    if (device != nullptr) {
+      for (std::size_t i = 0; i < tasks.size(); ++i) {
+        if (!device->runs(CostPart::kFrontendTask, trace::to_string(frames[f].tasks[i].task))) {
+          continue;
+        }
+        tasks[i] = device_times->task_ms[f][i] + device->launch_ms();
+        on_device[i] = frontend_uses_device = true;
+      }
+      for (std::size_t k = 0; k < frames[f].kernels.size(); ++k) {
+        if (!device->runs(CostPart::kBackendKernel, frames[f].kernels[k].kernel)) continue;
+        backend_host -= study.host_times.kernel_ms[f][k];
+        backend_device += device_times->kernel_ms[f][k] + device->launch_ms();
+        backend_uses_device = true;
+      }
+    }
+    StageChains chains = chain_times(frames[f].tasks, tasks, rest, on_device);
+    // The device's setup, once per frame before its first row (no batching across frames).
+    if (frontend_uses_device) {
+      chains.insert(chains.begin(), {ChainTime{0.0, device->frame_setup_ms()}});
+    } else if (backend_uses_device) {
+      backend_device += device->frame_setup_ms();
+    }
     // With ROS, the frontend node first receives the two images (ros_transport.hpp).
     const RosTransport::FrameCost ros =
         platform.ros.frame_cost(frames[f], platform.transfers, study.width, study.height);
-    if (ros.frontend_ms > 0) {
-      study.frame_cpu_chains.back().insert(study.frame_cpu_chains.back().begin(),
-                                           {ros.frontend_ms});
-    }
-    study.frame_ros_backend_ms.push_back(ros.backend_ms);
-    cpu.push_back(frontend_latency_ms(study.frame_cpu_chains.back(), cores));
+    if (ros.frontend_ms > 0) chains.insert(chains.begin(), {ChainTime{ros.frontend_ms, 0.0}});
+    cpu.push_back(frontend_latency_ms(chains, cores));
+    study.frame_cpu_chains.push_back(std::move(chains));
+    study.frame_backend_host_ms.push_back(std::max(0.0, backend_host) + ros.backend_ms);
+    study.frame_backend_device_ms.push_back(backend_device);
   }
   FrontendConfig sequential = platform.frontend;
   sequential.pipeline_fe_sm = false;

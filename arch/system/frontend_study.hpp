@@ -49,10 +49,13 @@ struct FrontendStudy {
   FrontendMemoryPlan memory;  ///< SBs, FIFOs, SPM for the pipelined run's timing
   // Per frame, in trace order (not in to_json(); the system model reads them):
   std::vector<double> frame_cpu_ms;  ///< CPU baseline frontend latency
-  /// CPU baseline: each frame's frontend chains (ms) by stage (arch/host/frontend_graph.hpp).
-  std::vector<std::vector<std::vector<double>>> frame_cpu_chains;
-  /// CPU baseline with ROS (platform.ros): the backend node's messages, ms (0 without ROS).
-  std::vector<double> frame_ros_backend_ms;
+  /// CPU baseline: each frame's frontend chains (ms) by stage (arch/host/frontend_graph.hpp),
+  /// their coprocessor parts included (its per-frame setup a stage of its own, first).
+  std::vector<StageChains> frame_cpu_chains;
+  /// CPU baseline: the backend's time on the host (its kernels not on the coprocessor, with ROS
+  /// the backend node's messages) and on the coprocessor (its kernels, their launches, the
+  /// frame's setup when the frontend did not use it), ms.
+  std::vector<double> frame_backend_host_ms, frame_backend_device_ms;
   std::vector<double> frame_accel_ms;             ///< accelerator latency, frames one at a time
   std::vector<double> frame_pipelined_end_ms;     ///< end of each frame, frames back to back with
                                                   ///< FE/SM pipelining (from the first start)

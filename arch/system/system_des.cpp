@@ -87,6 +87,7 @@ class SystemSimulation {
         unbounded_(work.size() + 2),
         link_kind_(&link),
         cores_(sim_, contention_ ? static_cast<std::size_t>(host_cores) : unbounded_, "host.cores"),
+        device_(sim_, 1, "coprocessor"),
         admission_(sim_, isolated ? 1 : unbounded_, "admission"),
         arrived_(sim_, "camera"),
         results_(sim_,
@@ -206,16 +207,15 @@ class SystemSimulation {
       if (work_[f].frontend_host_chains.empty()) {
         co_await host_work(f, work_[f].frontend_host_ms, frontend_thread_track_);
       } else {
-        // Each stage's chains side by side on the cores, the stages one after the other.
-        // The first chain runs on this thread, the others on threads of their own.
-        for (const std::vector<double>& stage : work_[f].frontend_host_chains) {
-          std::vector<sim::ProcessHandle> others;
-          others.reserve(stage.size());
-          for (std::size_t c = 1; c < stage.size(); ++c) {
-            others.push_back(sim_.spawn(host_chain(f, stage[c]), "frontend chain"));
+        // Each stage's chains side by side on the cores (their device parts first, on the
+        // coprocessor in chain order), the stages one after the other.
+        for (const std::vector<ChainTime>& stage : work_[f].frontend_host_chains) {
+          std::vector<sim::ProcessHandle> chains;
+          chains.reserve(stage.size());
+          for (const ChainTime& chain : stage) {
+            chains.push_back(sim_.spawn(host_chain(f, chain), "frontend chain"));
           }
-          if (!stage.empty()) co_await host_work(f, stage.front(), frontend_thread_track_);
-          for (const sim::ProcessHandle& h : others) co_await h;
+          for (const sim::ProcessHandle& h : chains) co_await h;
         }
       }
       frames_[f].frontend_end = sim_.now();
@@ -234,6 +234,7 @@ class SystemSimulation {
       const SystemFrameWork& w = work_[f];
       if (!accelerated_) {
         co_await host_work(f, w.backend_host_ms, backend_thread_track_);
+        co_await device_work(w.backend_device_ms);
       } else {
         for (const BackendStep& step : w.backend_steps) {
           if (step.offload < 0) {
@@ -248,9 +249,18 @@ class SystemSimulation {
     }
   }
 
-  /// A frontend chain of the CPU baseline: `ms` of host work on a core.
-  sim::Process host_chain(std::size_t f, double ms) {
-    co_await host_work(f, ms, frontend_thread_track_);
+  /// A frontend chain of the CPU baseline: its rows on the coprocessor, then its host work on a
+  /// core (arch/host/frontend_graph.hpp).
+  sim::Process host_chain(std::size_t f, ChainTime chain) {
+    co_await device_work(chain.device_ms);
+    co_await host_work(f, chain.host_ms, frontend_thread_track_);
+  }
+
+  /// Work of `ms` on the CPU baseline's coprocessor (waits while it runs another's).
+  sim::Task<void> device_work(double ms) {
+    if (!(ms > 0)) co_return;
+    sim::Lease device = co_await device_.acquire();
+    co_await sim_.delay(ms_to_time(ms));
   }
 
   /// Host work of `ms` on a core (waits for one when all are busy).
@@ -427,6 +437,7 @@ class SystemSimulation {
   std::unique_ptr<LinkModel> link_;             ///< the platform's link (every transfer)
   std::unique_ptr<LinkModel> frontend_link_;    ///< contention off: transfer 1 on a link of its own
   sim::Resource cores_;
+  sim::Resource device_;     ///< the CPU baseline's coprocessor (one row at a time)
   sim::Resource admission_;  ///< isolated: one frame in the system
   sim::Event arrived_;
   sim::Fifo<std::size_t> results_;

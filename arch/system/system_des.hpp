@@ -31,6 +31,7 @@
 
 #include "arch/backend/offload_accelerator.hpp"
 #include "arch/frontend/frontend_model.hpp"
+#include "arch/host/frontend_graph.hpp"
 #include "arch/link/link.hpp"
 #include "arch/platform/system_config.hpp"
 #include "sim_core/engine.hpp"
@@ -59,9 +60,11 @@ struct SystemFrameWork {
   std::int64_t frame_id = 0;
   double frontend_host_ms = 0;  ///< CPU baseline: the frontend thread's work
   /// CPU baseline: the frontend's chains by stage (ms; arch/host/frontend_graph.hpp), each chain
-  /// on a core of its own when one is free; empty: frontend_host_ms on one core.
-  std::vector<std::vector<double>> frontend_host_chains;
-  double backend_host_ms = 0;              ///< CPU baseline: the backend thread's work
+  /// on a core of its own when one is free, its device part on the baseline's coprocessor (one
+  /// row at a time); empty: frontend_host_ms on one core.
+  StageChains frontend_host_chains;
+  double backend_host_ms = 0;              ///< CPU baseline: the backend thread's work on a core
+  double backend_device_ms = 0;            ///< CPU baseline: then its work on the coprocessor
   std::vector<BackendStep> backend_steps;  ///< accelerated: host work and offloads in order
   std::vector<OffloadWork> offloads;
   FrontendFrameTiming frontend;  ///< accelerated: prepared task rows and transfer-1 bytes

@@ -193,7 +193,8 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
     w.frame_id = frame.frame.frame_id;
     w.frontend_host_ms = r.baseline.frames[f].frontend_ms;
     w.frontend_host_chains = r.frontend.frame_cpu_chains[f];
-    w.backend_host_ms = r.baseline.frames[f].backend_ms;
+    w.backend_host_ms = r.frontend.frame_backend_host_ms[f];
+    w.backend_device_ms = r.frontend.frame_backend_device_ms[f];
     w.frontend = prepare_frontend_frame(frame, level0, platform.frontend, platform.transfers);
     const std::vector<double>& kernel_ms = host.kernel_ms[f];
     std::vector<bool> offloaded;
@@ -436,6 +437,7 @@ std::string frontend_study_key(const Platform& platform) {
       {"link", component_json(*platform.link)},    {"memory", component_json(*platform.memory)},
       {"transfers", platform.transfers.to_json()}, {"device", platform.device}};
   if (platform.baseline_host) key["baseline_host"] = component_json(*platform.baseline_host);
+  if (platform.coprocessor) key["coprocessor"] = component_json(*platform.coprocessor);
   if (platform.ros.enabled) key["ros"] = platform.ros.to_json();
   return key.dump();
 }
@@ -537,9 +539,15 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     base.frame_id = frame.frame.frame_id;
     base.mode = trace::to_string(frame.frame.mode);
     base.frontend_ms = r.frontend.frame_cpu_ms[f];
-    base.backend_ms = r.frontend.host_times.backend_ms[f] + r.frontend.frame_ros_backend_ms[f];
+    base.backend_ms = r.frontend.frame_backend_host_ms[f] + r.frontend.frame_backend_device_ms[f];
     base.e2e_ms = base.frontend_ms + base.backend_ms;
-    base.host_busy_ms = base.e2e_ms;
+    // The host's work (its cores' busy time, as the DES counts it): the chains' host parts and
+    // the backend's; it waits while the coprocessor computes. At most the frame.
+    double host_work = r.frontend.frame_backend_host_ms[f];
+    for (const std::vector<ChainTime>& stage : r.frontend.frame_cpu_chains[f]) {
+      for (const ChainTime& chain : stage) host_work += chain.host_ms;
+    }
+    base.host_busy_ms = std::min(host_work, base.e2e_ms);
     base.activity.fpga_present = false;
     cpu_fe_clock += base.frontend_ms;
     cpu_fe_end.push_back(cpu_fe_clock);

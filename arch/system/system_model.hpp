@@ -167,8 +167,9 @@ cost::FrameActivity frontend_activity(const trace::FrameTrace& frame, const Fron
 /// The trace's key in results: FNV-1a of its frame count and meta table (SystemResult::trace_hash).
 std::string trace_hash(std::size_t frames, const trace::TraceMeta& trace_meta);
 
-/// The parts of a platform the frontend study reads (host, frontend, link, memory, transfers,
-/// device) as text: platforms with equal keys have equal frontend studies (sweeps reuse one).
+/// The parts of a platform the frontend study reads (host, baseline host, coprocessor, frontend,
+/// link, memory, transfers, device, ros) as text: platforms with equal keys have equal frontend
+/// studies (sweeps reuse one).
 std::string frontend_study_key(const Platform& platform);
 
 /// Runs the whole system. `trace_meta` (resolution, host_speed) keys the run.

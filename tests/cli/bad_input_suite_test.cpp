@@ -358,7 +358,14 @@ std::vector<BadInputCase> cases() {
        },
        "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}' --out '{dir}/r.db'", 1,
        "edx: error: {dir}/p.yaml:4: host.processor: expected a bundled processor "
-       "(cortex_a53_zu9cg, cortex_a57_tx1, kaby_lake_4c), got 'pentium4'"},
+       "(cortex_a53_zu9cg, cortex_a57_tx1, kaby_lake_4c, kryo_sd820), got 'pentium4'"},
+      {"c7_coprocessor_running_scalar_work",
+       [](const fs::path& d) {
+         write(d, "p.yaml", "name: p\ncoprocessor:\n  kind: gpu\n  tasks: [FD, MO]\n");
+       },
+       "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}' --out '{dir}/r.db'", 1,
+       "edx: error: {dir}/p.yaml:4: coprocessor.tasks: expected rows a gpu runs, got 'MO', bound "
+       "by scalar work"},
       {"c7_compared_baseline_without_a_config",
        [](const fs::path& d) {
          write(d, "t.yaml",

@@ -14,7 +14,6 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <filesystem>
 #include <memory>
 
 #include "arch/host/host_processor.hpp"
@@ -96,16 +95,7 @@ class Datasheet final : public HostProcessor {
     /// The file of bundled description `name`, configs/host/processors/NAME.yaml; throws
     /// InputError "expected a bundled processor (the names), got ..." when there is none.
     static std::string bundled_file(const std::string& name) {
-      const std::filesystem::path dir = common::find_resource("configs/host/processors");
-      std::vector<std::string> known;  // sorted: the message is the same on every machine
-      for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-        if (entry.path().extension() != ".yaml") continue;
-        if (entry.path().stem().string() == name) return entry.path().string();
-        known.push_back(entry.path().stem().string());
-      }
-      std::sort(known.begin(), known.end());
-      const std::string names = fmt::format("{}", fmt::join(known, ", "));
-      throw InputError::expected("", fmt::format("a bundled processor ({})", names), name);
+      return bundled_description_file("configs/host/processors", "processor", name);
     }
 
     /// The bundled description `name` read as a host map (errors name its file and line).

@@ -170,7 +170,7 @@ TEST(DatasheetHost, TheBundledProcessorsLoadAndShareTheA57sEfficiency) {
 TEST(DatasheetHost, ErrorsNameTheFileLineAndKey) {
   EXPECT_EQ(error_of("name: p\nhost:\n  kind: datasheet\n  processor: pentium\n"),
             "p.yaml:4: host.processor: expected a bundled processor (cortex_a53_zu9cg, "
-            "cortex_a57_tx1, kaby_lake_4c), got 'pentium'");
+            "cortex_a57_tx1, kaby_lake_4c, kryo_sd820), got 'pentium'");
   EXPECT_EQ(error_of("name: p\nhost:\n  kind: datasheet\n  reference: cortex_a53_zu9cg\n"),
             "p.yaml:4: host.reference: expected an anchor processor (one with suite times), "
             "got 'cortex_a53_zu9cg', itself predicted");

@@ -39,14 +39,26 @@ TEST(FrontendGraph, ChainTimesAndLatencyByHand) {
   // FD L 10, IF L 2, FD R 9, IF R 2, DC 3, LSS 12, FC L 5, FC R 4, MO 1, DR 1; rest 0.5.
   const std::vector<double> ms = {10, 2, 9, 2, 3, 12, 5, 4, 1, 1};
   const auto chains = chain_times(rows(), ms, 0.5);
-  using Chains = std::vector<std::vector<double>>;
-  EXPECT_EQ(chains, (Chains{{15, 12, 11}, {5, 4}, {2.5}}));
+  EXPECT_EQ(chains, (StageChains{{{15}, {12}, {11}}, {{5}, {4}}, {{2.5}}}));
   EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 1), 49.5);  // every task and the rest
   // Two cores: stage 1 15 | 12 then 11 -> 23; stage 2 5; stage 3 2.5.
   EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 2), 23 + 5 + 2.5);
   EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 4), 15 + 5 + 2.5);
   EXPECT_THROW(frontend_latency_ms(chains, 0), std::invalid_argument);
   EXPECT_THROW(chain_times(rows(), {1, 2}, 0), std::invalid_argument);
+}
+
+TEST(FrontendGraph, TheCoprocessorsRowsRunOneAtATime) {
+  // The same rows; FD, IF, DC, LSS and DR on the device (its times as given). Stage 1: every
+  // chain on the device, 15 + 12 + 11 = 38 ms one after another; stage 2 on the cores, 5 ms on
+  // two; stage 3: MO 1 and the rest 0.5 on a core, DR 1 on the device, 2.5 ms.
+  const std::vector<double> ms = {10, 2, 9, 2, 3, 12, 5, 4, 1, 1};
+  const std::vector<bool> device = {true, true, true, true, true, true, false, false, false, true};
+  const StageChains chains = chain_times(rows(), ms, 0.5, device);
+  EXPECT_EQ(chains, (StageChains{{{0, 15}, {0, 12}, {0, 11}}, {{5}, {4}}, {{1.5, 1}}}));
+  EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 4), 38 + 5 + 2.5);
+  EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 1), 38 + 9 + 2.5);
+  EXPECT_THROW(chain_times(rows(), ms, 0.5, {true}), std::invalid_argument);
 }
 
 TEST(FrontendGraph, AnUnknownTaskJoinsTheLastStage) {

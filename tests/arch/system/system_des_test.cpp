@@ -72,7 +72,7 @@ TEST(SystemDes, TheBaselineFrontendsChainsRunSideBySideOnTheCores) {
   // Stage 1: chains of 4, 3 and 2 ms; stage 2: 1 and 1 ms; stage 3: 0.5 ms. Isolated, two
   // cores: stage 1 takes 5 ms (4 on one core; 3 then 2 on the other), stage 2 1 ms, stage 3
   // 0.5 ms: 6.5 ms, as frontend_latency_ms says. One core: the sum, 11.5 ms.
-  const std::vector<std::vector<double>> chains = {{4, 3, 2}, {1, 1}, {0.5}};
+  const StageChains chains = {{{4}, {3}, {2}}, {{1}, {1}}, {{0.5}}};
   std::vector<SystemFrameWork> work = host_frames(2, 11.5, 2);
   for (SystemFrameWork& w : work) w.frontend_host_chains = chains;
   for (int cores : {1, 2, 3}) {
@@ -86,6 +86,24 @@ TEST(SystemDes, TheBaselineFrontendsChainsRunSideBySideOnTheCores) {
   EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 1), 11.5);
   EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 2), 6.5);
   EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, 3), 5.5);
+}
+
+TEST(SystemDes, TheCoprocessorRunsOneChainsRowsAtATime) {
+  // Stage 1: three chains all on the device (2, 3 and 1 ms): 6 ms one after another, whatever
+  // the cores. Stage 2: a chain of 1 ms on a core then 2 ms on the device: 3 ms. The backend: 2 ms
+  // on a core, then 1.5 ms on the device. The host is busy 1 + 2 ms of the frame.
+  const StageChains chains = {{{0, 2}, {0, 3}, {0, 1}}, {{1, 2}}};
+  std::vector<SystemFrameWork> work = host_frames(1, 9, 2);
+  work[0].frontend_host_chains = chains;
+  work[0].backend_device_ms = 1.5;
+  for (int cores : {1, 4}) {
+    EXPECT_DOUBLE_EQ(frontend_latency_ms(chains, cores), 9.0) << cores;
+    const SystemRun r = run_baseline(work, SystemConfig{}, cores, /*isolated=*/true);
+    const SystemFrameTiming& t = r.frames.at(0);
+    EXPECT_NEAR(ms(t.frontend_end - t.start), 9.0, 1e-9) << cores;
+    EXPECT_NEAR(ms(t.end - t.backend_start), 3.5, 1e-9) << cores;
+    EXPECT_NEAR(r.host_busy_ms, 3.0, 1e-9) << cores;
+  }
 }
 
 /// Camera at 200 FPS (every 5 ms), fe 3 ms, be 11.5 ms, both queues of depth 1.
