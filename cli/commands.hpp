@@ -32,5 +32,7 @@ void add_host_costs_command(CLI::App& app);
 void add_config_command(CLI::App& app);
 /// `edx check`: a run against the paper's Edx-Car figures (reports/paper_targets.yaml).
 void add_check_command(CLI::App& app);
+/// `edx characterize`: the paper's algorithm characterization (each backend on each scenario).
+void add_characterize_command(CLI::App& app);
 
 }  // namespace edx::cli

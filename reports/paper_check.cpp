@@ -88,8 +88,8 @@ std::vector<PaperTarget> load_targets(const std::filesystem::path& path) {
   const YAML::Node root =
       load_yaml_map(read_input_file(path, "targets file"), where, "'targets' and a 'tolerance'");
   YamlFields top(root, where, "");
-  top.refuse_unknown({"targets", "tolerance", "baselines"},
-                     "expected 'targets', 'tolerance' or 'baselines'");
+  top.refuse_unknown({"targets", "tolerance", "baselines", "characterization"},
+                     "expected 'targets', 'tolerance', 'baselines' or 'characterization'");
   PaperTarget defaults;  // every target's tolerance, unless it has its own
   parse_fields(top, defaults, {tolerance_field()});
   const YAML::Node list = top.take("targets");

@@ -63,8 +63,8 @@ class Coprocessor : public Component {
   virtual std::string display_name() const = 0;
   /// Whether it runs rows of this kind (a frontend task or backend kernel it states).
   virtual bool runs(CostPart part, std::string_view kind) const = 0;
-  /// A trace's rows on it, ms, as if it ran every row (PlatformHostTimes' layout; the rests are
-  /// the reference CPU's): t_ref × rate ratio / e, without the launch. Throws
+  /// A trace's rows in PlatformHostTimes' layout, ms: a row it runs at t_ref × rate ratio / e
+  /// (without the launch), every other row and the rests at the reference CPU's time. Throws
   /// std::runtime_error naming `trace_name` as HostProcessor::host_times does.
   virtual PlatformHostTimes device_times(const std::vector<trace::FrameTrace>& frames,
                                          const trace::TraceMeta& trace_meta,

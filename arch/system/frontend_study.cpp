@@ -46,22 +46,24 @@ nlohmann::json Distribution::to_json() const {
 nlohmann::json FrontendStudy::to_json() const {
   nlohmann::json util = nlohmann::json::object();
   for (const auto& [unit, u] : utilization) util[unit] = u;
-  return {{"platform", platform},
-          {"host", component_json(*host)},
-          {"host_mapping", host_times.to_json()},
-          {"frames", frames},
-          {"resolution", fmt::format("{}x{}", width, height)},
-          {"cpu_ms", cpu_ms.to_json()},
-          {"accel_ms", accel_ms.to_json()},
-          {"fe_ms", fe_ms.to_json()},
-          {"sm_ms", sm_ms.to_json()},
-          {"tm_ms", tm_ms.to_json()},
-          {"speedup", speedup},
-          {"cpu_fps", cpu_fps},
-          {"fps_without_pipelining", fps_without_pipelining},
-          {"fps_with_pipelining", fps_with_pipelining},
-          {"utilization", util},
-          {"memory", memory.to_json()}};
+  nlohmann::json j = {{"platform", platform},
+                      {"host", component_json(*host)},
+                      {"host_mapping", host_times.to_json()},
+                      {"frames", frames},
+                      {"resolution", fmt::format("{}x{}", width, height)},
+                      {"cpu_ms", cpu_ms.to_json()},
+                      {"accel_ms", accel_ms.to_json()},
+                      {"fe_ms", fe_ms.to_json()},
+                      {"sm_ms", sm_ms.to_json()},
+                      {"tm_ms", tm_ms.to_json()},
+                      {"speedup", speedup},
+                      {"cpu_fps", cpu_fps},
+                      {"fps_without_pipelining", fps_without_pipelining},
+                      {"fps_with_pipelining", fps_with_pipelining},
+                      {"utilization", util},
+                      {"memory", memory.to_json()}};
+  if (coprocessor) j["coprocessor"] = component_json(*coprocessor);  // absent without one
+  return j;
 }
 
 FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
@@ -88,6 +90,7 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   FrontendStudy study;
   study.platform = platform.name;
   study.host = platform.baseline_host ? platform.baseline_host : platform.host;
+  study.coprocessor = platform.coprocessor;
   study.host_times = study.host->host_times(frames, trace_meta, trace_name);
   if (platform.baseline_host) {
     study.accelerated_times = platform.host->host_times(frames, trace_meta, trace_name);
@@ -100,7 +103,7 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   // side by side, arch/host/frontend_graph.hpp), the rows its coprocessor states on that device
   // (arch/host/coprocessor.hpp).
   const int cores = study.host->cores();
-  const Coprocessor* device = platform.coprocessor.get();
+  const Coprocessor* device = study.coprocessor.get();
   std::optional<PlatformHostTimes> device_times;
   if (device != nullptr) device_times = device->device_times(frames, trace_meta, trace_name);
   std::vector<double> cpu;
@@ -206,6 +209,12 @@ std::string format_frontend_study(const FrontendStudy& s) {
   text += fmt::format("speedup    {:.2f}x\n", s.speedup);
   text += fmt::format("CPU        {}: {} host time {}\n", s.host->display_name(),
                       to_string(s.host_times.source), s.host_times.mapping.frontend_basis());
+  if (s.coprocessor) {
+    text += fmt::format(
+        "coprocessor {} beside the CPU baseline: {} ms setup a frame, {} ms a call (docs/MODEL.md, "
+        "GPU and DSP baselines)\n",
+        s.coprocessor->display_name(), s.coprocessor->frame_setup_ms(), s.coprocessor->launch_ms());
+  }
   text += fmt::format(
       "throughput CPU {:.1f} FPS; accelerator {:.1f} FPS without FE/SM pipelining, "
       "{:.1f} FPS with it\n",

@@ -28,7 +28,8 @@ struct Distribution {
 
 struct FrontendStudy {
   std::string platform;
-  std::shared_ptr<const HostProcessor> host;  ///< the CPU baseline's host
+  std::shared_ptr<const HostProcessor> host;       ///< the CPU baseline's host
+  std::shared_ptr<const Coprocessor> coprocessor;  ///< the CPU baseline's, or nullptr
   PlatformHostTimes host_times;  ///< this trace's host times on that host (frontend and backend)
   /// The trace's host times on the accelerated system's host when it is another CPU
   /// (Platform::baseline_host); empty: the same as host_times.

@@ -58,18 +58,20 @@ MixPlan make_mix(std::string_view name, int frames, synthetic::Resolution resolu
   plan.seed = seed;
   using synthetic::Scenario;
   const auto outdoor = [](int n) {
-    return MixSegment{"outdoor", trace::Scenario::OutdoorUnknown, Scenario::kOutdoorUnknown, "", n,
-                      "street"};
+    return MixSegment{
+        "outdoor",   trace::Scenario::OutdoorUnknown, Scenario::kOutdoorUnknown, "", n, "street",
+        std::nullopt};
   };
   // The warehouse's mapping run (SLAM, its map saved) and a later run through it (registration).
   const auto indoor_map = [](int n) {
     return MixSegment{
-        "indoor map", trace::Scenario::IndoorUnknown, Scenario::kIndoorKnown, "map", n,
-        "warehouse"};
+        "indoor map", trace::Scenario::IndoorUnknown, Scenario::kIndoorKnown, "map", n, "warehouse",
+        std::nullopt};
   };
   const auto indoor_loc = [](int n) {
-    return MixSegment{"indoor loc", trace::Scenario::IndoorKnown, Scenario::kIndoorKnown, "loc", n,
-                      "warehouse"};
+    return MixSegment{
+        "indoor loc", trace::Scenario::IndoorKnown, Scenario::kIndoorKnown, "loc", n, "warehouse",
+        std::nullopt};
   };
   if (name == "paper") {
     // Sec. VII-A: 50 % outdoor, 25 % indoor without a map, 25 % indoor with a map.
@@ -80,7 +82,7 @@ MixPlan make_mix(std::string_view name, int frames, synthetic::Resolution resolu
     plan.segments = {outdoor(frames)};  // VIO with GPS throughout
   } else if (name == "indoor_unknown") {
     plan.segments = {MixSegment{"indoor", trace::Scenario::IndoorUnknown, Scenario::kIndoorUnknown,
-                                "", frames, "warehouse-unknown"}};
+                                "", frames, "warehouse-unknown", std::nullopt}};
   } else {  // indoor_known: half mapping, half localizing in the map
     plan.segments = {indoor_map(map_frames.value_or(frames / 2)), indoor_loc(frames - frames / 2)};
   }

@@ -32,6 +32,9 @@ struct MixSegment {
   std::string run;                     ///< "" (single-run scenario), "map" or "loc"
   int frames = 0;
   std::string world;  ///< segments with the same world share a map
+  /// The backend every frame of the segment runs instead of the mode switch's choice (the
+  /// characterization's fixed-algorithm runs, characterization.hpp); unset: the switch decides.
+  std::optional<trace::BackendMode> mode;
 };
 
 struct MixPlan {

@@ -203,6 +203,7 @@ class MixRun {
 
 SegmentRunSummary MixRun::run_segment(const MixSegment& segment, const datasets::Dataset& dataset) {
   Segment s(segment, dataset, options_, maps_);
+  s.summary.first_frame_id = frame_id_;
   const std::size_t frames =
       std::min<std::size_t>(dataset.frame_count(), static_cast<std::size_t>(segment.frames));
   for (std::size_t i = 0; i < frames; ++i) {
@@ -234,8 +235,9 @@ void MixRun::trace_frame(Segment& s, std::size_t i) {
   const datasets::Dataset& dataset = s.dataset;
   const datasets::StereoFrame images = dataset.load_frame(i);
   frontend::FrontendFrame result = s.frontend.process(images.left, images.right);
-  const ModeDecision decision = s.mode_switch.decide(
+  ModeDecision decision = s.mode_switch.decide(
       images.t_ns, between(dataset.gps(), std::numeric_limits<std::int64_t>::min(), images.t_ns));
+  if (s.spec.mode) decision.mode = *s.spec.mode;  // a fixed-algorithm segment
   std::unique_ptr<backend::Backend>& backend = s.backends[decision.mode];
   if (!backend) backend = make_backend(decision.mode, s);
 
@@ -289,6 +291,8 @@ void MixRun::add_accuracy(Segment& s) {
     p.truth.source = s.spec.name + " ground truth";
     p.estimate.source = s.spec.name + " estimate";
     const eval::EvalResult r = eval::evaluate(p.truth, p.estimate, eval_options);
+    s.summary.ate_rmse_m[trace::to_string(mode)] = r.ate_m.rmse;
+    s.summary.ate_pairs[trace::to_string(mode)] = r.pairs;
     series_[mode].squared_error_sum += static_cast<double>(r.pairs) * r.ate_m.rmse * r.ate_m.rmse;
     series_[mode].pairs += r.pairs;
   }
@@ -392,7 +396,9 @@ nlohmann::json to_json(const MixRunSummary& s) {
   for (const SegmentRunSummary& seg : s.segments) {
     segments.push_back({{"name", seg.name},
                         {"scenario", seg.scenario},
+                        {"first_frame_id", seg.first_frame_id},
                         {"frames", seg.frames},
+                        {"ate_rmse_m", seg.ate_rmse_m},
                         {"frames_by_mode", seg.frames_by_mode},
                         {"registration_failures", seg.registration_failures},
                         {"map_saved", seg.map_saved ? seg.map_saved->string() : ""}});

@@ -70,7 +70,12 @@ struct ModeRunSummary {
 struct SegmentRunSummary {
   std::string name;
   std::string scenario;
+  std::int64_t first_frame_id = 0;  ///< its first frame's id in the trace
   std::size_t frames = 0;
+  /// Per mode that ran on it with enough estimates: ATE RMSE on this segment alone (aligned on
+  /// its own, position + yaw with the IMU), m, and its pose pairs.
+  std::map<std::string, double> ate_rmse_m;
+  std::map<std::string, std::size_t> ate_pairs;
   std::map<std::string, std::size_t> frames_by_mode;
   std::size_t registration_failures = 0;
   std::optional<std::filesystem::path> map_saved;
