@@ -14,6 +14,8 @@
 #include "arch/system/system_model.hpp"
 #include "cli/commands.hpp"
 #include "common/resources.hpp"
+#include "common/yaml_fields.hpp"
+#include "reports/characterization.hpp"
 #include "reports/metrics.hpp"
 #include "reports/paper_check.hpp"
 #include "reports/results_reader.hpp"
@@ -28,6 +30,7 @@ struct CheckArguments {
   std::string trace;
   std::string run_id;
   std::string targets;
+  std::string characterization;
   bool json = false;
 };
 
@@ -94,6 +97,19 @@ void run(const CheckArguments& args) {
     std::filesystem::remove(scratch);
     metrics["frontend"] = result.frontend.to_json();
   }
+  if (!args.characterization.empty()) {
+    const std::string text = read_input_file(args.characterization, "characterization file");
+    nlohmann::json study;
+    try {
+      study = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception&) {
+      throw std::runtime_error(
+          fmt::format("{}: expected JSON (edx characterize's "
+                      "characterization.json)",
+                      args.characterization));
+    }
+    metrics["characterization"] = reports::characterization_metrics(study, args.characterization);
+  }
   const reports::CheckResult check = reports::check_targets(targets, metrics, run_id);
   if (args.json) {
     fmt::print("{}\n", check.to_json().dump(2));
@@ -121,6 +137,9 @@ void add_check_command(CLI::App& app) {
   cmd->add_option("--targets", args->targets,
                   "Targets file (default: reports/paper_targets.yaml of edx's data folder, see "
                   "edx --version)");
+  cmd->add_option("--characterization", args->characterization,
+                  "characterization.json of edx characterize: adds its targets (the paper's "
+                  "Sec. III orderings and frame rates); without it they are listed as not run");
   cmd->add_flag("--json", args->json, "Print the table as JSON");
   cmd->callback([args] {
     if (args->results.empty() && args->config.empty()) {

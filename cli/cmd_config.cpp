@@ -10,6 +10,7 @@
 #include "arch/platform/platform.hpp"
 #include "arch/sweep/sweep.hpp"
 #include "cli/commands.hpp"
+#include "reports/characterization.hpp"
 #include "reports/paper_check.hpp"
 #include "workloads/modes/sweep_workload.hpp"
 
@@ -26,6 +27,7 @@ std::string input_files_reference() {
   add(reference_rows("workload", modes::SweepWorkload::fields(), {},
                      "Sweep spec: `workload:` (and the `workload.<key>` parameters)"));
   add(reports::paper_targets_reference());
+  add(reports::paper_characterization_reference());
   add(arch::HostCostModel::reference());
   return "\n# Other input files\n\n"
          "Sweep specs (docs/SWEEPS.md), the paper targets (docs/REPORTS.md) and the host cost "

@@ -102,6 +102,23 @@ double sd_of(const std::vector<double>& v) {
 
 }  // namespace
 
+std::vector<ReferenceRow> paper_characterization_reference() {
+  const std::string file = "Paper targets (`reports/paper_targets.yaml`)";
+  std::vector<ReferenceRow> rows = {reference_row("characterization", "source", FieldKind::kText,
+                                                  "", std::string(), {}, {},
+                                                  "where in the paper its statements are")};
+  rows.back().group = file + ": `characterization:` (the paper's Sec. III statements)";
+  for (ReferenceRow& row : reference_rows("characterization.points[]", point_fields(), {},
+                                          file + ": `characterization: {points: [{...}]}`")) {
+    rows.push_back(std::move(row));
+  }
+  for (ReferenceRow& row : reference_rows("characterization.scenarios[]", scenario_fields(), {},
+                                          file + ": `characterization: {scenarios: [{...}]}`")) {
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
 PaperCharacterization PaperCharacterization::load(const std::filesystem::path& targets_file) {
   const std::string where = targets_file.string();
   const YAML::Node root = load_yaml_map(read_input_file(targets_file, "targets file"), where,
@@ -239,6 +256,30 @@ nlohmann::json CharacterizationStudy::to_json() const {
   return {{"platform", platform}, {"frames", frames},      {"resolution", resolution},
           {"seeds", seeds},       {"points", points_json}, {"scenarios", scenarios_json},
           {"runs", runs_json}};
+}
+
+nlohmann::json characterization_metrics(const nlohmann::json& study, const std::string& where) {
+  nlohmann::json metrics = nlohmann::json::object();
+  try {
+    for (const auto& [scenario, backends] : study.at("points").items()) {
+      for (const auto& [backend, p] : backends.items()) {
+        metrics[scenario][backend] = {{"ate_m", p.at("ate_mean_m").get<double>()},
+                                      {"fps", p.at("fps_mean").get<double>()}};
+      }
+    }
+    for (const auto& [scenario, s] : study.at("scenarios").items()) {
+      for (const char* kind : {"least_error", "fastest"}) {
+        const std::string paper = s.at(std::string("paper_") + kind).get<std::string>();
+        if (paper.empty()) continue;
+        metrics[scenario][std::string(kind) + "_matches"] =
+            s.at(kind).get<std::string>() == paper ? 1.0 : 0.0;
+      }
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(fmt::format(
+        "{}: expected the characterization.json of edx characterize ({})", where, e.what()));
+  }
+  return metrics;
 }
 
 std::string format_characterization(const CharacterizationStudy& s) {

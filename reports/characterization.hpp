@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "arch/platform/platform.hpp"
+#include "common/config_fields.hpp"
 #include "workloads/modes/characterization.hpp"
 
 namespace edx::reports {
@@ -38,6 +39,10 @@ struct PaperCharacterization {
   /// Reads the `characterization:` section of `targets_file`; errors name the file, line and key.
   static PaperCharacterization load(const std::filesystem::path& targets_file);
 };
+
+/// The keys of the targets file's `characterization:` section (docs/CONFIG.md, "Other input
+/// files").
+std::vector<ReferenceRow> paper_characterization_reference();
 
 /// One (scenario, backend) over the seeds.
 struct CharacterizationPoint {
@@ -73,6 +78,15 @@ struct CharacterizationStudy {
 CharacterizationStudy study_characterization(const std::vector<modes::CharacterizationRun>& runs,
                                              const arch::Platform& platform,
                                              const PaperCharacterization& paper);
+
+/// The metric tree `edx check --characterization FILE` adds under "characterization" from a
+/// study's JSON (CharacterizationStudy::to_json, FILE as `edx characterize` wrote it):
+///   <scenario>.<backend>.ate_m, .fps            the point's mean ATE and FPS
+///   <scenario>.least_error_matches, .fastest_matches
+///                                               1 when edx's backend is the paper's, else 0
+///                                               (only where the paper states one)
+/// Throws std::runtime_error naming `where` when the JSON is not such a study.
+nlohmann::json characterization_metrics(const nlohmann::json& study, const std::string& where);
 
 /// Text tables: per point, edx's ATE and FPS beside the paper's; per scenario, the orderings.
 std::string format_characterization(const CharacterizationStudy& study);

@@ -899,7 +899,7 @@ std::string paper_check_html(const ResultsData& data, const std::vector<std::siz
         "<h2 id=\"check{0}\">Paper check: {1} <small>{2}</small></h2>\n<p class=\"cap\">{3} of "
         "{4} of the paper's Edx-Car figures within tolerance (as <code>edx check --results DB "
         "--run {2}</code>). Why targets miss: <a href=\"{5}\">docs/MODEL.md</a>.</p>\n",
-        i + 1, html_escape(run_title(r)), html_escape(r.run_id), check.passed(), check.rows.size(),
+        i + 1, html_escape(run_title(r)), html_escape(r.run_id), check.passed(), check.counted(),
         html_escape(model_doc));
     std::string dat = "# index ratio(simulated/paper) tolerance label\n";
     std::string rows =
@@ -907,9 +907,8 @@ std::string paper_check_html(const ResultsData& data, const std::vector<std::siz
         "<th>tolerance</th><th>verdict</th><th>source</th></tr>\n";
     int index = 0;
     for (const CheckRow& row : check.rows) {
-      const std::string verdict = row.verdict == Verdict::kPass       ? "pass"
-                                  : row.verdict == Verdict::kNotFound ? "MISS (not found)"
-                                                                      : "MISS";
+      if (row.verdict == Verdict::kNotRun) continue;  // the characterization's: not in a DB
+      const std::string verdict = to_string(row.verdict);
       const std::string unit = row.target.unit.empty() ? "" : " " + row.target.unit;
       rows += fmt::format(
           "<tr{}><td>{}</td><td>{:.4g}{}</td><td>{}</td><td>{}</td><td>±{:.0f}%</td><td>{}</td>"

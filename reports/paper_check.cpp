@@ -65,19 +65,25 @@ void check_target(const PaperTarget& t) {
                 "", "explained", "an anchor of docs/MODEL.md (a-z, 0-9, '-')");
 }
 
-const char* verdict_name(Verdict v) {
+}  // namespace
+
+const char* to_string(Verdict v) {
   switch (v) {
     case Verdict::kPass:
       return "pass";
     case Verdict::kMiss:
       return "MISS";
+    case Verdict::kNotRun:
+      return "not run";
     case Verdict::kNotFound:
       break;
   }
   return "MISS (not found)";
 }
 
-}  // namespace
+bool is_optional_study_metric(const std::string& metric) {
+  return metric.starts_with("characterization.");
+}
 
 std::filesystem::path default_targets_path() {
   return common::find_resource("reports/paper_targets.yaml");
@@ -207,6 +213,12 @@ std::size_t CheckResult::passed() const {
   return n;
 }
 
+std::size_t CheckResult::counted() const {
+  std::size_t n = 0;
+  for (const CheckRow& r : rows) n += r.verdict == Verdict::kNotRun ? 0 : 1;
+  return n;
+}
+
 nlohmann::json CheckResult::to_json() const {
   nlohmann::json list = nlohmann::json::array();
   for (const CheckRow& r : rows) {
@@ -219,15 +231,13 @@ nlohmann::json CheckResult::to_json() const {
                     {"unit", r.target.unit},
                     {"source", r.target.source},
                     {"explained", r.target.explained},
-                    {"verdict", r.verdict == Verdict::kPass   ? "pass"
-                                : r.verdict == Verdict::kMiss ? "miss"
-                                                              : "not_found"}});
+                    {"verdict", r.verdict == Verdict::kPass     ? "pass"
+                                : r.verdict == Verdict::kMiss   ? "miss"
+                                : r.verdict == Verdict::kNotRun ? "not_run"
+                                                                : "not_found"}});
   }
-  return {{"run_id", run_id},
-          {"targets", rows.size()},
-          {"passed", passed()},
-          {"ok", all_passed()},
-          {"rows", list}};
+  return {{"run_id", run_id},   {"targets", counted()}, {"not_run", rows.size() - counted()},
+          {"passed", passed()}, {"ok", all_passed()},   {"rows", list}};
 }
 
 CheckResult check_targets(const std::vector<PaperTarget>& targets, const nlohmann::json& metrics,
@@ -242,6 +252,9 @@ CheckResult check_targets(const std::vector<PaperTarget>& targets, const nlohman
       row.error = (*row.simulated - t.paper) / std::abs(t.paper);
       // A small epsilon keeps a value exactly on the tolerance edge a pass despite rounding.
       row.verdict = std::abs(row.error) <= t.tolerance + 1e-12 ? Verdict::kPass : Verdict::kMiss;
+    } else if (is_optional_study_metric(t.metric) &&
+               !metrics.contains(t.metric.substr(0, t.metric.find('.')))) {
+      row.verdict = Verdict::kNotRun;
     }
     result.rows.push_back(std::move(row));
   }
@@ -268,10 +281,16 @@ std::string format_check(const CheckResult& r) {
     const std::string err = row.simulated ? fmt::format("{:+.1f}%", 100 * row.error) : "-";
     text += fmt::format("{:<40} {:<8} {:>10} {:>10} {:>9} {:>4.0f}%  {}\n", row.target.name,
                         row.target.unit, figure(row.target.paper), sim, err,
-                        100 * row.target.tolerance, verdict_name(row.verdict));
+                        100 * row.target.tolerance, to_string(row.verdict));
     if (row.verdict == Verdict::kNotFound) not_found.push_back(row.target.metric);
   }
-  text += fmt::format("{} of {} targets within tolerance", r.passed(), r.rows.size());
+  text += fmt::format("{} of {} targets within tolerance", r.passed(), r.counted());
+  if (r.counted() < r.rows.size()) {
+    text += fmt::format(
+        "; {} not run (the characterization's: edx characterize, then "
+        "--characterization)",
+        r.rows.size() - r.counted());
+  }
   if (!not_found.empty()) {
     text += fmt::format("; not found in the results: {}", fmt::join(not_found, ", "));
   }

@@ -64,7 +64,15 @@ std::vector<ReferenceRow> paper_targets_reference();
 /// the source tree; common/resources.hpp). Throws std::runtime_error when it is missing.
 std::filesystem::path default_targets_path();
 
-enum class Verdict { kPass, kMiss, kNotFound };
+/// kNotRun: the target's metric belongs to an optional study that was not given (the
+/// characterization: `edx check --characterization`); such a row is shown, not counted.
+enum class Verdict { kPass, kMiss, kNotFound, kNotRun };
+/// "pass", "MISS", "MISS (not found)", "not run".
+const char* to_string(Verdict v);
+
+/// The metric trees' optional studies: top-level keys a run's metrics hold only when the study
+/// was given ("characterization").
+bool is_optional_study_metric(const std::string& metric);
 
 struct CheckRow {
   PaperTarget target;
@@ -77,7 +85,8 @@ struct CheckResult {
   std::string run_id;
   std::vector<CheckRow> rows;
   std::size_t passed() const;
-  bool all_passed() const { return passed() == rows.size(); }
+  std::size_t counted() const;  ///< rows not kNotRun
+  bool all_passed() const { return passed() == counted(); }
   nlohmann::json to_json() const;
 };
 

@@ -128,6 +128,28 @@ TEST(Characterization, EndToEndOnSmallWorlds) {
   EXPECT_THAT(format_characterization(study), HasSubstr("indoor_known     registration"));
   EXPECT_EQ(study.to_json()["points"]["indoor_known"]["vio"]["paper_fps"], 9.1);
 
+  // Its metrics for edx check: each point's figures, and 1 where edx's ordering is the paper's.
+  const nlohmann::json metrics = characterization_metrics(study.to_json(), "c.json");
+  EXPECT_DOUBLE_EQ(metrics["indoor_known"]["vio"]["fps"].get<double>(),
+                   study.to_json()["points"]["indoor_known"]["vio"]["fps_mean"].get<double>());
+  EXPECT_EQ(metrics["indoor_unknown"]["least_error_matches"].get<double>(),
+            study.scenarios[0].least_error == "slam" ? 1.0 : 0.0);
+  EXPECT_FALSE(metrics["indoor_unknown"].contains("fastest_matches"));  // the paper is silent
+  const std::vector<PaperTarget> targets = load_targets(default_targets_path());
+  const CheckResult with = check_targets(targets, {{"characterization", metrics}}, "r");
+  const CheckResult without = check_targets(targets, nlohmann::json::object(), "r");
+  std::size_t characterization_targets = 0;
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    if (!is_optional_study_metric(targets[i].metric)) continue;
+    ++characterization_targets;
+    EXPECT_NE(with.rows[i].verdict, Verdict::kNotRun) << targets[i].name;
+    EXPECT_NE(with.rows[i].verdict, Verdict::kNotFound) << targets[i].name;
+    EXPECT_EQ(without.rows[i].verdict, Verdict::kNotRun) << targets[i].name;
+  }
+  EXPECT_EQ(characterization_targets, 9u);
+  EXPECT_EQ(without.counted(), targets.size() - 9);
+  EXPECT_THROW(characterization_metrics(nlohmann::json::object(), "c.json"), std::runtime_error);
+
   // Traced runs are reused: the same records, no trace rewritten.
   const auto stamp = std::filesystem::last_write_time(runs[0].trace);
   const std::vector<modes::CharacterizationRun> again = modes::run_characterization(options);
