@@ -15,6 +15,7 @@ struct ReportArguments {
   std::string results;
   std::string out;
   std::string trace;
+  std::string characterization;
 };
 
 void run(const ReportArguments& args) {
@@ -22,6 +23,7 @@ void run(const ReportArguments& args) {
   reports::ReportOptions options;
   options.out_dir = args.out;
   options.trace = args.trace;
+  options.characterization = args.characterization;
   const reports::ReportResult result = reports::write_report(data, options);
   if (!result.plotted) fmt::print(stderr, "edx: warning: gnuplot not found, tables only\n");
   fmt::print("report     {} ({} runs, {} plots)\n", result.index.string(), data.runs.size(),
@@ -38,6 +40,9 @@ void add_report_command(CLI::App& app) {
       ->required();
   cmd->add_option("--out", args->out, "Directory of the report (DIR/index.html)")->required();
   cmd->add_option("--trace", args->trace, "Trace database whose metadata the report shows");
+  cmd->add_option("--characterization", args->characterization,
+                  "characterization.json of edx characterize: the paper's Sec. III figure with "
+                  "edx's points (docs/CHARACTERIZATION.md)");
   cmd->callback([args] { run(*args); });
 }
 

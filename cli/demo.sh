@@ -6,7 +6,8 @@
 #
 # Steps: the paper's scenario mix traced at 1280x720 (Edx-Car) and 640x480 (Edx-Drone), traces of
 # the real excerpts in shared/data, both platforms simulated against their CPU-only baselines into
-# one results database, one example sweep, the HTML report, and the paper check table.
+# one results database, one example sweep, the algorithm characterization, the HTML report, and
+# the paper check table.
 # Everything is written under DIR (default ./demo); generated worlds are kept in DIR/data and
 # reused by the next run. Exit status: 0 when every step ran (a paper-check miss is a finding, not
 # a failure), 1 when a step failed, 2 on a bad argument.
@@ -34,7 +35,7 @@ while (($# > 0)); do
     --jobs) [[ $# -ge 2 && "$2" =~ ^[1-9][0-9]*$ ]] || die_usage "--jobs needs a positive integer"
       jobs="$2"; shift 2 ;;
     --quick) quick=1; shift ;;
-    -h | --help) sed -n '2,12p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    -h | --help) sed -n '2,13p' "${BASH_SOURCE[0]}"; exit 0 ;;
     *) die_usage "unknown argument '$1'" ;;
   esac
 done
@@ -47,11 +48,15 @@ if ((quick)); then
   car_resolution=480x272
   drone_resolution=320x240
   excerpt_frames=(--frames 24)
+  characterization=(--seeds 1 --frames 32 --resolution 376x240)
 else
   mix_frames=400
   car_resolution=1280x720
   drone_resolution=640x480
   excerpt_frames=()
+  # One seed of 200 frames a run at 640x480: minutes, not the hours of the study's defaults
+  # (docs/CHARACTERIZATION.md; docs/results/ holds the full-size runs).
+  characterization=(--seeds 1 --frames 200 --resolution 640x480)
 fi
 
 traces="$out/traces"
@@ -59,7 +64,7 @@ results="$out/results.db"
 report="$out/report"
 mkdir -p "$traces" "$out/data"
 start_s=$SECONDS
-step_total=7
+step_total=8
 step_no=0
 
 step() {
@@ -125,13 +130,19 @@ step "sweep: backend GEMM block size vs latency and DSP on the car mix (sweeps/g
 run sweep "$root/sweeps/gemm_block.yaml" --trace "$traces/car_mix.db" --db "$results" -j "$jobs"
 run export "$results" --sweep gemm_block --out "$out/gemm_block.csv"
 
+step "characterization: each backend on each scenario, its error and frame rate (paper Sec. III)"
+run characterize "${characterization[@]}" --out "$out/characterization" --data "$out/data"
+
 step "report: HTML page with plots"
-run report "$results" --out "$report" --trace "$traces/car_mix.db"
+run report "$results" --out "$report" --trace "$traces/car_mix.db" \
+  --characterization "$out/characterization/characterization.json"
 
 step "paper check: Edx-Car on the car mix against the paper's figures (reports/paper_targets.yaml)"
-printf '$ edx check --config configs/edx_car.yaml --trace %s\n' "$traces/car_mix.db" >&2
+printf '$ edx check --config configs/edx_car.yaml --trace %s --characterization %s\n' \
+  "$traces/car_mix.db" "$out/characterization/characterization.json" >&2
 check_status=0
-"$edx" check --config "$root/configs/edx_car.yaml" --trace "$traces/car_mix.db" || check_status=$?
+"$edx" check --config "$root/configs/edx_car.yaml" --trace "$traces/car_mix.db" \
+  --characterization "$out/characterization/characterization.json" || check_status=$?
 if ((check_status > 1)); then
   printf 'demo: step failed: edx check (exit %d)\n' "$check_status" >&2
   exit 1

@@ -18,6 +18,7 @@
 
 #include "arch/results/schema.hpp"
 #include "common/atomic_file.hpp"
+#include "common/yaml_fields.hpp"
 #include "reports/metrics.hpp"
 #include "reports/paper_check.hpp"
 #include "workloads/trace/reader.hpp"
@@ -875,6 +876,106 @@ std::string baselines_chart_html(const CheckResult& check, const fs::path& dir, 
       image);
 }
 
+/// The algorithm characterization (docs/CHARACTERIZATION.md) from its JSON: the paper's Sec. III
+/// figure redrawn, one panel a scenario, ATE (log scale) against the CPU baseline's FPS: edx's
+/// points (mean over the seeds, the SD as error bars) and the paper's (hollow circles where it
+/// states a frame rate, hollow diamonds at edx's frame rate where it states only the error); then
+/// the tables.
+std::string characterization_html(const fs::path& file, const fs::path& dir,
+                                  const std::string& gnuplot, bool plot,
+                                  std::vector<std::string>& images) {
+  nlohmann::json study;
+  try {
+    study = nlohmann::json::parse(read_input_file(file, "characterization file"));
+    (void)study.at("points").items();
+    (void)study.at("scenarios").items();
+  } catch (const nlohmann::json::exception&) {
+    throw std::runtime_error(
+        fmt::format("{}: expected the characterization.json of edx characterize", file.string()));
+  }
+  const std::vector<std::string> scenarios = {"indoor_unknown", "indoor_known", "outdoor_unknown",
+                                              "outdoor_known"};
+  const auto number = [](const nlohmann::json& v) {
+    return v.is_number() ? fmt::format("{:.6g}", v.get<double>()) : std::string("NaN");
+  };
+  std::string h = fmt::format(
+      "<h2 id=\"characterization\">Algorithm characterization (paper Sec. III)</h2>\n<p "
+      "class=\"cap\">Each backend on each scenario, {} frames a run at {}, seeds {}; frame rate on "
+      "{}'s CPU-only baseline (<code>edx characterize</code>, docs/CHARACTERIZATION.md). Filled: "
+      "edx (mean, SD over the seeds); hollow circles: the paper where it states a frame rate; "
+      "hollow diamonds: the paper's error where it states only that, at edx's frame rate.</p>\n",
+      study.value("frames", 0), html_escape(study.value("resolution", std::string())),
+      html_escape(study.value("seeds", nlohmann::json::array()).dump()),
+      html_escape(study.value("platform", std::string())));
+  if (plot) {
+    std::string script =
+        svg_terminal(960, 720) + "set output " + gp_quote((dir / "characterization.svg").string()) +
+        "\nset termoption noenhanced\nset multiplot layout 2,2\nset logscale y\nset grid\n"
+        "set key top right font ',9'\n"
+        "set xlabel 'FPS (CPU baseline)'\nset ylabel 'ATE RMSE (m)'\nset offsets graph 0.15, "
+        "graph 0.15, graph 0.1, graph 0.1\n";
+    for (const std::string& scenario : scenarios) {
+      if (!study["points"].contains(scenario)) continue;
+      std::string edx = "# backend fps ate sd\n", paper = "# backend fps ate fps_stated\n";
+      for (const auto& [backend, p] : study["points"][scenario].items()) {
+        edx += fmt::format("\"{}\" {} {} {}\n", backend, number(p["fps_mean"]),
+                           number(p["ate_mean_m"]), number(p["ate_sd_m"]));
+        if (!p["paper_ate_m"].is_number()) continue;
+        // Where the paper states no frame rate, its error is drawn at edx's.
+        const bool stated = p["paper_fps"].is_number();
+        paper += fmt::format("\"{}\" {} {} {}\n", backend,
+                             number(stated ? p["paper_fps"] : p["fps_mean"]),
+                             number(p["paper_ate_m"]), stated ? 1 : 0);
+      }
+      const fs::path edx_dat = dir / fmt::format("characterization_{}.dat", scenario);
+      const fs::path paper_dat = dir / fmt::format("characterization_{}_paper.dat", scenario);
+      std::ofstream(edx_dat) << edx;
+      std::ofstream(paper_dat) << paper;
+      script += fmt::format(
+          "set title '{}: {}'\nplot {} using 2:3:4 with yerrorbars pt 7 lc rgb '#0072B2' title "
+          "'edx', "
+          "'' using 2:3:1 with labels offset 1,1 font ',9' notitle, "
+          "{} using 2:($4 == 1 ? $3 : 1/0) with points pt 6 ps 1.5 lc rgb '#D55E00' "
+          "title 'paper', '' using 2:($4 == 0 ? $3 : 1/0) with points pt 12 ps 1.5 "
+          "lc rgb '#D55E00' title 'paper (error only, at edx FPS)'\n",
+          scenario, scenario.ends_with("unknown") ? "no map" : "with a map",
+          gp_quote(edx_dat.string()), gp_quote(paper_dat.string()));
+    }
+    script += "unset multiplot\n";
+    std::ofstream(dir / "characterization.gp") << script;
+    run_gnuplot(gnuplot, dir / "characterization.gp", "characterization plot");
+    images.push_back("characterization.svg");
+    h += "<img src=\"characterization.svg\" alt=\"characterization\">\n";
+  }
+  h += "<table><tr><th>scenario</th><th>backend</th><th>ATE m (edx)</th><th>SD</th><th>paper</th>"
+       "<th>FPS (edx)</th><th>paper</th></tr>\n";
+  for (const std::string& scenario : scenarios) {
+    if (!study["points"].contains(scenario)) continue;
+    for (const auto& [backend, p] : study["points"][scenario].items()) {
+      const auto cell = [&](const char* key, int digits) {
+        return p[key].is_number() ? num(p[key].get<double>(), digits) : std::string("–");
+      };
+      h += fmt::format(
+          "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></"
+          "tr>\n",
+          scenario, html_escape(backend), cell("ate_mean_m", 3), cell("ate_sd_m", 3),
+          cell("paper_ate_m", 2), cell("fps_mean", 2), cell("paper_fps", 1));
+    }
+  }
+  h += "</table>\n<table><tr><th>scenario</th><th>least error (edx)</th><th>paper</th>"
+       "<th>fastest (edx)</th><th>paper</th></tr>\n";
+  for (const auto& [scenario, r] : study["scenarios"].items()) {
+    const auto text = [&](const char* key) {
+      const std::string v = r.value(key, std::string());
+      return v.empty() ? std::string("–") : html_escape(v);
+    };
+    h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                     html_escape(scenario), text("least_error"), text("paper_least_error"),
+                     text("fastest"), text("paper_fastest"));
+  }
+  return h + "</table>\n";
+}
+
 /// The paper check (reports/paper_targets.yaml, as `edx check`) of each Edx-Car run with a
 /// section: a table and a plot of simulated / paper per target with the tolerance band.
 std::string paper_check_html(const ResultsData& data, const std::vector<std::size_t>& sections,
@@ -1109,6 +1210,10 @@ ReportResult write_report(const ResultsData& data, const ReportOptions& options)
     body += paper_check_html(data, sections, stage, options.gnuplot, result.plotted, result.images);
     body += runs_table_html(data, sections, sweep_of_run);
     if (!options.trace.empty()) body += trace_meta_html(options.trace);
+    if (!options.characterization.empty()) {
+      body += characterization_html(options.characterization, stage, options.gnuplot,
+                                    result.plotted, result.images);
+    }
     for (std::size_t i : sections) {
       RunReport run(data.runs[i], i, stage, options.gnuplot, result.plotted);
       body += run.html(result.images);

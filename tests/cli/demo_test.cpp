@@ -52,13 +52,16 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
       result.err.size() > 4000 ? result.err.size() - 4000 : 0);
 
   // Every step announced itself, in order, and the check table was printed.
-  for (int step = 1; step <= 7; ++step) {
-    EXPECT_THAT(result.err, HasSubstr("== [" + std::to_string(step) + "/7]"));
+  for (int step = 1; step <= 8; ++step) {
+    EXPECT_THAT(result.err, HasSubstr("== [" + std::to_string(step) + "/8]"));
   }
   EXPECT_THAT(result.out, HasSubstr("targets within tolerance"));
   EXPECT_THAT(result.out, HasSubstr("e2e speedup overall"));
   EXPECT_THAT(result.out, HasSubstr("speedup over single-core w/o ROS"));  // the baselines
   EXPECT_THAT(result.out, HasSubstr("ROS slowdown of the multi-core baseline"));
+  // The characterization's targets are checked (its study given), not listed as not run.
+  EXPECT_THAT(result.out, HasSubstr("char. least error indoor w/o map"));
+  EXPECT_THAT(result.out, ::testing::Not(HasSubstr("not run")));
   EXPECT_THAT(result.out, HasSubstr((out / "report" / "index.html").string()));
 
   // Four traces: the two mixes and the two real excerpts.
@@ -131,6 +134,10 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
   EXPECT_THAT(page, HasSubstr("what-is-not-reachable-honestly-and-why"));
   EXPECT_THAT(page, HasSubstr("MODEL.md#miss-"));               // misses link their own explanation
   EXPECT_THAT(page, HasSubstr("alt=\"baseline comparison\""));  // the paper's other baselines
+  // The paper's Sec. III figure redrawn with edx's characterization.
+  EXPECT_THAT(page, HasSubstr("Algorithm characterization (paper Sec. III)"));
+  EXPECT_THAT(page, HasSubstr("alt=\"characterization\""));
+  EXPECT_TRUE(fs::exists(out / "characterization" / "characterization.json"));
   int comparison_charts = 0;
   for (const auto& entry : fs::directory_iterator(out / "report")) {
     const std::string name = entry.path().filename().string();
