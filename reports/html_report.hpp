@@ -12,7 +12,7 @@ namespace edx::reports {
 
 struct ReportOptions {
   std::filesystem::path out_dir;
-  std::filesystem::path trace;      ///< optional: a trace database whose meta table is shown
+  std::filesystem::path trace;  ///< optional: a trace database whose meta table is shown
   /// Optional: characterization.json of `edx characterize`, drawn as the paper's Sec. III
   /// figure (error against frame rate per scenario) with edx's points beside the paper's.
   std::filesystem::path characterization;
