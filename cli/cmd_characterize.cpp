@@ -5,6 +5,7 @@
 #include <fmt/core.h>
 
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 
 #include "arch/platform/platform.hpp"
@@ -45,6 +46,9 @@ void run(const CharacterizeArguments& args) {
   options.frames = args.frames;
   options.resolution = {size.width, size.height};
   const fs::path out(args.out);
+  if (fs::exists(out) && !fs::is_directory(out)) {
+    throw std::runtime_error(fmt::format("{}: exists and is not a folder (--out)", out.string()));
+  }
   options.trace_dir = out / "traces";
   options.data_dir = args.data.empty() ? out / "data" : fs::path(args.data);
   options.overwrite = args.force;
