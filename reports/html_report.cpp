@@ -951,8 +951,10 @@ std::string characterization_html(const fs::path& file, const fs::path& dir,
        "<th>FPS (edx)</th><th>paper</th></tr>\n";
   for (const std::string& scenario : scenarios) {
     if (!study["points"].contains(scenario)) continue;
-    for (const auto& [backend, p] : study["points"][scenario].items()) {
-      const auto cell = [&](const char* key, int digits) {
+    for (const auto& item : study["points"][scenario].items()) {
+      const std::string& backend = item.key();
+      const nlohmann::json& p = item.value();
+      const auto cell = [&p](const char* key, int digits) {
         return p[key].is_number() ? num(p[key].get<double>(), digits) : std::string("–");
       };
       h += fmt::format(
@@ -964,8 +966,10 @@ std::string characterization_html(const fs::path& file, const fs::path& dir,
   }
   h += "</table>\n<table><tr><th>scenario</th><th>least error (edx)</th><th>paper</th>"
        "<th>fastest (edx)</th><th>paper</th></tr>\n";
-  for (const auto& [scenario, r] : study["scenarios"].items()) {
-    const auto text = [&](const char* key) {
+  for (const auto& item : study["scenarios"].items()) {
+    const std::string& scenario = item.key();
+    const nlohmann::json& r = item.value();
+    const auto text = [&r](const char* key) {
       const std::string v = r.value(key, std::string());
       return v.empty() ? std::string("–") : html_escape(v);
     };
