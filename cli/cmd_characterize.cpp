@@ -84,16 +84,7 @@ void add_characterize_command(CLI::App& app) {
       ->check(CLI::Range(8, 100000))
       ->capture_default_str();
   cmd->add_option("--resolution", args->resolution, "Rendering resolution WxH")
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            try {
-              datasets::parse_resolution(text);
-            } catch (const std::exception& e) {
-              return std::string(e.what());
-            }
-            return std::string();
-          },
-          "WxH", "resolution"))
+      ->check(resolution_validator())
       ->capture_default_str();
   cmd->add_option(
       "--platform", args->platform,

@@ -119,16 +119,7 @@ void add_trace_command(CLI::App& app) {
   cmd->add_option("--resolution", args->resolution,
                   "Resize the rectified frames to WxH (e.g. 640x480; with --mix: the resolution "
                   "the worlds are rendered at, default 640x480)")
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            try {
-              datasets::parse_resolution(text);
-            } catch (const std::exception& e) {
-              return std::string(e.what());
-            }
-            return std::string();
-          },
-          "WxH"));
+      ->check(resolution_validator());
   CLI::Option* kitti_opt =
       cmd->add_option("--kitti-sequence", args->kitti_sequence,
                       "KITTI sequence id (e.g. 01) when --dataset is the KITTI root");

@@ -25,6 +25,8 @@ void add_report_command(CLI::App& app);
 /// (--out, --db, --trace, --config, ...) must not be empty, a --seed must not be negative (a
 /// uint64 would take -1 as 2^64-1). Call after adding the subcommands.
 void check_common_options(CLI::App& app);
+/// Accepts a WxH resolution option (datasets::parse_resolution's rules and message).
+CLI::Validator resolution_validator();
 /// `edx host-speed`: the machine-speed reference suite's times on this machine.
 void add_host_speed_command(CLI::App& app);
 void add_host_costs_command(CLI::App& app);

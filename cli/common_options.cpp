@@ -4,6 +4,7 @@
 #include <string_view>
 
 #include "cli/commands.hpp"
+#include "workloads/datasets/dataset.hpp"
 
 namespace edx::cli {
 
@@ -32,6 +33,19 @@ void check_common_options(CLI::App& app) {
       }
     }
   }
+}
+
+CLI::Validator resolution_validator() {
+  return CLI::Validator(
+      [](std::string& text) {
+        try {
+          datasets::parse_resolution(text);
+        } catch (const std::exception& e) {
+          return std::string(e.what());
+        }
+        return std::string();
+      },
+      "WxH");
 }
 
 }  // namespace edx::cli
