@@ -27,6 +27,7 @@ struct CharacterizeArguments {
   int seeds = 3;
   int frames = 400;
   std::string resolution = "1280x720";
+  std::string precision = "fp64";
   std::string platform;
   std::string out;
   std::string data;
@@ -45,6 +46,16 @@ void run(const CharacterizeArguments& args) {
   options.seeds = args.seeds;
   options.frames = args.frames;
   options.resolution = {size.width, size.height};
+  options.precision = trace::parse_precision(args.precision);
+  // The frame rates simulate the traces on the platform: it must compute at their precision
+  // (checked here, before any tracing).
+  if (platform.backend->precision() != options.precision) {
+    throw std::runtime_error(fmt::format(
+        "--precision {}: platform {} computes in {} (backend.precision); give --platform a "
+        "platform of backend.precision: {}",
+        args.precision, platform.name, trace::to_string(platform.backend->precision()),
+        args.precision));
+  }
   const fs::path out(args.out);
   if (fs::exists(out) && !fs::is_directory(out)) {
     throw std::runtime_error(fmt::format("{}: exists and is not a folder (--out)", out.string()));
@@ -85,6 +96,11 @@ void add_characterize_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--resolution", args->resolution, "Rendering resolution WxH")
       ->check(resolution_validator())
+      ->capture_default_str();
+  cmd->add_option("--precision", args->precision,
+                  "Arithmetic of the backends' offloadable kernels, fp64 or fp32 (edx trace "
+                  "--precision); the platform's backend.precision must match")
+      ->check(CLI::IsMember({"fp64", "fp32"}))
       ->capture_default_str();
   cmd->add_option(
       "--platform", args->platform,

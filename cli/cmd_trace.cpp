@@ -36,6 +36,7 @@ struct TraceArguments {
   std::string data;
   std::uint64_t seed = 1;
   int map_frames = 0;  ///< 0: the mix's default
+  std::string precision = "fp64";
 };
 
 /// `--mix NAME`: the mixed sequence through the mode switch.
@@ -53,6 +54,7 @@ void run_mix(const TraceArguments& args) {
   options.frontend.features_per_image = args.features;
   options.frontend.parallel_images = args.parallel;
   options.vocabulary = args.vocab;
+  options.precision = trace::parse_precision(args.precision);
 
   ProgressBar bar("trace");
   const modes::MixRunSummary summary =
@@ -83,6 +85,7 @@ void run(const TraceArguments& args) {
   modes::BackendSettings settings;
   if (!args.map.empty()) settings.map = args.map;
   if (!args.vocab.empty()) settings.vocabulary = args.vocab;
+  settings.precision = options.precision = trace::parse_precision(args.precision);
   options.make_backend = modes::backend_factory(args.backend, settings);
   if (!args.save_map.empty()) options.map_out = args.save_map;
 
@@ -143,6 +146,12 @@ void add_trace_command(CLI::App& app) {
                   "BoW vocabulary for the keyframe database (registration only; edx vocab)");
   cmd->add_option("--features", args->features, "Keypoint budget per image")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--precision", args->precision,
+                  "Arithmetic of the backend's offloadable kernels (Kalman gain and covariance "
+                  "update, marginalization, projection): fp64 or fp32 (docs/TRACE.md, meta "
+                  "precision)")
+      ->check(CLI::IsMember({"fp64", "fp32"}))
+      ->capture_default_str();
   cmd->add_flag("--parallel", args->parallel,
                 "Run tracking and feature extraction on parallel threads (faster; host times stay "
                 "CPU time of the work, docs/TRACE.md)");

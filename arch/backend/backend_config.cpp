@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "common/yaml_fields.hpp"
+#include "workloads/trace/precision_field.hpp"
 
 namespace edx::arch {
 namespace {
@@ -28,6 +29,7 @@ const std::map<std::string, std::string>& moved_keys() {
        "backend.units.<name>.divide_latency_cycles of the decomposition, inverse and substitution "
        "units"},
       {"sqrt_latency_cycles", "backend.units.<name>.sqrt_latency_cycles of a decomposition unit"},
+      {"scalar_bytes", "backend.precision (fp64: 8 bytes a scalar, fp32: 4)"},
   };
   return moved;
 }
@@ -59,9 +61,11 @@ const FieldList<BackendConfig>& BackendConfig::fields() {
       field("clock_mhz", &C::clock_mhz, "MHz",
             "the units' clock unless a unit sets its own (assumed: the frontend's HLS clock)",
             Bounds::above(0).at_most(1000)),
-      choice_field("scalar_bytes", &C::scalar_bytes, "bytes", {"4", "8"},
-                   "one matrix element in the SPM and on the link: 8 double, 4 single (also the "
-                   "units' default precision)"),
+      trace::precision_field(
+          &C::precision,
+          "the units' arithmetic (MACs, dividers, roots) and a matrix element in "
+          "the SPM and on the link (fp64: 8 bytes, fp32: 4); must be the "
+          "trace's"),
       field("spm_bytes", &C::spm_bytes, "bytes", "the scratchpad holding the running op's operands",
             positive),
       field("symmetric_optimization", &C::symmetric_optimization, "",
@@ -112,9 +116,7 @@ BackendConfig BackendConfig::parse(YamlFields& yaml) {
   yaml.refuse_moved(moved_keys());
   parse_fields(yaml, config, fields());
   const YAML::Node units = yaml.take("units");
-  const auto precision = [&](MatrixUnitInstance& unit) {
-    unit.precision = config.scalar_bytes == 4 ? "single" : "double";
-  };
+  const auto precision = [&](MatrixUnitInstance& unit) { unit.precision = config.precision; };
   for (MatrixUnitInstance& unit : config.units) precision(unit);
   if (units) {
     if (!units.IsMap()) yaml.fail("units", "expected a map of named units");

@@ -27,9 +27,10 @@ namespace edx::arch {
 
 struct BackendConfig {
   double clock_mhz = 150.0;  ///< the units' clock unless an instance says (assumed: HLS clock)
-  /// Bytes of one matrix element in the SPM and on the link: 8 (IEEE 754 double) or 4 (single);
-  /// also the default precision of the units' MACs.
-  int scalar_bytes = 8;
+  /// The backend's arithmetic, IEEE 754 double or single: every unit's MACs, dividers and roots
+  /// (cost, energy), and the bytes of one matrix element in the SPM and on the link. It must be
+  /// the trace's (meta precision: what the offloadable kernels were computed in).
+  trace::Precision precision = trace::Precision::kFp64;
   /// One scratchpad shared by the units, holding the operands of the running op ("the SPMs need
   /// to accommodate the size of the entire input matrices", Sec. VI-A). Assumed 1.25 MiB: within
   /// the BRAM Edx-Car leaves to the backend (26.5 % of 5.0 MB, Sec. VII-B).
@@ -51,7 +52,9 @@ struct BackendConfig {
   /// An instance's clock: its own, else clock_mhz.
   double clock_of(const MatrixUnitInstance& unit) const;
   /// What the link model needs of the kernels' matrices (one home: these `backend:` keys).
-  KernelMatrixFormat matrix_format() const { return {scalar_bytes, pose_dim, landmark_dim}; }
+  KernelMatrixFormat matrix_format() const { return {scalar_bytes(), pose_dim, landmark_dim}; }
+  /// Bytes of one matrix element at `precision`: 8 (fp64) or 4 (fp32).
+  int scalar_bytes() const { return trace::scalar_bytes(precision); }
   /// The keys of `backend:` besides `units` (docs/CONFIG.md).
   static const FieldList<BackendConfig>& fields();
   /// Throws std::runtime_error naming the field ("backend.units.gemm: ...", "backend.spm_bytes:

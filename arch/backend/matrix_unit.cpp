@@ -24,7 +24,8 @@ cost::Resources factorization_datapath(double lanes, cost::Arithmetic arithmetic
 }
 
 cost::Arithmetic MatrixUnitInstance::arithmetic() const {
-  return precision == "single" ? cost::Arithmetic::kSingle : cost::Arithmetic::kDouble;
+  return precision == trace::Precision::kFp32 ? cost::Arithmetic::kSingle
+                                              : cost::Arithmetic::kDouble;
 }
 
 const FieldList<MatrixUnitInstance>& MatrixUnitInstance::fields() {
@@ -36,8 +37,6 @@ const FieldList<MatrixUnitInstance>& MatrixUnitInstance::fields() {
             Bounds::at_least(0).at_most(1024)),
       field("clock_mhz", &C::clock_mhz, "MHz", "the unit's clock; 0: the backend's clock_mhz",
             Bounds::at_least(0).at_most(1000)),
-      choice_field("precision", &C::precision, "", {"double", "single"},
-                   "its MACs' precision (cost, energy); default: backend.scalar_bytes's"),
   };
   return list;
 }

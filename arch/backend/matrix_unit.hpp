@@ -87,10 +87,8 @@ struct MatrixUnitInstance {
   /// Identical copies; 0 leaves the instance out of the design (its ops stay on the host).
   int count = 1;
   double clock_mhz = 0;  ///< its clock; 0: the backend's (backend.clock_mhz)
-  /// Its MACs: "double" or "single" precision (cost, energy). The default is the backend's scalar
-  /// (backend.scalar_bytes 8: double, 4: single). The trace's arithmetic is double: what a unit
-  /// in single precision does to accuracy is not modeled here.
-  std::string precision = "double";
+  /// Its arithmetic: the backend's (backend.precision; one for every unit, as the trace has one).
+  trace::Precision precision = trace::Precision::kFp64;
 
   cost::Arithmetic arithmetic() const;
   /// The keys every instance has besides `kind` and its kind's own (docs/CONFIG.md).

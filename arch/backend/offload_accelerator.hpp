@@ -94,6 +94,9 @@ class OffloadAccelerator : public Component {
   virtual KernelMatrixFormat matrix_format() const = 0;
   /// Bytes of its local memory for a kernel's operands (the FPGA's scratchpad).
   virtual std::int64_t local_memory_bytes() const = 0;
+  /// The arithmetic it computes kernels in; a trace is simulated on it only at the same
+  /// (meta precision, check_precision).
+  virtual trace::Precision precision() const = 0;
 };
 
 /// The kind a platform's `backend:` has without `kind:` (the paper's).

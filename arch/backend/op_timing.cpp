@@ -113,7 +113,7 @@ std::int64_t op_spm_bytes(const OpRecord& op, const BackendConfig& config) {
   // in-place op holds its inputs only; the others hold inputs and result.
   const bool in_place = op.op == Op::Potrf || op.op == Op::Ldlt || op.op == Op::Trsm ||
                         op.op == Op::Trsv || op.op == Op::Qr;
-  return (in_place ? operands.in : operands.in + operands.out) * config.scalar_bytes;
+  return (in_place ? operands.in : operands.in + operands.out) * config.scalar_bytes();
 }
 
 namespace {
@@ -156,7 +156,7 @@ std::int64_t op_macs(const OpRecord& op, const BackendConfig& config) {
 }
 
 std::int64_t spill_tile(const BackendConfig& config) {
-  const std::int64_t scalars = config.spm_bytes / config.scalar_bytes;
+  const std::int64_t scalars = config.spm_bytes / config.scalar_bytes();
   // ⌊√(M/3)⌋ in integers: the largest t with 3t² <= M.
   auto t = static_cast<std::int64_t>(std::sqrt(static_cast<double>(scalars) / 3.0));
   while (t > 0 && 3 * t * t > scalars) --t;
@@ -168,8 +168,8 @@ SpillTraffic op_spill_traffic(const OpRecord& op, const BackendConfig& config) {
   if (op_spm_bytes(op, config) <= config.spm_bytes) return {};
   const OperandScalars io = op_operand_scalars(op, config);
   const std::int64_t rereads = ceil_div(2 * instance_macs(op, config), spill_tile(config));
-  return {op.batch * std::max(io.in, rereads) * config.scalar_bytes,
-          op.batch * io.out * config.scalar_bytes};
+  return {op.batch * std::max(io.in, rereads) * config.scalar_bytes(),
+          op.batch * io.out * config.scalar_bytes()};
 }
 
 std::vector<OpRecord> kernel_ops(const trace::KernelRecord& kernel, const BackendConfig& config) {

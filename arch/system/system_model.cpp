@@ -1,6 +1,7 @@
 #include "arch/system/system_model.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -442,9 +443,38 @@ std::string frontend_study_key(const Platform& platform) {
   return key.dump();
 }
 
+void check_precision(const Platform& platform, const trace::TraceMeta& trace_meta,
+                     const std::string& trace_path) {
+  trace::Precision traced;
+  try {
+    traced = trace::trace_precision(trace_meta);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(fmt::format("{}: meta precision: {}", trace_path, e.what()));
+  }
+  if (traced != platform.backend->precision()) {
+    throw std::runtime_error(fmt::format(
+        "{}: the trace computed its backend kernels in {} (meta precision), but platform {} "
+        "computes in {} (backend.precision); trace with --precision {} or set "
+        "backend.precision: {}",
+        trace_path, trace::to_string(traced), platform.name,
+        trace::to_string(platform.backend->precision()),
+        trace::to_string(platform.backend->precision()), trace::to_string(traced)));
+  }
+  if (traced == trace::Precision::kFp64) return;
+  for (const std::string& kernel : platform.scheduler.offload) {
+    if (!trace::computed_at_trace_precision(kernel)) {
+      throw std::runtime_error(fmt::format(
+          "{}: platform {} offloads {} (scheduler.offload), which the backends compute in fp64 "
+          "only; at fp32 the units may run {}",
+          trace_path, platform.name, kernel, fmt::join(trace::kKernelsAtTracePrecision, ", ")));
+    }
+  }
+}
+
 SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
                              const trace::TraceMeta& trace_meta, const std::string& trace_path,
                              const SystemSimOptions& options) {
+  check_precision(platform, trace_meta, trace_path);
   // The analytical model's timeline is the frontend's pipelined run (the frontend study's).
   FrontendSimOptions frontend_timeline;
   if (options.model == SystemModelKind::kAnalytical && options.timeline) {
@@ -466,6 +496,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
                     trace_path, options.timeline_first, frames.size()));
   }
   platform.validate();  // once per run; the per-kernel and per-transfer functions do not
+  check_precision(platform, trace_meta, trace_path);
   SystemResult r;
   r.model = options.model;
   r.platform = platform.name;

@@ -172,7 +172,15 @@ std::string trace_hash(std::size_t frames, const trace::TraceMeta& trace_meta);
 /// studies (sweeps reuse one).
 std::string frontend_study_key(const Platform& platform);
 
-/// Runs the whole system. `trace_meta` (resolution, host_speed) keys the run.
+/// Throws std::runtime_error, one line naming both, when the trace's precision (meta precision)
+/// is not the platform's (backend.precision): a trace is simulated only at its own arithmetic;
+/// and, at fp32, when the platform offloads a kernel the backends compute in fp64 only
+/// (trace::kKernelsAtTracePrecision).
+void check_precision(const Platform& platform, const trace::TraceMeta& trace_meta,
+                     const std::string& trace_path);
+
+/// Runs the whole system (check_precision first). `trace_meta` (resolution, host_speed) keys the
+/// run.
 SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
                              const trace::TraceMeta& trace_meta, const std::string& trace_path,
                              const SystemSimOptions& options = {});

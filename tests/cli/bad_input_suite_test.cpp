@@ -276,7 +276,7 @@ std::vector<BadInputCase> cases() {
              "('schema_version', '2'); CREATE TABLE frames (x); CREATE TABLE kernels (x)");
        },
        "'{edx}' simulate --config '{car}' --trace '{dir}/t.db'", 1,
-       "edx: error: {dir}/t.db: trace schema version 2, this edx reads versions 3 to 4"},
+       "edx: error: {dir}/t.db: trace schema version 2, this edx reads versions 3 to 5"},
       {"c7_text_file_as_a_results_database",
        [](const fs::path& d) { write(d, "junk.db", "hello\n"); },
        "'{edx}' export '{dir}/junk.db' --table runs --out '{dir}/x.csv'", 1,
@@ -393,6 +393,16 @@ std::vector<BadInputCase> cases() {
       {"c7_missing_dataset_folder", none,
        "'{edx}' trace --dataset '{dir}/none' --format euroc --out '{dir}/t.db'", 1,
        "edx: error: {dir}/none: dataset folder not found"},
+      // A trace simulated only at its own precision (the golden trace is fp64).
+      {"c7_trace_of_another_precision", none,
+       "'{edx}' simulate --config '{src}/configs/fp32/edx_car_fp32.yaml' --trace '{golden}'", 1,
+       "edx: error: {golden}: the trace computed its backend kernels in fp64 (meta precision), "
+       "but platform edx_car_fp32 computes in fp32 (backend.precision); trace with --precision "
+       "fp32 or set backend.precision: fp64"},
+      {"c7_characterize_on_a_platform_of_another_precision", none,
+       "'{edx}' characterize --precision fp32 --out '{dir}/c'", 1,
+       "edx: error: --precision fp32: platform edx_car computes in fp64 (backend.precision); give "
+       "--platform a platform of backend.precision: fp32"},
       {"c7_unknown_option", none, "'{edx}' simulate --config '{car}' --trace '{golden}' --frob", 2,
        "edx: The following argument was not expected: --frob (see edx --help)"},
       // 8. One process per sweep: a sweep another live process holds is refused, naming it.

@@ -81,7 +81,7 @@ TEST(ConfigCommand, ResolvesAPlatformFileToJson) {
   const nlohmann::json j = nlohmann::json::parse(result.out);
   EXPECT_EQ(j["name"], "edx_drone");
   EXPECT_EQ(j["backend"]["units"]["gemm"]["block"], 2);
-  EXPECT_EQ(j["backend"]["scalar_bytes"], 8);
+  EXPECT_EQ(j["backend"]["precision"], "fp64");
   EXPECT_EQ(j["link"]["kind"], "dma");
   EXPECT_EQ(j["link"]["name"], "axi4");
   EXPECT_EQ(j["memory"]["kind"], "bram");
@@ -93,12 +93,13 @@ TEST(ConfigCommand, BadInputIsOneLineAndNonZero) {
   std::filesystem::create_directories(dir);
   {
     std::ofstream bad(dir + "/bad.yaml");
-    bad << "name: x\nbackend:\n  scalar_bytes: 6\n";
+    bad << "name: x\nbackend:\n  precision: fp16\n";
   }
   auto result = run_command(built_binary("edx") + " config " + dir + "/bad.yaml");
   EXPECT_NE(result.exit_code, 0);
   EXPECT_EQ(line_count(result.err), 1) << result.err;
-  EXPECT_THAT(result.err, HasSubstr("bad.yaml:3: backend.scalar_bytes: expected 4 or 8, got '6'"));
+  EXPECT_THAT(result.err,
+              HasSubstr("bad.yaml:3: backend.precision: expected fp64 or fp32, got 'fp16'"));
   EXPECT_TRUE(result.out.empty());
 
   result = run_command(built_binary("edx") + " config");  // neither a file nor --reference

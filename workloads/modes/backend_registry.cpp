@@ -20,14 +20,19 @@ struct Entry {
   BackendFactory factory;
 };
 
-std::vector<Entry> entries() {
+/// The backends by name, their options at `precision`.
+std::vector<Entry> entries(trace::Precision precision = trace::Precision::kFp64) {
   std::vector<Entry> list;
   list.push_back({"none", BackendFactory{}});
-  list.push_back({"vio", [](const datasets::Dataset& d) {
-                    return backend::vio::make_vio_backend(d, backend::vio::VioOptions{});
+  list.push_back({"vio", [precision](const datasets::Dataset& d) {
+                    backend::vio::VioOptions options;
+                    options.precision = precision;
+                    return backend::vio::make_vio_backend(d, options);
                   }});
-  list.push_back({"slam", [](const datasets::Dataset& d) {
-                    return backend::slam::make_slam_backend(d, backend::slam::SlamOptions{});
+  list.push_back({"slam", [precision](const datasets::Dataset& d) {
+                    backend::slam::SlamOptions options;
+                    options.precision = precision;
+                    return backend::slam::make_slam_backend(d, options);
                   }});
   list.push_back({"registration", BackendFactory{}});  // needs files: registration_factory
   return list;
@@ -45,9 +50,10 @@ BackendFactory registration_factory(const BackendSettings& settings) {
   }
   auto vocabulary =
       std::make_shared<const bow::Vocabulary>(bow::Vocabulary::load(*settings.vocabulary));
-  return [map, vocabulary](const datasets::Dataset& d) {
-    return backend::registration::make_registration_backend(
-        d, backend::registration::RegistrationOptions{}, map, vocabulary);
+  backend::registration::RegistrationOptions options;
+  options.precision = settings.precision;
+  return [map, vocabulary, options](const datasets::Dataset& d) {
+    return backend::registration::make_registration_backend(d, options, map, vocabulary);
   };
 }
 
@@ -61,7 +67,7 @@ std::vector<std::string> backend_names() {
 
 BackendFactory backend_factory(std::string_view name, const BackendSettings& settings) {
   if (name == "registration") return registration_factory(settings);
-  for (Entry& e : entries()) {
+  for (Entry& e : entries(settings.precision)) {
     if (name != e.name) continue;
     if (settings.map) {
       throw std::runtime_error(

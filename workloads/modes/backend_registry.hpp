@@ -18,6 +18,8 @@ std::vector<std::string> backend_names();
 struct BackendSettings {
   std::optional<std::filesystem::path> map;         ///< map file (slam::save_map format)
   std::optional<std::filesystem::path> vocabulary;  ///< vocabulary file (edx vocab)
+  /// The arithmetic of the backend's offloadable kernels (`edx trace --precision`).
+  trace::Precision precision = trace::Precision::kFp64;
 };
 
 /// The factory of a named backend with default options; "none" gives an empty factory (frontend

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "workloads/modes/mix_runner.hpp"
+#include "workloads/trace/reader.hpp"
 
 namespace edx::modes {
 
@@ -90,9 +91,17 @@ CharacterizationRun CharacterizationRun::from_json(const nlohmann::json& j) {
 
 namespace {
 
-/// The run's record beside its trace, when both are there (a resumed characterization).
-std::optional<CharacterizationRun> reusable(const fs::path& trace, const fs::path& record) {
+/// The run's record beside its trace, when both are there (a resumed characterization). Throws
+/// std::runtime_error when the trace is of another precision than `precision`.
+std::optional<CharacterizationRun> reusable(const fs::path& trace, const fs::path& record,
+                                            trace::Precision precision) {
   if (!fs::exists(trace) || !fs::exists(record)) return std::nullopt;
+  const trace::Precision traced = trace::trace_precision(trace::TraceReader(trace).meta());
+  if (traced != precision) {
+    throw std::runtime_error(fmt::format(
+        "{}: traced at {}, asked for {} (give another --out, or --force to trace again)",
+        trace.string(), trace::to_string(traced), trace::to_string(precision)));
+  }
   std::ifstream in(record);
   try {
     return CharacterizationRun::from_json(nlohmann::json::parse(in));
@@ -116,7 +125,7 @@ std::vector<CharacterizationRun> run_characterization(const CharacterizationOpti
       const fs::path trace = options.trace_dir / (name + ".db");
       const fs::path record = options.trace_dir / (name + ".json");
       if (!options.overwrite) {
-        if (std::optional<CharacterizationRun> done = reusable(trace, record)) {
+        if (std::optional<CharacterizationRun> done = reusable(trace, record, options.precision)) {
           runs.push_back(std::move(*done));
           continue;
         }
@@ -127,6 +136,7 @@ std::vector<CharacterizationRun> run_characterization(const CharacterizationOpti
       mix.out = trace;
       mix.overwrite = true;
       mix.generator_threads = options.generator_threads;
+      mix.precision = options.precision;
       const MixRunSummary summary =
           run_mix(mix, [&](std::string_view stage, std::size_t done, std::size_t total) {
             if (progress) progress(name, stage, done, total);

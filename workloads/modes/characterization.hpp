@@ -57,6 +57,9 @@ struct CharacterizationOptions {
   std::filesystem::path trace_dir;              ///< one trace per run
   int generator_threads = 2;
   bool overwrite = false;  ///< replace traces already there (else they are reused)
+  /// The backends' offloadable kernels' arithmetic (meta precision). A trace already there of
+  /// another precision is an error, not reused.
+  trace::Precision precision = trace::Precision::kFp64;
   /// Throws std::invalid_argument naming the option (seeds, frames, resolution).
   void validate() const;
 };

@@ -104,6 +104,13 @@ std::vector<std::unique_ptr<datasets::Dataset>> open_segments(const MixRunOption
 
 /// The mixed trace's meta: every segment's camera and data, the options of the mode switch and
 /// of the backends.
+/// The registration backend's options at the workload's precision.
+backend::registration::RegistrationOptions registration_options(trace::Precision precision) {
+  backend::registration::RegistrationOptions options;
+  options.precision = precision;
+  return options;
+}
+
 TraceRunMeta mix_meta(const MixRunOptions& options,
                       const std::vector<std::unique_ptr<datasets::Dataset>>& datasets) {
   const MixPlan& plan = options.plan;
@@ -131,6 +138,7 @@ TraceRunMeta mix_meta(const MixRunOptions& options,
       {"segments", segments},         {"mode_switch", options.mode_switch.to_string()},
       {"vio", options.vio.to_json()}, {"slam", options.slam.to_json()}};
   meta.frames = static_cast<std::size_t>(plan.total_frames());
+  meta.precision = options.precision;
   return meta;
 }
 
@@ -224,7 +232,7 @@ std::unique_ptr<backend::Backend> MixRun::make_backend(BackendMode mode, const S
       return backend::slam::make_slam_backend(s.dataset, options_.slam);
     case BackendMode::Registration:
       return backend::registration::make_registration_backend(
-          s.dataset, backend::registration::RegistrationOptions{}, maps_.at(s.world), vocabulary_);
+          s.dataset, registration_options(options_.precision), maps_.at(s.world), vocabulary_);
     case BackendMode::None:
       break;
   }
@@ -350,8 +358,10 @@ void prepare_mix_data(const MixRunOptions& options, const MixProgress& progress)
   if (needs_registration(options.plan)) load_or_train_vocabulary(options, progress);
 }
 
-MixRunSummary run_mix(const MixRunOptions& options, const MixProgress& progress) {
+MixRunSummary run_mix(const MixRunOptions& requested, const MixProgress& progress) {
   const auto run_start = std::chrono::steady_clock::now();
+  MixRunOptions options = requested;
+  options.vio.precision = options.slam.precision = options.precision;
   const frontend::TracingThreads threads(options.frontend.parallel_images);
   options.frontend.validate();
   options.mode_switch.validate();

@@ -41,6 +41,9 @@ struct MixRunOptions {
   ModeSwitchOptions mode_switch;
   backend::vio::VioOptions vio;     ///< of the VIO backend (outdoor segments)
   backend::slam::SlamOptions slam;  ///< of the SLAM backend (mapping segments)
+  /// The arithmetic of every backend's offloadable kernels (meta precision): run_mix sets the
+  /// backends' options' precision to it.
+  trace::Precision precision = trace::Precision::kFp64;
   /// Save each SLAM segment's map as <data>/<world>-map.json (later segments use it from
   /// memory either way; sweeps tracing several workloads into one data folder turn this off).
   bool save_maps = true;

@@ -12,6 +12,7 @@
 
 #include "workloads/datasets/dataset.hpp"
 #include "workloads/modes/mix_runner.hpp"
+#include "workloads/trace/precision_field.hpp"
 
 namespace edx::modes {
 namespace {
@@ -71,6 +72,8 @@ const FieldList<SweepWorkload>& SweepWorkload::fields() {
             Bounds::at_least(2).at_most(1000)),
       field("slam_window", &C::slam_window, "", "SLAM keyframes (SlamOptions::window_size)",
             Bounds::at_least(2).at_most(1000)),
+      trace::precision_field(&C::precision,
+                             "arithmetic of the offloadable backend kernels (fp64|fp32)"),
       optional_field("map_frames", &C::map_frames, "",
                      "frames of the mix's mapping run (default: the mix's own)",
                      Bounds::at_least(2).at_most(1000000), Unset{"default", nullptr}),
@@ -102,6 +105,7 @@ void trace_sweep_workload(const SweepWorkload& workload, const std::filesystem::
   options.frontend.features_per_image = workload.features;
   options.vio.max_clones = workload.msckf_window;
   options.slam.window_size = workload.slam_window;
+  options.precision = workload.precision;
   // A sweep runs one trace per worker: one render thread each.
   options.generator_threads = 1;
   std::filesystem::create_directories(data_dir);

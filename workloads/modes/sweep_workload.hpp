@@ -11,6 +11,7 @@
 //   seed: 1             seed of the synthetic worlds
 //   msckf_window: 30    VIO clones (VioOptions::max_clones)
 //   slam_window: 10     SLAM keyframes (SlamOptions::window_size)
+//   precision: fp64     arithmetic of the offloadable backend kernels (fp64|fp32)
 //   map_frames: ~       frames of the mix's mapping run: the size of the map registration uses
 //                       (~ or default: the mix's own, a quarter of the paper mix)
 #include <cstdint>
@@ -21,6 +22,7 @@
 
 #include "common/config_fields.hpp"
 #include "workloads/datasets/synthetic/rig.hpp"
+#include "workloads/trace/records.hpp"
 
 namespace edx::modes {
 
@@ -32,6 +34,7 @@ struct SweepWorkload {
   std::uint64_t seed = 1;
   int msckf_window = 30;
   int slam_window = 10;
+  trace::Precision precision = trace::Precision::kFp64;
   std::optional<int> map_frames;  ///< the mix's default when empty
 
   /// Every parameter once: key, accepted values and a line of doc; to_json() and from_json()

@@ -129,6 +129,7 @@ TraceRunMeta TraceRun::meta() const {
                   k.cx, k.cy, calibration.baseline_m);
   meta.pipeline_params = {{"backend_mode", summary_.backend_mode}};
   meta.frames = frames_;
+  meta.precision = options_.precision;
   return meta;
 }
 

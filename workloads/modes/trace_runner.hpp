@@ -53,6 +53,9 @@ struct TraceRunOptions {
   }();
   /// The backend run on every frame; empty: frontend only.
   BackendFactory make_backend;
+  /// The precision make_backend's backend computes its offloadable kernels at (meta precision;
+  /// backend_factory takes the same value).
+  trace::Precision precision = trace::Precision::kFp64;
   /// Where to save the map the backend built (--save-map); only the SLAM backend builds one.
   std::optional<std::filesystem::path> map_out;
   /// Alignment of the estimate to the ground truth for the accuracy figures; default: position

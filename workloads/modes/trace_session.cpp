@@ -19,6 +19,7 @@ trace::TraceMeta trace_meta(const TraceRunMeta& run, const frontend::FrontendOpt
   params["frontend"] = frontend::to_json(frontend);
   meta["pipeline_params"] = params.dump();
   meta["frames"] = std::to_string(run.frames);
+  meta["precision"] = trace::to_string(run.precision);
   meta["opencv_version"] = CV_VERSION;
   return meta;
 }

@@ -22,6 +22,8 @@ struct TraceRunMeta {
   /// The runner's pipeline parameters (backend_mode, ...); the session adds "frontend".
   nlohmann::json pipeline_params = nlohmann::json::object();
   std::size_t frames = 0;
+  /// The arithmetic of the offloadable backend kernels (meta precision).
+  trace::Precision precision = trace::Precision::kFp64;
 };
 
 /// Where the trace goes and how the run samples this machine's speed.

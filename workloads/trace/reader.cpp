@@ -129,10 +129,17 @@ TraceReader::TraceReader(std::filesystem::path path) : path_(std::move(path)) {
                                              table, schema_version_));
       }
     }
+    // Versions 3 and 4 predate meta precision; their backends computed in double.
+    if (schema_version_ <= 4) meta_.emplace("precision", to_string(Precision::kFp64));
     for (const auto& key : kRequiredMetaKeys) {
       if (!meta_.contains(std::string(key))) {
         throw std::runtime_error(fmt::format("{}: meta lacks key '{}'", file, key));
       }
+    }
+    try {
+      trace_precision(meta_);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(fmt::format("{}: meta precision: {}", file, e.what()));
     }
     frame_count_ =
         static_cast<std::size_t>(db.execAndGet("SELECT COUNT(*) FROM frames").getInt64());

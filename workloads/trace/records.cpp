@@ -38,6 +38,8 @@ constexpr NameTable<Op, 9> kOpNames{{{Op::Gemm, "gemm"},
                                      {Op::Transpose, "transpose"},
                                      {Op::Inverse, "inverse"},
                                      {Op::Qr, "qr"}}};
+constexpr NameTable<Precision, 2> kPrecisionNames{
+    {{Precision::kFp64, "fp64"}, {Precision::kFp32, "fp32"}}};
 
 template <typename Enum, std::size_t N>
 const char* name_of(const NameTable<Enum, N>& table, Enum value) {
@@ -74,5 +76,22 @@ BackendMode parse_backend_mode(const std::string& text) {
   return parse_name(kModeNames, "backend mode", text);
 }
 Op parse_op(const std::string& text) { return parse_name(kOpNames, "op", text); }
+const char* to_string(Precision precision) { return name_of(kPrecisionNames, precision); }
+Precision parse_precision(const std::string& text) {
+  return parse_name(kPrecisionNames, "precision", text);
+}
+
+bool computed_at_trace_precision(const std::string& kernel) {
+  for (const char* name : kKernelsAtTracePrecision) {
+    if (kernel == name) return true;
+  }
+  return false;
+}
+
+Precision trace_precision(const TraceMeta& meta) {
+  const auto found = meta.find("precision");
+  if (found == meta.end()) throw std::invalid_argument("meta lacks key 'precision'");
+  return parse_precision(found->second);
+}
 
 }  // namespace edx::trace

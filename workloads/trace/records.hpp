@@ -21,6 +21,9 @@ enum class Image { Left, Right, Stereo };
 enum class Scenario { IndoorUnknown, IndoorKnown, OutdoorUnknown, OutdoorKnown };
 /// Backend mode that ran on a frame; None for frontend-only traces.
 enum class BackendMode { None, Registration, Vio, Slam };
+/// The arithmetic of the offloadable backend kernels (docs/TRACE.md, meta `precision`): IEEE
+/// double or single. The rest of the pipeline computes in double either way.
+enum class Precision { kFp64, kFp32 };
 /// Matrix primitives inside the backend kernels (paper Table I, and the Householder QR of the
 /// MSCKF's null-space projection).
 enum class Op { Gemm, Syrk, Potrf, Ldlt, Trsm, Trsv, Transpose, Inverse, Qr };
@@ -137,10 +140,26 @@ const char* to_string(Image image);
 const char* to_string(Scenario scenario);
 const char* to_string(BackendMode mode);
 const char* to_string(Op op);
+const char* to_string(Precision precision);
 Task parse_task(const std::string& text);
 Image parse_image(const std::string& text);
 Scenario parse_scenario(const std::string& text);
 BackendMode parse_backend_mode(const std::string& text);
 Op parse_op(const std::string& text);
+Precision parse_precision(const std::string& text);
+
+/// The kernels the backends compute at the trace's precision (docs/TRACE.md, "Precision"); the
+/// others always compute in double.
+inline constexpr std::array<const char*, 5> kKernelsAtTracePrecision = {
+    "projection", "kalman_gain", "covariance_update", "gps_fusion", "marginalization"};
+/// Whether `kernel` is one of kKernelsAtTracePrecision.
+bool computed_at_trace_precision(const std::string& kernel);
+
+/// Bytes of one scalar at `precision` (8 or 4).
+constexpr int scalar_bytes(Precision precision) { return precision == Precision::kFp32 ? 4 : 8; }
+
+/// The trace's precision (meta `precision`; docs/TRACE.md). Throws std::invalid_argument when
+/// the key is absent or not fp64|fp32.
+Precision trace_precision(const TraceMeta& meta);
 
 }  // namespace edx::trace

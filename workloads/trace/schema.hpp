@@ -10,15 +10,17 @@ namespace edx::trace {
 // 3 (2026-11-25): meta host_speed, the tracing machine's reference-suite times (host_speed.hpp).
 // 4 (2026-11-28): ops.batch, identical independent instances of one op; op "qr". Version 3
 //   traces are read with batch 1 (TraceReader).
-inline constexpr int kSchemaVersion = 4;
+// 5 (2026-11-28): meta precision, the arithmetic of the offloadable backend kernels (fp64|fp32).
+//   Version 3 and 4 traces computed in double: read with precision fp64 (TraceReader).
+inline constexpr int kSchemaVersion = 5;
 /// The oldest version the reader still reads (an upgrade in memory; docs/TRACE.md).
 inline constexpr int kOldestReadableSchemaVersion = 3;
 
 /// Metadata keys every trace carries (besides schema_version).
-inline constexpr std::array<std::string_view, 11> kRequiredMetaKeys{
+inline constexpr std::array<std::string_view, 12> kRequiredMetaKeys{
     "dataset",         "sequence",    "resolution", "camera_model",
     "pipeline_params", "host_cpu",    "host_cores", "compiler_flags",
-    "source_revision", "created_utc", "host_speed"};
+    "source_revision", "created_utc", "host_speed", "precision"};
 
 /// Table definitions, executed in order on a new database.
 inline constexpr std::string_view kSchemaSql = R"sql(

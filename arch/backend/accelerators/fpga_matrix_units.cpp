@@ -12,7 +12,7 @@ namespace {
 /// "Misc." of Fig. 14: one adder at the backend's precision (e.g. + R in S = H P H^T + R).
 cost::Resources misc_cost(const BackendConfig& be) {
   cost::Datapath d;
-  d.fp(1, be.scalar_bytes == 4 ? cost::kSingleAdd : cost::kDoubleAdd);
+  d.fp(1, be.precision == trace::Precision::kFp32 ? cost::kSingleAdd : cost::kDoubleAdd);
   return d.resources();
 }
 
@@ -72,7 +72,7 @@ std::shared_ptr<const OffloadAccelerator> fpga_matrix_units(const BackendConfig&
 }
 
 std::vector<MemoryStructure> backend_memories(const BackendConfig& be) {
-  const std::int64_t word_bytes = be.scalar_bytes;
+  const std::int64_t word_bytes = be.scalar_bytes();
   // A row feeds every copy of the array a block row a cycle (one word without an array).
   const MatrixUnitInstance* array = be.unit_for(trace::Op::Gemm);
   const std::int64_t row_words =

@@ -28,6 +28,7 @@ class FpgaMatrixUnits final : public OffloadAccelerator {
   std::vector<cost::CostEntry> cost_entries(const AcceleratorCostContext& context) const override;
   KernelMatrixFormat matrix_format() const override { return config_.matrix_format(); }
   std::int64_t local_memory_bytes() const override { return config_.spm_bytes; }
+  trace::Precision precision() const override { return config_.precision; }
 
   const BackendConfig& config() const { return config_; }
 

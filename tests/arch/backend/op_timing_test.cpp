@@ -299,21 +299,30 @@ TEST(BackendConfigYaml, ReadsFieldsAndNamesFileLineKey) {
                "car.yaml:2: backend.units.t2: expected one unit per op, but transpose serves "
                "transpose too (count: 0 leaves a unit out)");
   // A value the reader accepts but validate() refuses still names its line.
-  expect_error("clock_mhz: 100\n\nscalar_bytes: 2\n", "car.yaml:3: backend.scalar_bytes");
+  expect_error("clock_mhz: 100\n\nprecision: fp16\n", "car.yaml:3: backend.precision");
+  // The element size became the precision.
+  expect_error("scalar_bytes: 4\n",
+               "car.yaml:1: backend.scalar_bytes: moved: now backend.precision (fp64: 8 bytes a "
+               "scalar, fp32: 4)");
+  // One precision for the whole backend: a unit has none of its own.
+  expect_error("units: {gemm: {precision: double}}\n", "backend.units.gemm.precision");
   // The keys of the fixed five-unit backend name where they went.
   expect_error("gemm_block: 4\n",
                "car.yaml:1: backend.gemm_block: moved: now backend.units.<name>.block of a "
                "systolic_array unit");
 }
 
-TEST(BackendConfigYaml, UnitPrecisionDefaultsToTheScalarFormat) {
+TEST(BackendConfigYaml, EveryUnitComputesAtTheBackendsPrecision) {
   const BackendConfig single = testing::parse_backend(
-      YAML::Load("scalar_bytes: 4\nunits: {gemm: {block: 2}, transpose: {precision: double}}\n"),
+      YAML::Load("precision: fp32\nunits: {gemm: {block: 2}, householder: {kind: householder}}\n"),
       "x.yaml");
-  EXPECT_EQ(single.units[0].precision, "single");  // listed
-  EXPECT_EQ(single.units[1].precision, "single");  // not listed
-  EXPECT_EQ(single.units[testing::unit_index(single, "transpose")].precision, "double");
-  EXPECT_EQ(BackendConfig{}.units[0].precision, "double");
+  EXPECT_EQ(single.scalar_bytes(), 4);
+  for (const MatrixUnitInstance& u : single.units) {  // listed, default and added units alike
+    EXPECT_EQ(u.arithmetic(), cost::Arithmetic::kSingle) << u.name;
+  }
+  EXPECT_EQ(single.matrix_format().scalar_bytes, 4);
+  EXPECT_EQ(BackendConfig{}.scalar_bytes(), 8);
+  EXPECT_EQ(BackendConfig{}.units[0].arithmetic(), cost::Arithmetic::kDouble);
 }
 
 TEST(BackendOpCycles, CopiesShareAnOpsWork) {

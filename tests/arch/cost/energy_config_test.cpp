@@ -91,7 +91,7 @@ TEST(CostYaml, ErrorsNameFileLineAndKey) {
   // The keys that became the frontend units' own name where they went.
   expect_error("s:\n  if_separable: true\n", false,
                "car.yaml:2: cost.if_separable: moved: now frontend.units.IF.separable");
-  // The backend's precision has one home, backend.scalar_bytes.
+  // The backend's precision has one home, backend.precision.
   expect_error("s:\n  ns_modes: 2\n  backend_precision: single\n", false,
                "car.yaml:3: cost.backend_precision: unknown key");
   expect_error("s:\n  frontend_arithmetic: single\n", false,

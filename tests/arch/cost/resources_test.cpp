@@ -104,7 +104,7 @@ TEST(UnitCosts, GemmTwoByTwoDoubleByHand) {
   EXPECT_DOUBLE_EQ(r.lut, 4 * (208 + 1149) + 3 * 16);
   // MACs + operand registers 4·2·64 + input registers 2·2·64 + AGX 48.
   EXPECT_DOUBLE_EQ(r.ff, 4 * (317 + 445) + 512 + 256 + 48);
-  // Single-precision MACs (a unit of precision single, or backend.scalar_bytes 4).
+  // Single-precision MACs (backend.precision fp32).
   EXPECT_DOUBLE_EQ(array.unit->resources(Arithmetic::kSingle).dsp, 4 * 5);
   BackendConfig be;
   be.units = {array};

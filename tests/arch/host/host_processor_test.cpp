@@ -100,7 +100,8 @@ TEST(HostReference, ListsTheKindThenEachKindsKeys) {
 /// in a kernel that stays on the host.
 std::vector<trace::FrameTrace> one_frame() { return {hand_frame("tracking", 4'000'000)}; }
 
-const trace::TraceMeta kMeta = {{"resolution", "40x25"}, {"dataset", "hand"}};
+const trace::TraceMeta kMeta = {
+    {"resolution", "40x25"}, {"dataset", "hand"}, {"precision", "fp64"}};
 
 TEST(HostKind, AKindOfOneFileIsSelectedByTheHostSectionAndSetsTheHostTimes) {
   const Platform fast =

@@ -40,6 +40,7 @@ inline std::filesystem::path write_sweep_trace(const std::filesystem::path& path
     meta[std::string(key)] = "test";
   }
   meta["resolution"] = "40x25";
+  meta["precision"] = "fp64";
   meta["host_speed"] = R"({"suite": 1, "frontend_ms": 10.0, "backend_ms": 2.0, "samples": 1})";
   trace::TraceWriter writer(path, meta);
   for (int i = 0; i < 4; ++i) writer.append(sweep_frame(i, 1000 + 500 * i));

@@ -52,6 +52,7 @@ struct FakeTracer {
               }
               meta["pipeline_params"] = resolved.dump();
               meta["resolution"] = "40x25";
+              meta["precision"] = "fp64";
               meta["host_speed"] =
                   R"({"suite": 1, "frontend_ms": 10.0, "backend_ms": 2.0, "samples": 1})";
               trace::TraceWriter writer(out, meta);

@@ -63,6 +63,7 @@ inline trace::FrameTrace hand_frame(const std::string& kernel = "projection",
 inline trace::TraceMeta hand_meta() {
   return {{"resolution", "40x25"},
           {"dataset", "hand"},
+          {"precision", "fp64"},
           {"host_speed", R"({"suite": 1, "frontend_ms": 10.0, "backend_ms": 4.0, "samples": 1})"}};
 }
 

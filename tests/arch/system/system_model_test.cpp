@@ -25,19 +25,22 @@ using trace::BackendMode;
 /// Backend 100 MHz, 2x2 array, 64 MiB SPM; link 1 GB/s with 100 ns setup and latency and one
 /// chunk (a B-byte transfer takes B + 200 ns); frontend and backend host scales 1 and 2 (the
 /// host's suite times over kMeta's: 10/10 ms and 8/4 ms); power with round numbers.
-Platform test_platform(const std::string& policy) {
+/// `backend_keys`: more keys of `backend:` ("precision: fp32, ").
+Platform test_platform(const std::string& policy, const std::string& backend_keys = "") {
   return Platform::parse(
       "name: test\n"
       "host: {times: measured, frontend_suite_ms: 10.0, backend_suite_ms: 8.0, active_w: 10.0,\n"
       "       idle_w: 1.0}\n"
-      "backend: {clock_mhz: 100, spm_bytes: 67108864, units: {gemm: {block: 2}}}\n"
-      "link:\n  bandwidth_gb_per_s: 1.0\n  latency_ns: 100\n  pj_per_byte: 1.0\n"
-      "  dma: {setup_ns: 100, chunk_bytes: 4194304, max_outstanding: 1}\n"
-      "memory: {pj_per_byte: 1.0}\n"
-      "power: {fpga_static_w: 1.0, int8_op_pj: 1.0,\n"
-      "        single_mac_pj: 1.0, double_mac_pj: 10.0, fpga_energy_factor: 1.0,\n"
-      "        dram_pj_per_byte: 0.0}\n"
-      "scheduler: {policy: " +
+      "backend: {" +
+          backend_keys +
+          "clock_mhz: 100, spm_bytes: 67108864, units: {gemm: {block: 2}}}\n"
+          "link:\n  bandwidth_gb_per_s: 1.0\n  latency_ns: 100\n  pj_per_byte: 1.0\n"
+          "  dma: {setup_ns: 100, chunk_bytes: 4194304, max_outstanding: 1}\n"
+          "memory: {pj_per_byte: 1.0}\n"
+          "power: {fpga_static_w: 1.0, int8_op_pj: 1.0,\n"
+          "        single_mac_pj: 1.0, double_mac_pj: 10.0, fpga_energy_factor: 1.0,\n"
+          "        dram_pj_per_byte: 0.0}\n"
+          "scheduler: {policy: " +
           policy + ", training_fraction: 0.25}\n",
       "test.yaml");
 }
@@ -94,6 +97,7 @@ std::vector<trace::FrameTrace> three_frames() {
 const trace::TraceMeta kMeta = {
     {"resolution", "40x25"},
     {"dataset", "hand"},
+    {"precision", "fp64"},
     {"host_speed", R"({"suite": 1, "frontend_ms": 10.0, "backend_ms": 4.0, "samples": 1})"}};
 
 // Projection of M points: gemm 3 x M x 4 on the 2x2 array: ⌈3/2⌉·⌈M/2⌉ tiles x (4 + 2·2)
@@ -158,6 +162,37 @@ TEST(SystemModel, OracleOffloadsOnlyWhereTheAcceleratorIsFaster) {
   EXPECT_EQ(r.accelerated.modes.at("slam").frames, 1u);
   EXPECT_EQ(r.accelerated.modes.at("all").frames, 3u);
   EXPECT_NEAR(r.comparison()["slam"]["backend_speedup"].get<double>(), 1.0, 1e-12);
+}
+
+// An fp32 backend runs an fp32 trace: the same cycles, half the bytes a scalar on the link
+// (inputs (12 + 4·100)·4 B, results 2·100·4 B, each + 200 ns). A trace of the other precision,
+// or an fp32 trace on a platform offloading a kernel the backends compute in fp64 only, is
+// refused in one line naming both.
+TEST(SystemModel, Fp32BackendRunsOnlyAnFp32Trace) {
+  trace::TraceMeta fp32 = kMeta;
+  fp32["precision"] = "fp32";
+  const SystemResult r =
+      simulate_system(test_platform("oracle", "precision: fp32, "), three_frames(), fp32, "t.db");
+  EXPECT_NEAR(r.decisions[0].compute_ms, kCompute0Ms, 1e-12);
+  EXPECT_NEAR(r.decisions[0].transfer_ms, ((1648 + 200) + (800 + 200)) * 1e-6, 1e-9);
+  EXPECT_THAT([&] { simulate_system(test_platform("oracle"), three_frames(), fp32, "t.db"); },
+              ::testing::ThrowsMessage<std::runtime_error>(
+                  "t.db: the trace computed its backend kernels in fp32 (meta precision), but "
+                  "platform test computes in fp64 (backend.precision); trace with --precision "
+                  "fp64 or set backend.precision: fp32"));
+  EXPECT_THAT(
+      [&] {
+        simulate_system(test_platform("oracle", "precision: fp32, "), three_frames(), kMeta, "t");
+      },
+      ::testing::ThrowsMessage<std::runtime_error>(::testing::HasSubstr(
+          "the trace computed its backend kernels in fp64 (meta precision), but platform test "
+          "computes in fp32")));
+  Platform beyond = test_platform("oracle", "precision: fp32, ");
+  beyond.scheduler.offload.push_back("schur_complement");
+  EXPECT_THAT([&] { simulate_system(beyond, three_frames(), fp32, "t.db"); },
+              ::testing::ThrowsMessage<std::runtime_error>(::testing::HasSubstr(
+                  "t.db: platform test offloads schur_complement (scheduler.offload), which the "
+                  "backends compute in fp64 only")));
 }
 
 TEST(SystemModel, NeverAndAlwaysPolicies) {

@@ -102,7 +102,8 @@ TEST(SweepWorkload, BadValuesNameTheParameter) {
             "resolution: expected WIDTHxHEIGHT in pixels (e.g. 640x480), got 'wide'");
   EXPECT_EQ(error({{"speed", 3}}),
             "speed: unknown key (expected one of: mix, frames, resolution, features, seed, "
-            "msckf_window, slam_window, map_frames)");
+            "msckf_window, slam_window, precision, map_frames)");
+  EXPECT_EQ(error({{"precision", "fp16"}}), "precision: expected fp64 or fp32, got 'fp16'");
 }
 
 }  // namespace

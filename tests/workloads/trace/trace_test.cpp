@@ -19,6 +19,7 @@ using ::testing::HasSubstr;
 TraceMeta sample_meta() {
   TraceMeta meta;
   for (const auto& key : kRequiredMetaKeys) meta[std::string(key)] = "test";
+  meta["precision"] = "fp64";
   return meta;
 }
 
@@ -200,6 +201,31 @@ TEST_F(TraceTest, ReaderUpgradesVersion3AndChecksTheBatch) {
   FrameTrace expected = sample_frame(1);
   expected.kernels[1].ops[3].batch = 1;
   EXPECT_EQ(frames[1], expected);
+}
+
+// Version 4 had no meta precision: its backends computed in double, so it reads as fp64. A
+// version 5 trace must say, and say fp64 or fp32.
+TEST_F(TraceTest, ReaderReadsVersion4AsFp64AndChecksThePrecision) {
+  const fs::path path = write_sample(2);
+  {
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE);
+    db.exec("UPDATE meta SET value = 'fp16' WHERE key = 'precision'");
+  }
+  EXPECT_THAT([&] { TraceReader{path}; },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr(
+                  "trace.db: meta precision: unknown precision 'fp16' (expected fp64|fp32)")));
+  {
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE);
+    db.exec("DELETE FROM meta WHERE key = 'precision'");
+  }
+  EXPECT_THAT([&] { TraceReader{path}; },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("lacks key 'precision'")));
+  {
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE);
+    db.exec("UPDATE meta SET value = '4' WHERE key = 'schema_version'");
+  }
+  const TraceReader reader(path);
+  EXPECT_EQ(trace_precision(reader.meta()), Precision::kFp64);
 }
 
 TEST_F(TraceTest, ReaderRejectsChangedLayout) {

@@ -15,7 +15,11 @@ Eigen::Matrix<double, 3, 4> camera_matrix(const BackendCamera& camera,
   return K * T_cam_world.matrix().topRows<3>();
 }
 
-Eigen::Matrix3Xd project(const Eigen::Matrix<double, 3, 4>& C, const Eigen::Matrix4Xd& X) {
+Eigen::Matrix3Xd project(const Eigen::Matrix<double, 3, 4>& C, const Eigen::Matrix4Xd& X,
+                         trace::Precision precision) {
+  if (precision == trace::Precision::kFp32) {
+    return (C.cast<float>() * X.cast<float>()).cast<double>();
+  }
   return C * X;
 }
 

@@ -20,8 +20,10 @@ namespace edx::backend::registration {
 Eigen::Matrix<double, 3, 4> camera_matrix(const BackendCamera& camera,
                                           const Eigen::Isometry3d& T_cam_world);
 
-/// Y = C X: pixel coordinates times depth (rows 0, 1) and depth (row 2) of every column of X.
-Eigen::Matrix3Xd project(const Eigen::Matrix<double, 3, 4>& C, const Eigen::Matrix4Xd& X);
+/// Y = C X: pixel coordinates times depth (rows 0, 1) and depth (row 2) of every column of X,
+/// computed at `precision` (fp32: C and X rounded to single, the product in single, Y widened).
+Eigen::Matrix3Xd project(const Eigen::Matrix<double, 3, 4>& C, const Eigen::Matrix4Xd& X,
+                         trace::Precision precision = trace::Precision::kFp64);
 
 /// A 2D-3D match: a world point and the left-image pixel it was matched to.
 struct Correspondence {

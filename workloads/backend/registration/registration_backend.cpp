@@ -204,8 +204,8 @@ std::vector<Correspondence> RegistrationBackend::match_by_projection(
     // u = Y0/Y2, v = Y1/Y2.
     auto k = recorder_.kernel("projection", /*accelerable=*/true);
     const Eigen::Matrix<double, 3, 4> C = camera_matrix(camera_, T_cam_world);
-    const Eigen::Matrix3Xd Y =
-        recorder_.op(trace::Op::Gemm, 3, M, 4, 0, [&] { return project(C, X); });
+    const Eigen::Matrix3Xd Y = recorder_.op(trace::Op::Gemm, 3, M, 4, 0,
+                                            [&] { return project(C, X, options_.precision); });
     for (Eigen::Index i = 0; i < M; ++i) {
       const double z = Y(2, i);
       if (!(z >= options_.min_depth_m && z <= options_.max_depth_m)) continue;

@@ -1,10 +1,15 @@
 #include "workloads/backend/registration/registration_options.hpp"
 
+#include "workloads/trace/precision_field.hpp"
+
 namespace edx::backend::registration {
 
 const FieldList<RegistrationOptions>& RegistrationOptions::fields() {
   using C = RegistrationOptions;
   static const FieldList<C> list = {
+      trace::precision_field(
+          &C::precision,
+          "arithmetic of the offloadable kernels (projection): fp64 or fp32 (docs/TRACE.md)"),
       field("direct_index_level", &C::direct_index_level, "",
             "vocabulary level of the direct index, from the root", Bounds::at_least(1).at_most(16)),
       field("bow_candidates", &C::bow_candidates, "", "keyframes matched after a query",

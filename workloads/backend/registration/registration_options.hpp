@@ -8,10 +8,13 @@
 
 #include "common/config_fields.hpp"
 #include "workloads/backend/registration/covisibility.hpp"
+#include "workloads/trace/records.hpp"
 
 namespace edx::backend::registration {
 
 struct RegistrationOptions {
+  /// The arithmetic of the offloadable kernel (projection): the workload's precision.
+  trace::Precision precision = trace::Precision::kFp64;
   // Keyframe-database query (bow_query) and BoW descriptor matching (matching).
   int direct_index_level = 2;      ///< vocabulary level of the direct index, from the root
   std::size_t bow_candidates = 5;  ///< keyframes matched after a query (best scores)

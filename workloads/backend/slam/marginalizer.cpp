@@ -12,14 +12,6 @@ namespace edx::backend::slam {
 using trace::Op;
 namespace flags = trace::op_flags;
 
-Eigen::MatrixXd symmetric_pseudo_inverse(const Eigen::MatrixXd& A) {
-  const Eigen::MatrixXd sym = 0.5 * (A + A.transpose());
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(sym);
-  const Eigen::VectorXd inv_values = eig.eigenvalues().unaryExpr(
-      [](double x) { return x > kPseudoInverseEpsilon ? 1.0 / x : 0.0; });
-  return eig.eigenvectors() * inv_values.asDiagonal() * eig.eigenvectors().transpose();
-}
-
 MarginalizationSystem linearize_marginalization(const Window& window, const SlamOptions& options) {
   if (window.keyframes.size() < 2) {
     throw std::logic_error("linearize_marginalization: < 2 keyframes");
@@ -147,16 +139,33 @@ MarginalizationSystem linearize_marginalization(const Window& window, const Slam
   return sys;
 }
 
-MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& options,
-                                         KernelRecorder& recorder) {
-  if (window.keyframes.size() < 2) throw std::logic_error("marginalize_oldest: < 2 keyframes");
-  auto kernel = recorder.kernel("marginalization", /*accelerable=*/true);
-  MarginalizationSystem sys = linearize_marginalization(window, options);
+namespace {
+
+template <class S>
+using Matrix = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+template <class S>
+using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+
+/// symmetric_pseudo_inverse in scalar type S.
+template <class S>
+Matrix<S> pseudo_inverse_in(const Matrix<S>& A) {
+  const Matrix<S> sym = S(0.5) * (A + A.transpose());
+  const Eigen::SelfAdjointEigenSolver<Matrix<S>> eig(sym);
+  const Vector<S> inv_values = eig.eigenvalues().unaryExpr(
+      [](S x) { return x > S(kPseudoInverseEpsilon) ? S(1) / x : S(0); });
+  return eig.eigenvectors() * inv_values.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+/// The offloadable part of the marginalization in scalar type S (the system rounded to S on the
+/// way in, the prior widened to double on the way out): the removed variables eliminated from
+/// the linearized system `sys`, and the prior J, r0 of what they said about the kept ones (left
+/// empty when nothing kept is linked, r = 0).
+template <class S>
+void eliminate_in(const MarginalizationSystem& sys, KernelRecorder& recorder, Prior& prior) {
   const int m = sys.m, d = sys.d, r = sys.r;
   const int N = m + d + r;
-  Eigen::MatrixXd& H = sys.H;
-  Eigen::VectorXd& b = sys.b;
-  MarginalizationReport report;
+  Matrix<S> H = sys.H.cast<S>();
+  Vector<S> b = sys.b.cast<S>();
 
   // With an IMU, the removed keyframe's velocity and biases (9) go first: they couple only to
   // its pose and the kept states, never to landmarks, so eliminating them leaves A diagonal and
@@ -168,8 +177,8 @@ MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& opti
     for (int i = 0; i < N; ++i) {
       if (i < m + 6 || i >= m + 15) rest.push_back(i);
     }
-    Eigen::MatrixXd H_RR(n_rest, n_rest), H_RS(n_rest, 9);
-    Eigen::VectorXd b_R(n_rest);
+    Matrix<S> H_RR(n_rest, n_rest), H_RS(n_rest, 9);
+    Vector<S> b_R(n_rest);
     for (int i = 0; i < n_rest; ++i) {
       b_R(i) = b(rest[static_cast<std::size_t>(i)]);
       H_RS.row(i) = H.block(rest[static_cast<std::size_t>(i)], m + 6, 1, 9);
@@ -177,20 +186,20 @@ MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& opti
         H_RR(i, j) = H(rest[static_cast<std::size_t>(i)], rest[static_cast<std::size_t>(j)]);
       }
     }
-    Eigen::Matrix<double, 9, 9> H_SS = H.block<9, 9>(m + 6, m + 6);
-    H_SS.diagonal().array() += 1e-9;
-    const Eigen::Matrix<double, 9, 1> b_S = b.segment<9>(m + 6);
+    Eigen::Matrix<S, 9, 9> H_SS = H.template block<9, 9>(m + 6, m + 6);
+    H_SS.diagonal().array() += S(1e-9);
+    const Eigen::Matrix<S, 9, 1> b_S = b.template segment<9>(m + 6);
     const auto ldlt = recorder.op(Op::Ldlt, 9, 9, 0, flags::kSymmetric,
-                                  [&] { return Eigen::LDLT<Eigen::Matrix<double, 9, 9>>(H_SS); });
-    const Eigen::MatrixXd X = recorder.op(Op::Trsm, 9, n_rest, 0, flags::kSymmetric, [&] {
-      return Eigen::MatrixXd(ldlt.solve(H_RS.transpose()));  // H_SS^-1 H_SR
+                                  [&] { return Eigen::LDLT<Eigen::Matrix<S, 9, 9>>(H_SS); });
+    const Matrix<S> X = recorder.op(Op::Trsm, 9, n_rest, 0, flags::kSymmetric, [&] {
+      return Matrix<S>(ldlt.solve(H_RS.transpose()));  // H_SS^-1 H_SR
     });
-    const Eigen::VectorXd y = recorder.op(Op::Trsv, 9, 1, 0, flags::kSymmetric, [&] {
-      return Eigen::VectorXd(ldlt.solve(b_S));  // H_SS^-1 b_S
+    const Vector<S> y = recorder.op(Op::Trsv, 9, 1, 0, flags::kSymmetric, [&] {
+      return Vector<S>(ldlt.solve(b_S));  // H_SS^-1 b_S
     });
     H = recorder.op(Op::Gemm, n_rest, n_rest, 9, flags::kSymmetric,
-                    [&] { return Eigen::MatrixXd(H_RR - H_RS * X); });
-    b = recorder.op(Op::Gemm, n_rest, 1, 9, 0, [&] { return Eigen::VectorXd(b_R - H_RS * y); });
+                    [&] { return Matrix<S>(H_RR - H_RS * X); });
+    b = recorder.op(Op::Gemm, n_rest, 1, 9, 0, [&] { return Vector<S>(b_R - H_RS * y); });
   }
   const int dm = 6;  // the removed keyframe's block left: its pose
   const int N_reduced = static_cast<int>(H.rows());
@@ -204,40 +213,52 @@ MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& opti
   // accelerator's inverse unit exploits (paper Sec. VI-A); the host does not.
   const int mm = m + dm;
   const std::uint32_t inverse_flags = flags::kDiagonalBlock | flags::kSymmetric | flags::kBlock6x6;
-  const Eigen::MatrixXd A_mm_inv = recorder.op(Op::Inverse, mm, mm, 0, inverse_flags, [&] {
-    return symmetric_pseudo_inverse(H.topLeftCorner(mm, mm));
+  const Matrix<S> A_mm_inv = recorder.op(Op::Inverse, mm, mm, 0, inverse_flags, [&] {
+    return pseudo_inverse_in<S>(H.topLeftCorner(mm, mm));
   });
+  if (r == 0) return;  // nothing kept is linked: the removed variables leave no information
+  const Matrix<S> A_mr = H.block(0, mm, mm, r);
+  const Matrix<S> A_rm =
+      recorder.op(Op::Transpose, mm, r, 0, 0, [&] { return Matrix<S>(A_mr.transpose()); });
+  const Matrix<S> T = recorder.op(Op::Gemm, r, mm, mm, flags::kSymmetric,
+                                  [&] { return Matrix<S>(A_rm * A_mm_inv); });
+  Matrix<S> H_star = recorder.op(Op::Gemm, r, r, mm, flags::kSymmetric,
+                                 [&] { return Matrix<S>(H.block(mm, mm, r, r) - T * A_mr); });
+  H_star = S(0.5) * (H_star + H_star.transpose());
+  const Vector<S> b_star = recorder.op(
+      Op::Gemm, r, 1, mm, 0, [&] { return Vector<S>(b.segment(mm, r) - T * b.head(mm)); });
+  const Eigen::LDLT<Matrix<S>> ldlt = recorder.op(Op::Ldlt, r, r, 0, flags::kSymmetric,
+                                                  [&] { return Eigen::LDLT<Matrix<S>>(H_star); });
+  const Vector<S> D_diag = ldlt.vectorD().cwiseMax(S(0));
+  const Vector<S> sqrt_D = D_diag.cwiseSqrt();
+  const Vector<S> inv_sqrt_D = sqrt_D.unaryExpr([](S x) { return x > S(1e-10) ? S(1) / x : S(0); });
+  const Matrix<S> L = ldlt.matrixL();
+  const Vector<S> Pb = ldlt.transpositionsP() * b_star;
+  const Vector<S> Linv_Pb = recorder.op(Op::Trsv, r, 1, 0, flags::kLower,
+                                        [&] { return Vector<S>(ldlt.matrixL().solve(Pb)); });
+  const Matrix<S> J_prior = recorder.op(Op::Transpose, r, r, 0, flags::kLower, [&] {
+    const Matrix<S> P = ldlt.transpositionsP() * Matrix<S>::Identity(r, r);
+    return Matrix<S>(sqrt_D.asDiagonal() * L.transpose() * P);  // D^1/2 L^T P
+  });
+  const Vector<S> r0 = -(inv_sqrt_D.asDiagonal() * Linv_Pb);
+  prior.J = J_prior.template cast<double>();
+  prior.r0 = r0.template cast<double>();
+}
+
+}  // namespace
+
+MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& options,
+                                         KernelRecorder& recorder) {
+  if (window.keyframes.size() < 2) throw std::logic_error("marginalize_oldest: < 2 keyframes");
+  auto kernel = recorder.kernel("marginalization", /*accelerable=*/true);
+  const MarginalizationSystem sys = linearize_marginalization(window, options);
+  const int m = sys.m, d = sys.d, r = sys.r;
+  MarginalizationReport report;
   Prior prior;
-  if (r > 0) {  // else nothing kept is linked: the removed variables leave no information
-    const Eigen::MatrixXd A_mr = H.block(0, mm, mm, r);
-    const Eigen::MatrixXd A_rm =
-        recorder.op(Op::Transpose, mm, r, 0, 0, [&] { return Eigen::MatrixXd(A_mr.transpose()); });
-    const Eigen::MatrixXd T = recorder.op(Op::Gemm, r, mm, mm, flags::kSymmetric,
-                                          [&] { return Eigen::MatrixXd(A_rm * A_mm_inv); });
-    Eigen::MatrixXd H_star = recorder.op(Op::Gemm, r, r, mm, flags::kSymmetric, [&] {
-      return Eigen::MatrixXd(H.block(mm, mm, r, r) - T * A_mr);
-    });
-    H_star = 0.5 * (H_star + H_star.transpose());
-    const Eigen::VectorXd b_star = recorder.op(
-        Op::Gemm, r, 1, mm, 0, [&] { return Eigen::VectorXd(b.segment(mm, r) - T * b.head(mm)); });
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt = recorder.op(
-        Op::Ldlt, r, r, 0, flags::kSymmetric, [&] { return Eigen::LDLT<Eigen::MatrixXd>(H_star); });
-    const Eigen::VectorXd D_diag = ldlt.vectorD().cwiseMax(0.0);
-    const Eigen::VectorXd sqrt_D = D_diag.cwiseSqrt();
-    const Eigen::VectorXd inv_sqrt_D =
-        sqrt_D.unaryExpr([](double x) { return x > 1e-10 ? 1.0 / x : 0.0; });
-    const Eigen::MatrixXd L = ldlt.matrixL();
-    const Eigen::VectorXd Pb = ldlt.transpositionsP() * b_star;
-    const Eigen::VectorXd Linv_Pb = recorder.op(Op::Trsv, r, 1, 0, flags::kLower, [&] {
-      return Eigen::VectorXd(ldlt.matrixL().solve(Pb));
-    });
-    Eigen::MatrixXd J_prior = recorder.op(Op::Transpose, r, r, 0, flags::kLower, [&] {
-      const Eigen::MatrixXd P = ldlt.transpositionsP() * Eigen::MatrixXd::Identity(r, r);
-      return Eigen::MatrixXd(sqrt_D.asDiagonal() * L.transpose() * P);  // D^1/2 L^T P
-    });
-    const Eigen::VectorXd r0 = -(inv_sqrt_D.asDiagonal() * Linv_Pb);
-    prior.J = std::move(J_prior);
-    prior.r0 = r0;
+  if (options.precision == trace::Precision::kFp32) {
+    eliminate_in<float>(sys, recorder, prior);
+  } else {
+    eliminate_in<double>(sys, recorder, prior);
   }
 
   // Archive what leaves the window, then remove it and install the new prior.
@@ -267,6 +288,10 @@ MarginalizationReport marginalize_oldest(Window& window, const SlamOptions& opti
   window.keyframes.pop_front();
   window.keyframes.front().imu_from_previous.reset();
   return report;
+}
+
+Eigen::MatrixXd symmetric_pseudo_inverse(const Eigen::MatrixXd& A) {
+  return pseudo_inverse_in<double>(A);
 }
 
 }  // namespace edx::backend::slam

@@ -1,5 +1,7 @@
 #include "workloads/backend/slam/slam_options.hpp"
 
+#include "workloads/trace/precision_field.hpp"
+
 namespace edx::backend::slam {
 
 const FieldList<SlamOptions>& SlamOptions::fields() {
@@ -7,6 +9,9 @@ const FieldList<SlamOptions>& SlamOptions::fields() {
   static const FieldList<C> list = {
       field("window_size", &C::window_size, "", "keyframes optimized together",
             Bounds::at_least(2).at_most(100)),
+      trace::precision_field(
+          &C::precision,
+          "arithmetic of the offloadable kernels (marginalization): fp64 or fp32 (docs/TRACE.md)"),
       field("keyframe_parallax_px", &C::keyframe_parallax_px, "px",
             "mean track parallax since the last keyframe that makes a new one", Bounds::above(0)),
       field("keyframe_tracked_ratio", &C::keyframe_tracked_ratio, "",

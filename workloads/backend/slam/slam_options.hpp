@@ -5,12 +5,15 @@
 #include <string>
 
 #include "common/config_fields.hpp"
+#include "workloads/trace/records.hpp"
 
 namespace edx::backend::slam {
 
 struct SlamOptions {
   // Window and keyframes.
-  int window_size = 10;                  ///< keyframes optimized together (oldest marginalized)
+  int window_size = 10;  ///< keyframes optimized together (oldest marginalized)
+  /// The arithmetic of the offloadable kernel (marginalization): the workload's precision.
+  trace::Precision precision = trace::Precision::kFp64;
   double keyframe_parallax_px = 10.0;    ///< mean track parallax since the last keyframe
   double keyframe_tracked_ratio = 0.6;   ///< fewer frame features on landmarks than this: new KF
   double keyframe_max_interval_s = 0.5;  ///< longest time between keyframes

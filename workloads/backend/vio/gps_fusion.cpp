@@ -138,8 +138,8 @@ GpsReport GpsFusion::process(VioState& state, std::span<const datasets::GpsFix> 
       continue;
     }
     consecutive_rejections_ = 0;
-    const KalmanGain gain = kalman_gain(state.P, H, noise, &recorder);
-    if (gain.ok && apply_update(state, gain, r, &recorder)) ++report.fused;
+    const KalmanGain gain = kalman_gain(state.P, H, noise, &recorder, options_.precision);
+    if (gain.ok && apply_update(state, gain, r, &recorder, options_.precision)) ++report.fused;
   }
   kernel.record().detail_json =
       fmt::format(R"({{"aligned":true,"fused":{},"rejected":{}}})", report.fused, report.rejected);

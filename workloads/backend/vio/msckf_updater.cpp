@@ -382,13 +382,14 @@ void MsckfUpdater::sequential_update(VioState& state, const StackedRows& rows,
       auto kernel = recorder.kernel("kalman_gain", /*accelerable=*/true);
       kernel.record().m = group;
       kernel.record().n = n;
-      gain = kalman_gain(P, H_g, Eigen::VectorXd::Constant(group, update_variance_), &recorder);
+      gain = kalman_gain(P, H_g, Eigen::VectorXd::Constant(group, update_variance_), &recorder,
+                         options_.precision);
     }
     if (!gain.ok) break;
     auto kernel = recorder.kernel("covariance_update");
     kernel.record().m = group;
     kernel.record().n = n;
-    if (!update_covariance(P, gain, &recorder)) break;
+    if (!update_covariance(P, gain, &recorder, options_.precision)) break;
     dx += gain.K * r_g;
     ++report.gains;
   }

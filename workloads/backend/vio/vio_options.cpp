@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "workloads/trace/precision_field.hpp"
+
 namespace edx::backend::vio {
 namespace {
 
@@ -35,6 +37,9 @@ const FieldList<VioOptions>& VioOptions::fields() {
       {
           field("max_clones", &C::max_clones, "", "clones kept in the sliding window",
                 Bounds::at_least(3).at_most(200)),
+          trace::precision_field(&C::precision,
+                                 "arithmetic of the offloadable kernels (Kalman gain, covariance "
+                                 "update, GPS fusion): fp64 or fp32 (docs/TRACE.md)"),
           field("min_track_length", &C::min_track_length, "",
                 "observations a track needs to be used (at most max_clones)", Bounds::at_least(2)),
           field("update_track_length", &C::update_track_length, "",

@@ -7,12 +7,16 @@
 
 #include "common/config_fields.hpp"
 #include "workloads/backend/vio/track_noise.hpp"
+#include "workloads/trace/records.hpp"
 
 namespace edx::backend::vio {
 
 struct VioOptions {
   // Sliding window of stochastic clones.
   int max_clones = 30;  ///< clones kept; the oldest is marginalized beyond this
+  /// The arithmetic of the offloadable kernels (kalman_gain, covariance_update, and GPS fusion's
+  /// gain and update): the workload's precision.
+  trace::Precision precision = trace::Precision::kFp64;
   // Features.
   int min_track_length = 3;  ///< observations (frames) a track needs to be used
   /// Tracks still alive are used once they reach this many observations (then restarted), so

@@ -50,6 +50,28 @@ TEST(RegistrationProjection, CameraMatrixAndProductMatchHandComputedValues) {
   EXPECT_NEAR(Y(1, 1) / Y(2, 1), 173.0 + 1.0 / 3.0, 1e-12);
 }
 
+// At fp32, C and X are rounded to single and the product is single's: a point 1000 m away
+// (coordinates not all representable in single past 2^24 ulp) projects to within single's
+// relative 2^-24 per operation of the double product, and every entry is a float.
+TEST(RegistrationProjection, Fp32ProductIsSinglePrecision) {
+  Eigen::Matrix<double, 3, 4> C;
+  C << 0.1, -100.3, 50.7, 250.11, 200.9, 0.3, 40.1, 520.7, 0.01, 0.02, 1, 3.3;
+  Eigen::Matrix4Xd X(4, 2);
+  X.col(0) << 1000.123456789, -20.987654321, 2.5, 1;
+  X.col(1) << 0.1, 1.2, 30.3, 1;
+  const Eigen::Matrix3Xd y64 = project(C, X, trace::Precision::kFp64);
+  const Eigen::Matrix3Xd y32 = project(C, X, trace::Precision::kFp32);
+  EXPECT_TRUE((C * X).isApprox(y64, 0));
+  for (Eigen::Index i = 0; i < y32.size(); ++i) {
+    const double v = y32.data()[i];
+    EXPECT_EQ(v, static_cast<double>(static_cast<float>(v)));
+    const Eigen::Index row = i % 3, col = i / 3;
+    const double magnitude = C.row(row).cwiseAbs() * X.col(col).cwiseAbs();
+    EXPECT_LE(std::abs(v - y64.data()[i]), 8 * 0x1p-24 * magnitude);
+  }
+  EXPECT_NE(y32, y64);
+}
+
 /// Points in front of a camera at T_cam_world, seen with Gaussian pixel noise; the first
 /// `outliers` get a pixel elsewhere in the image.
 std::vector<Correspondence> synthetic_correspondences(const BackendCamera& camera,
@@ -157,7 +179,7 @@ TEST(RegistrationOptionsTest, ValidateNamesTheBadFieldAndJsonListsAll) {
   EXPECT_EQ(j.at("bow_max_hamming"), 50);
   EXPECT_EQ(j.at("local_map"), true);
   EXPECT_EQ(j.at("local_map_max_keyframes"), 80);
-  EXPECT_EQ(j.size(), 26u);
+  EXPECT_EQ(j.size(), 27u);
   o = RegistrationOptions{};
   o.local_map_neighbours = 0;
   EXPECT_THROW(o.validate(), std::runtime_error);

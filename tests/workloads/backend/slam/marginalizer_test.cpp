@@ -213,6 +213,35 @@ TEST(Marginalization, PriorIsTheSchurComplementOfTheRemovedBlockWithoutTheOffset
                                trace::op_flags::kSymmetric);
 }
 
+// At fp32 the elimination runs in single: the prior is the same Schur complement to single's
+// precision, its entries are floats, and the kernel records the same ops.
+TEST(Marginalization, Fp32PriorIsTheSchurComplementToSinglePrecision) {
+  Window w64 = test_window(), w32 = test_window();
+  SlamOptions options;
+  options.huber_threshold = 1e6;
+  options.estimate_disparity_offset = false;
+  const DenseReference ref = dense_reference(w64, false);
+  KernelRecorder recorder;
+  marginalize_oldest(w64, options, recorder);
+  options.precision = trace::Precision::kFp32;
+  marginalize_oldest(w32, options, recorder);
+  const Eigen::MatrixXd JtJ = w32.prior.J.transpose() * w32.prior.J;
+  const double relative = (JtJ - ref.H_star).norm() / ref.H_star.norm();
+  EXPECT_LT(relative, 1e-3);
+  EXPECT_GT((w32.prior.J - w64.prior.J).norm(), 0.0);  // not double's arithmetic
+  for (Eigen::Index i = 0; i < w32.prior.J.size(); ++i) {
+    const double v = w32.prior.J.data()[i];
+    EXPECT_EQ(v, static_cast<double>(static_cast<float>(v)));
+  }
+  const std::vector<trace::KernelRecord> kernels = recorder.take();
+  ASSERT_EQ(kernels.size(), 2u);
+  ASSERT_EQ(kernels[0].ops.size(), kernels[1].ops.size());
+  for (std::size_t i = 0; i < kernels[0].ops.size(); ++i) {
+    EXPECT_EQ(kernels[0].ops[i].op, kernels[1].ops[i].op);
+    EXPECT_EQ(kernels[0].ops[i].m, kernels[1].ops[i].m);
+  }
+}
+
 // delta kept: the removed landmarks' right residuals (including those in their anchor, which
 // only depend on rho and delta) and a previous prior that holds delta all enter the new prior,
 // which is over [kf1 | kf2 | delta] (13). The removed block, and so the structured inverse,

@@ -14,7 +14,7 @@ TEST(SlamOptions, DefaultsAreValidAndPrintable) {
   EXPECT_EQ(j.at("window_size"), 10);
   EXPECT_EQ(j.at("estimate_disparity_offset"), true);
   EXPECT_EQ(j.at("stereo_max_depth_baselines"), 0.0);
-  EXPECT_EQ(j.size(), 22u);
+  EXPECT_EQ(j.size(), 23u);
 }
 
 TEST(SlamOptions, BadValuesNameTheField) {
