@@ -572,6 +572,68 @@ std::string parameters_text(const SweepPoint& p) {
   return text;
 }
 
+/// Whether a sweep metric is an accuracy metric (ATE RMSE: ate_rmse, ate_rmse_vio, ...;
+/// docs/SWEEPS.md "Accuracy").
+bool is_accuracy_metric(const std::string& metric) { return metric.starts_with("ate_rmse"); }
+
+/// The accuracy-latency-resources front of a sweep with an accuracy objective and two others
+/// (docs/REPORTS.md): the accuracy objective against the first other one, coloured by the
+/// second; grey: feasible points off the front; the front's points by their colour. Empty when
+/// the sweep has no such three objectives.
+std::string accuracy_front_html(const SweepData& sweep, int index, const fs::path& dir,
+                                const std::string& gnuplot, bool plot,
+                                std::vector<std::string>& images) {
+  std::optional<std::size_t> accuracy;
+  std::vector<std::size_t> others;
+  for (std::size_t i = 0; i < sweep.objectives.size(); ++i) {
+    if (!accuracy && is_accuracy_metric(sweep.objectives[i].metric)) {
+      accuracy = i;
+    } else {
+      others.push_back(i);
+    }
+  }
+  if (!accuracy || others.size() < 2) return {};
+  const std::string& a = sweep.objectives[*accuracy].metric;
+  const std::string& x = sweep.objectives[others[0]].metric;
+  const std::string& c = sweep.objectives[others[1]].metric;
+  // Blocks: 0 feasible off the front, 1 the front (x y colour).
+  std::string blocks[2];
+  std::size_t on_front = 0;
+  for (const SweepPoint& p : sweep.points) {
+    const auto vx = sweep_value(p, x), vy = sweep_value(p, a), vc = sweep_value(p, c);
+    if (!p.feasible || !vx || !vy || !vc) continue;
+    blocks[p.pareto ? 1 : 0] += fmt::format("{:.9g} {:.9g} {:.9g}\n", *vx, *vy, *vc);
+    on_front += p.pareto ? 1 : 0;
+  }
+  std::string h = fmt::format(
+      "<h4>Accuracy, latency and resources</h4>\n<p class=\"cap\">The front of the three "
+      "objectives: {} (m) against {}, coloured by {}; {} designs on the front, grey: feasible "
+      "designs off it. Each design's ATE is its workload point's (the trace's), its latency and "
+      "resources its platform's on that trace.</p>\n",
+      html_escape(a), html_escape(x), html_escape(c), on_front);
+  if (!plot) return h;
+  std::string dat;
+  for (const std::string& b : blocks)
+    dat += "# block\n" + (b.empty() ? "nan nan nan\n" : b) + "\n\n";
+  const std::string stem = fmt::format("sweep{}_accuracy", index);
+  const std::string image = stem + kPlotExtension;
+  std::ofstream(dir / (stem + ".dat")) << dat;
+  std::ofstream(dir / (stem + ".gp"))
+      << kTerminal << "set output " << gp_quote((dir / image).string()) << "\n"
+      << "set title " << gp_quote("Sweep " + sweep.sweep_id + ": accuracy-latency-resources front")
+      << "\nset xlabel " << gp_quote(x) << "\nset ylabel " << gp_quote(a + " (m)")
+      << "\nset cblabel " << gp_quote(c)
+      << "\nset palette defined (0 '#0072B2', 1 '#009E73', 2 '#E69F00', 3 '#D55E00')"
+      << "\nset offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05"
+      << "\nset grid\nset key outside right top\n"
+      << "plot " << gp_quote((dir / (stem + ".dat")).string())
+      << " index 0 using 1:2 with points pt 7 ps 0.8 lc rgb '#BBBBBB' title 'feasible', "
+         "'' index 1 using 1:2:3 with points pt 7 ps 1.6 lc palette title 'front'\n";
+  run_gnuplot(gnuplot, dir / (stem + ".gp"), "sweep " + sweep.sweep_id + " accuracy plot");
+  images.push_back(image);
+  return h + fmt::format("<img src=\"{}\" alt=\"Accuracy-latency-resources front\">\n", image);
+}
+
 /// The points of a sweep and their Pareto front (sweep_points.pareto, as `edx sweep` stored it):
 /// one plot per pair (first objective, each other objective); one objective: value per point.
 /// A search's convergence: the hypervolume of the feasible front found by each generation
@@ -756,6 +818,7 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
       images.push_back(png);
       h += fmt::format("<img src=\"{}\" alt=\"Pareto front\">\n", png);
     }
+    h += accuracy_front_html(sweep, index, dir, gnuplot, plot, images);
     if (!sweep.generations.empty()) {
       h += convergence_html(sweep, index, dir, gnuplot, plot, images);
     }

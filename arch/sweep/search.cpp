@@ -67,8 +67,8 @@ struct SearchState {
       for (std::size_t c = 0; c < spec->constraints.size(); ++c) {
         const SweepConstraint& con = spec->constraints[c];
         const double v = finite(r.constraints.at(c));
-        if (con.max < 1e300) f.push_back(v - con.max);
-        if (con.min > -1e300) f.push_back(con.min - v);
+        if (con.upper() < 1e300) f.push_back(v - con.upper());
+        if (con.lower() > -1e300) f.push_back(con.lower() - v);
       }
       fitness.emplace(todo[k], f);
       order.push_back(todo[k]);
@@ -86,7 +86,7 @@ struct SearchState {
 
 std::size_t constraint_count(const SweepSpec& spec) {
   std::size_t n = 0;
-  for (const SweepConstraint& c : spec.constraints) n += (c.max < 1e300) + (c.min > -1e300);
+  for (const SweepConstraint& c : spec.constraints) n += (c.upper() < 1e300) + (c.lower() > -1e300);
   return n;
 }
 

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <stdexcept>
 
@@ -56,7 +57,45 @@ constexpr NamedMetric kMetrics[] = {
 
 }  // namespace
 
+constexpr NamedMetric kAccuracyMetrics[] = {
+    {"ate_rmse", "/all/ate_rmse_m"},
+    {"ate_rmse_vio", "/vio/ate_rmse_m"},
+    {"ate_rmse_slam", "/slam/ate_rmse_m"},
+    {"ate_rmse_registration", "/registration/ate_rmse_m"},
+};
+
+bool is_accuracy_metric(const std::string& metric) {
+  return std::any_of(std::begin(kAccuracyMetrics), std::end(kAccuracyMetrics),
+                     [&](const NamedMetric& m) { return metric == m.name; });
+}
+
+double accuracy_metric(const nlohmann::json& accuracy, const std::string& metric) {
+  for (const NamedMetric& m : kAccuracyMetrics) {
+    if (metric != m.name) continue;
+    const nlohmann::json::json_pointer ptr(m.pointer);
+    // A mode that never ran, or ran with too few estimates for an alignment: undefined.
+    return accuracy.contains(ptr) && accuracy.at(ptr).is_number()
+               ? accuracy.at(ptr).get<double>()
+               : std::numeric_limits<double>::quiet_NaN();
+  }
+  throw std::logic_error(fmt::format("'{}' is not an accuracy metric", metric));
+}
+
+double point_metric(const nlohmann::json& summary, const nlohmann::json& accuracy,
+                    const std::string& metric) {
+  return is_accuracy_metric(metric) ? accuracy_metric(accuracy, metric)
+                                    : sweep_metric(summary, metric);
+}
+
+bool SweepSpec::needs_accuracy() const {
+  return std::any_of(objectives.begin(), objectives.end(),
+                     [](const SweepObjective& o) { return is_accuracy_metric(o.metric); }) ||
+         std::any_of(constraints.begin(), constraints.end(),
+                     [](const SweepConstraint& c) { return is_accuracy_metric(c.metric); });
+}
+
 bool is_sweep_metric(const std::string& metric) {
+  if (is_accuracy_metric(metric)) return true;
   if (metric == "resources" || (!metric.empty() && metric[0] == '/')) return true;
   return std::any_of(std::begin(kMetrics), std::end(kMetrics),
                      [&](const NamedMetric& m) { return metric == m.name; });
@@ -145,6 +184,12 @@ nlohmann::json SweepSpec::to_json() const {
     nlohmann::json j = {{"metric", c.metric}};
     if (c.min > -1e300) j["min"] = c.min;
     if (c.max < 1e300) j["max"] = c.max;
+    if (c.relative()) {
+      j["max_relative"] = *c.max_relative;
+      nlohmann::json reference = nlohmann::json::object();
+      for (const auto& [key, value] : c.reference.items()) reference["workload." + key] = value;
+      j["reference"] = reference;
+    }
     con.push_back(j);
   }
   nlohmann::json sampling = "grid";

@@ -28,6 +28,7 @@
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,9 +53,22 @@ struct SweepObjective {
   bool maximize = false;
 };
 
+/// A bound on a metric: absolute (min and/or max), or relative to a reference workload point:
+///   metric(point) <= (1 + max_relative) * metric(reference of point)
+/// where the reference of a point is its workload with the `reference` values instead (the same
+/// features and windows at fp64, say); only for accuracy metrics, which depend on the workload
+/// alone (docs/SWEEPS.md "Accuracy").
 struct SweepConstraint {
   std::string metric;
   double min = -1e300, max = 1e300;
+  std::optional<double> max_relative;
+  nlohmann::json reference;  ///< {"features": "1000", ...}: workload keys (no "workload.")
+  std::map<std::string, int> reference_lines;  ///< the spec's line of each reference value
+  int line = 0;
+  bool relative() const { return max_relative.has_value(); }
+  /// The bound on the value the search constrains (the metric, or a relative one's ratio).
+  double upper() const { return relative() ? 1 + *max_relative : max; }
+  double lower() const { return relative() ? -1e300 : min; }
 };
 
 struct SweepSpec {
@@ -79,6 +93,9 @@ struct SweepSpec {
   std::size_t generations = 0, population = 0;
   std::vector<SweepObjective> objectives;
   std::vector<SweepConstraint> constraints;
+  /// Whether an objective or constraint is an accuracy metric (the sweep then computes each
+  /// trace's accuracy, trace_accuracy.hpp).
+  bool needs_accuracy() const;
   nlohmann::json to_json() const;
 
   /// Reads a spec (sweep_spec.cpp); errors are InputErrors, one line "file:line: key: message".
@@ -151,6 +168,17 @@ double sweep_metric(const nlohmann::json& summary, const std::string& metric);
 /// Whether `metric` names a metric (a JSON pointer is checked when it is evaluated).
 bool is_sweep_metric(const std::string& metric);
 
+/// Accuracy metrics: ATE RMSE (m) of the point's trace, over all its estimates (`ate_rmse`) or
+/// those of one backend mode (`ate_rmse_vio`, `ate_rmse_slam`, `ate_rmse_registration`), each
+/// (segment, mode) aligned on its own and pooled (workloads/eval/trace_accuracy.hpp).
+bool is_accuracy_metric(const std::string& metric);
+/// An accuracy metric of a trace's accuracy (eval::TraceAccuracy::to_json()); NaN when the trace
+/// has too few estimates of that mode (the point is then infeasible where the metric is used).
+double accuracy_metric(const nlohmann::json& accuracy, const std::string& metric);
+/// The metric of a point: an accuracy metric of its trace's accuracy, any other of its run summary.
+double point_metric(const nlohmann::json& summary, const nlohmann::json& accuracy,
+                    const std::string& metric);
+
 /// Indices of the non-dominated rows of `values` (each row: one value per objective; a row
 /// dominates another when it is no worse in every objective and better in one; `maximize[i]`
 /// flips objective i). Equal rows are all kept. Result in increasing index order.
@@ -165,7 +193,10 @@ struct SweepPointResult {
   std::string error;     ///< why the point has no run (its workload could not be traced)
   nlohmann::json parameters;
   std::vector<double> objectives;
-  nlohmann::json metrics;  ///< objectives and constraint metrics by name
+  /// Per constraint, the value bounded (the metric; a relative constraint's ratio to the
+  /// reference's), as the search constrains it; NaN when undefined.
+  std::vector<double> constraints;
+  nlohmann::json metrics;  ///< objectives and constraint metrics by name (null: undefined)
   bool feasible = true;
   bool computed = false;  ///< simulated in this run (false: found in the database)
   bool pareto = false;

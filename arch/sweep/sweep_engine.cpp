@@ -7,6 +7,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <map>
 #include <stdexcept>
 
 #include "arch/host/host_model.hpp"
@@ -67,6 +69,17 @@ InputError workload_error(const SweepSpec& spec, const SweepPoint& point, const 
   return e.with_key(key).at({spec.file, line == spec.workload_lines.end() ? 0 : line->second});
 }
 
+/// A design point of workload point `w` (its workload.* values; every platform value the first).
+SweepPoint workload_point(const SweepSpec& spec, std::size_t w) {
+  SweepPoint point;
+  point.choice.assign(spec.parameters.size(), 0);
+  for (std::size_t p = spec.workload_parameters; p-- > 0;) {
+    point.choice[p] = w % spec.parameters[p].values.size();
+    w /= spec.parameters[p].values.size();
+  }
+  return point;
+}
+
 }  // namespace
 
 SweepContext::SweepContext(const SweepSpec& spec_in, const SweepOptions& options_in)
@@ -89,13 +102,7 @@ SweepContext::SweepContext(const SweepSpec& spec_in, const SweepOptions& options
   for (std::size_t p = 0; p < spec.workload_parameters; ++p)
     count *= spec.parameters[p].values.size();
   for (std::size_t w = 0; w < count; ++w) {
-    SweepPoint point;
-    point.choice.assign(spec.parameters.size(), 0);
-    std::size_t rest = w;
-    for (std::size_t p = spec.workload_parameters; p-- > 0;) {
-      point.choice[p] = rest % spec.parameters[p].values.size();
-      rest /= spec.parameters[p].values.size();
-    }
+    const SweepPoint point = workload_point(spec, w);
     Workload workload;
     try {
       workload.resolved = options.tracer.resolve(point.workload(spec));
@@ -108,6 +115,51 @@ SweepContext::SweepContext(const SweepSpec& spec_in, const SweepOptions& options
     workload.trace = store / (workload.hash + ".db");
     workloads.push_back(std::move(workload));
   }
+  add_references(count);
+}
+
+void SweepContext::add_references(std::size_t grid_workloads) {
+  std::map<std::string, std::size_t> by_hash;
+  for (std::size_t w = 0; w < workloads.size(); ++w) by_hash.emplace(workloads[w].hash, w);
+  references.assign(grid_workloads, std::vector<std::size_t>(spec.constraints.size(), SIZE_MAX));
+  for (std::size_t w = 0; w < grid_workloads; ++w) {
+    const SweepPoint point = workload_point(spec, w);
+    for (std::size_t c = 0; c < spec.constraints.size(); ++c) {
+      const SweepConstraint& constraint = spec.constraints[c];
+      if (!constraint.relative()) continue;
+      nlohmann::json values = point.workload(spec);
+      for (const auto& [key, value] : constraint.reference.items()) values[key] = value;
+      Workload reference;
+      try {
+        reference.resolved = options.tracer.resolve(values);
+      } catch (const InputError& e) {
+        // Placed at the reference's value when the reference set it, else as the point's own.
+        const std::string key = e.key().empty() ? "workload" : "workload." + e.key();
+        const auto line = constraint.reference_lines.find(e.key());
+        if (line == constraint.reference_lines.end()) throw workload_error(spec, point, e);
+        throw e.with_key(fmt::format("constraints[{}].reference.{}", c, key))
+            .at({spec.file, line->second});
+      }
+      reference.hash = workload_hash(reference.resolved, options.tracer.version);
+      const auto [it, added] = by_hash.emplace(reference.hash, workloads.size());
+      if (added) {
+        reference.trace = store / (reference.hash + ".db");
+        workloads.push_back(std::move(reference));
+      }
+      references[w][c] = it->second;
+    }
+  }
+}
+
+std::vector<std::size_t> SweepContext::needed_workloads(std::size_t point) const {
+  const std::size_t w = workload_of(point);
+  std::vector<std::size_t> needed = {w};
+  if (w < references.size()) {
+    for (std::size_t r : references[w]) {
+      if (r != SIZE_MAX && r != w) needed.push_back(r);
+    }
+  }
+  return needed;
 }
 
 std::size_t SweepContext::workload_of(std::size_t point) const {

@@ -79,7 +79,15 @@ class SweepContext {
   const PlatformSource base;
   const SweepPoints points;
   std::filesystem::path store;  ///< trace store (workload sweeps)
+  /// The grid's workload points (by workload index), then the reference workload points of
+  /// relative constraints that are not grid points.
   std::vector<Workload> workloads;
+  /// Per grid workload point and constraint: the workload index of its reference (relative
+  /// constraints; SIZE_MAX for the others).
+  std::vector<std::vector<std::size_t>> references;
+
+  /// The workload points a design point needs: its own, then its references.
+  std::vector<std::size_t> needed_workloads(std::size_t point) const;
 
   /// The workload index of a design point.
   std::size_t workload_of(std::size_t point) const;
@@ -100,6 +108,8 @@ class SweepContext {
   void set_trace(std::size_t w, std::shared_ptr<const LoadedTrace> trace);
 
  private:
+  /// Fills `references` (and adds the reference workload points) for the grid's workloads.
+  void add_references(std::size_t grid_workloads);
   std::mutex mutex_;
   std::map<std::size_t, std::shared_future<std::shared_ptr<const LoadedTrace>>> traces_;
   std::map<std::string, std::shared_future<FrontendStudy>> studies_;

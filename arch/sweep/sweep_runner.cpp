@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <deque>
 #include <fstream>
 #include <iterator>
@@ -29,6 +30,7 @@
 #include "arch/system/result_rows.hpp"
 #include "arch/system/system_model.hpp"
 #include "common/atomic_file.hpp"
+#include "workloads/eval/trace_accuracy.hpp"
 #include "workloads/trace/reader.hpp"
 
 namespace edx::arch {
@@ -67,19 +69,40 @@ void take_sweep_lock(SQLite::Database& db, const std::string& db_name,
                        {{sweep_id, static_cast<std::int64_t>(::getpid()), host, now}}, true);
 }
 
-/// Objectives and constraint metrics of a run summary; feasibility.
-void evaluate(const SweepSpec& spec, const nlohmann::json& summary, SweepPointResult& r) {
+/// A metric's value in the metrics JSON: null when undefined (NaN).
+nlohmann::json metric_json(double v) {
+  return std::isnan(v) ? nlohmann::json() : nlohmann::json(v);
+}
+
+/// Objectives and constraint metrics of a run summary and its trace's accuracy (null when the
+/// spec has no accuracy metric); `references[c]`: the accuracy of constraint c's reference
+/// workload point (relative constraints). A point with an undefined objective (NaN: an
+/// accuracy metric of a mode with too few estimates) is infeasible, as is one whose constrained
+/// value is undefined.
+void evaluate(const SweepSpec& spec, const nlohmann::json& summary, const nlohmann::json& accuracy,
+              const std::vector<const nlohmann::json*>& references, SweepPointResult& r) {
   r.metrics = nlohmann::json::object();
   r.objectives.clear();
-  for (const SweepObjective& o : spec.objectives) {
-    r.objectives.push_back(sweep_metric(summary, o.metric));
-    r.metrics[o.metric] = r.objectives.back();
-  }
+  r.constraints.clear();
   r.feasible = true;
-  for (const SweepConstraint& c : spec.constraints) {
-    const double v = sweep_metric(summary, c.metric);
-    r.metrics[c.metric] = v;
-    r.feasible = r.feasible && v >= c.min && v <= c.max;
+  for (const SweepObjective& o : spec.objectives) {
+    r.objectives.push_back(point_metric(summary, accuracy, o.metric));
+    r.metrics[o.metric] = metric_json(r.objectives.back());
+    r.feasible = r.feasible && !std::isnan(r.objectives.back());
+  }
+  for (std::size_t c = 0; c < spec.constraints.size(); ++c) {
+    const SweepConstraint& con = spec.constraints[c];
+    const double v = point_metric(summary, accuracy, con.metric);
+    r.metrics[con.metric] = metric_json(v);
+    double bounded = v;
+    if (con.relative()) {
+      const double reference = accuracy_metric(*references.at(c), con.metric);
+      r.metrics[con.metric + "_reference"] = metric_json(reference);
+      bounded = v / reference;
+    }
+    r.constraints.push_back(bounded);
+    // NaN compares false: an undefined value is outside every bound.
+    r.feasible = r.feasible && bounded >= con.lower() && bounded <= con.upper();
   }
 }
 
@@ -364,7 +387,7 @@ class SweepMaster {
     const std::vector<results::RunRow> stored =
         results::select_rows(db_, results::runs_table(), {"run_id = ?1", {r.run_id}, ""});
     if (!stored.empty()) {
-      evaluate(spec_, stored.front().summary, r);
+      evaluate_point(stored.front().summary, r);
       finish(std::move(r), {});
     } else if (simulations_ >= limit_) {
       limit_reached_ = true;
@@ -374,30 +397,69 @@ class SweepMaster {
     }
   }
 
-  /// A point whose workload could not be traced: stored with that error, infeasible.
+  /// The accuracy of workload point `w`'s trace (computed once, from the trace).
+  const nlohmann::json& accuracy_of(std::size_t w) {
+    auto it = accuracy_.find(w);
+    if (it == accuracy_.end()) {
+      const std::shared_ptr<const LoadedTrace> trace = context_.trace_of(w);
+      it = accuracy_.emplace(w, eval::trace_accuracy(trace->frames, trace->meta).to_json()).first;
+    }
+    return it->second;
+  }
+
+  /// Objectives, constraints and feasibility of a point from its run summary (and, when the
+  /// spec asks for accuracy, its trace's accuracy and its references').
+  void evaluate_point(const nlohmann::json& summary, SweepPointResult& r) {
+    static const nlohmann::json kNone;
+    if (!spec_.needs_accuracy()) return evaluate(spec_, summary, kNone, {}, r);
+    const std::size_t w = context_.workload_of(r.index);
+    std::vector<const nlohmann::json*> references(spec_.constraints.size(), nullptr);
+    for (std::size_t c = 0; c < references.size(); ++c) {
+      if (spec_.constraints[c].relative()) {
+        references[c] = &accuracy_of(context_.references.at(w).at(c));
+      }
+    }
+    evaluate(spec_, summary, accuracy_of(w), references, r);
+  }
+
+  /// A point whose workload (or a reference's) could not be traced: stored with that error,
+  /// infeasible.
   void fail(std::size_t index, std::size_t w) {
     SweepPointResult r = point_result(index);
     r.feasible = false;
     r.metrics = nlohmann::json::object();
-    r.error = states_[w].error;
+    r.constraints.assign(spec_.constraints.size(), std::numeric_limits<double>::quiet_NaN());
+    r.objectives.assign(spec_.objectives.size(), std::numeric_limits<double>::quiet_NaN());
+    r.error = w == context_.workload_of(index)
+                  ? states_[w].error
+                  : fmt::format("the reference workload point: {}", states_[w].error);
     finish(std::move(r), {});
   }
 
   void admit(std::size_t index) {
     if (!claimed_.insert(index).second) return;
-    const std::size_t w = context_.workload_of(index);
-    switch (states_[w].state) {
-      case TraceState::kReady:
-        return consider(index, w);
-      case TraceState::kFailed:
-        return fail(index, w);
-      case TraceState::kMissing:
-        states_[w].state = TraceState::kQueued;
-        to_trace_.push_back(w);
-        [[fallthrough]];
-      case TraceState::kQueued:
-        states_[w].waiting.push_back(index);
+    proceed(index);
+  }
+
+  /// Considers a point once every workload point it needs (its own, its references) is traced;
+  /// until then it waits on the first that is not (queued for tracing if it was missing).
+  void proceed(std::size_t index) {
+    for (std::size_t w : context_.needed_workloads(index)) {
+      switch (states_[w].state) {
+        case TraceState::kReady:
+          continue;
+        case TraceState::kFailed:
+          return fail(index, w);
+        case TraceState::kMissing:
+          states_[w].state = TraceState::kQueued;
+          to_trace_.push_back(w);
+          [[fallthrough]];
+        case TraceState::kQueued:
+          states_[w].waiting.push_back(index);
+          return;
+      }
     }
+    consider(index, context_.workload_of(index));
   }
 
   /// A traced workload point: recorded, and its waiting points considered (or failed).
@@ -420,13 +482,7 @@ class SweepMaster {
       record_workload(w, &r);
       t.commit();
     }
-    for (std::size_t index : std::exchange(states_[w].waiting, {})) {
-      if (r.error.empty()) {
-        consider(index, w);
-      } else {
-        fail(index, w);
-      }
-    }
+    for (std::size_t index : std::exchange(states_[w].waiting, {})) proceed(index);
   }
 
   /// A simulated point: its run's rows (local: the result; remote: rows exported) and its row.
@@ -438,11 +494,11 @@ class SweepMaster {
     p.computed = true;
     if (r.result) {
       p.run_id = run_id_of(r.result->config_hash, r.result->trace_hash);
-      evaluate(spec_, r.result->to_json(), p);
+      evaluate_point(r.result->to_json(), p);
       finish(std::move(p), [&] { write_results(db_, result_rows(*r.result, options_.per_frame)); });
     } else {
       p.run_id = r.rows.at("run_id").get<std::string>();
-      evaluate(spec_, r.rows.at("summary"), p);
+      evaluate_point(r.rows.at("summary"), p);
       finish(std::move(p), [&] { import_run_rows(db_, r.rows); });
     }
   }
@@ -473,10 +529,11 @@ class SweepMaster {
   void run_points(std::size_t count, const std::function<std::size_t(std::size_t)>& index_at) {
     // Every workload point the points need is queued for tracing up front.
     for (std::size_t i = 0; spec_.traces_workload() && i < count; ++i) {
-      const std::size_t w = context_.workload_of(index_at(i));
-      if (states_[w].state == TraceState::kMissing) {
-        states_[w].state = TraceState::kQueued;
-        to_trace_.push_back(w);
+      for (std::size_t w : context_.needed_workloads(index_at(i))) {
+        if (states_[w].state == TraceState::kMissing) {
+          states_[w].state = TraceState::kQueued;
+          to_trace_.push_back(w);
+        }
       }
     }
     std::size_t cursor = 0;
@@ -508,11 +565,7 @@ class SweepMaster {
             std::vector<DesignFitness> fitness;
             for (std::size_t index : indices) {
               const SweepPointResult& r = finished_.at(index);
-              DesignFitness f{r.objectives, {}, r.feasible};
-              for (const SweepConstraint& c : spec_.constraints) {
-                f.constraints.push_back(r.metrics.at(c.metric).get<double>());
-              }
-              fitness.push_back(std::move(f));
+              fitness.push_back(DesignFitness{r.objectives, r.constraints, r.feasible});
             }
             return fitness;
           });
@@ -529,6 +582,7 @@ class SweepMaster {
   std::vector<WorkloadState> states_;
   std::unique_ptr<sweep_engine::SweepExecutor> executor_;
   std::map<std::size_t, SweepPointResult> finished_;
+  std::map<std::size_t, nlohmann::json> accuracy_;  // by workload index
   std::set<std::size_t> claimed_;  // points admitted (a search may ask for one twice)
   std::size_t simulations_ = 0;    // started, toward the limit
   const std::size_t limit_;
@@ -635,7 +689,9 @@ std::string format_sweep(const SweepSpec& spec, const SweepOutcome& o) {
       line += fmt::format(" {:>14}", r.parameters[p.key].get<std::string>());
     }
     if (!r.error.empty()) return line + fmt::format("  error: {}\n", r.error);
-    for (double v : r.objectives) line += fmt::format(" {:>14.4g}", v);
+    for (double v : r.objectives) {
+      line += std::isnan(v) ? fmt::format(" {:>14}", "-") : fmt::format(" {:>14.4g}", v);
+    }
     return line + fmt::format("  {:<8} {}\n", r.feasible ? "yes" : "no", r.pareto ? "*" : "");
   };
   text += header;
@@ -697,7 +753,9 @@ std::string sweep_points_csv(SQLite::Database& db, const std::string& db_name,
     }
     for (const std::string& k : metrics) {
       fmt::format_to(std::back_inserter(csv), ",{}",
-                     p.metrics.contains(k) ? fmt::format("{}", p.metrics[k].get<double>()) : "");
+                     p.metrics.contains(k) && p.metrics[k].is_number()
+                         ? fmt::format("{}", p.metrics[k].get<double>())
+                         : "");
     }
     fmt::format_to(std::back_inserter(csv), ",{},{}", static_cast<int>(p.feasible),
                    static_cast<int>(p.pareto));

@@ -122,10 +122,10 @@ const FieldList<SweepSpec>& nsga2_sampling_fields() {
   return list;
 }
 
-/// `constraints: [{metric, min, max}]`, one item.
+/// `constraints: [{metric, min, max}]` or `[{metric, max_relative, reference}]`, one item.
 struct ConstraintEntry {
   std::string metric;
-  std::optional<double> min, max;
+  std::optional<double> min, max, max_relative;
   static const FieldList<ConstraintEntry>& fields() {
     using C = ConstraintEntry;
     static const FieldList<C> list = {
@@ -134,6 +134,10 @@ struct ConstraintEntry {
                        Unset{"none", nullptr}),
         optional_field("max", &C::max, "", "the largest value a feasible point has", {},
                        Unset{"none", nullptr}),
+        optional_field("max_relative", &C::max_relative, "",
+                       "an accuracy metric at most (1 + max_relative) x its value at the "
+                       "point's reference (with reference:)",
+                       Bounds::at_least(0), Unset{"none", nullptr}),
     };
     return list;
   }
@@ -304,11 +308,6 @@ void read_sampling(YamlFields& top, SweepSpec& s) {
                                   "than 10^6)",
                                   evaluations));
     }
-    if (s.workload_parameters > 0) {
-      fields.fail("",
-                  "a search varies platform parameters only (use grid or random sampling with "
-                  "workload.* parameters)");
-    }
     s.nsga2 = true;
   } else {
     top.fail("sampling",
@@ -341,28 +340,90 @@ void read_objectives(YamlFields& top, SweepSpec& s) {
   }
 }
 
-/// `constraints:` [{metric: METRIC, min: X, max: Y}, ...] (min, max or both).
+/// A relative constraint's `reference: {workload.KEY: VALUE, ...}`: the workload values that
+/// make a point's reference (checked by the tracer when the sweep resolves its workload points).
+void read_reference(const SweepSpec& s, const std::string& key, const YAML::Node& c,
+                    SweepConstraint& constraint) {
+  const YAML::Node reference = c["reference"];
+  YamlFields fields(c, s.file, key);
+  if (!reference) {
+    fields.fail(
+        "max_relative",
+        "needs reference: {workload.KEY: VALUE, ...}, the workload point it is relative to");
+  }
+  if (!constraint.relative()) fields.fail("reference", "needs max_relative: X (a fraction)");
+  if (c["min"] || c["max"]) {
+    fields.fail(c["min"] ? "min" : "max",
+                "a relative constraint takes max_relative and reference, not min or max");
+  }
+  if (!is_accuracy_metric(constraint.metric)) {
+    fields.fail("metric", fmt::format("expected an accuracy metric (ate_rmse, ate_rmse_vio, "
+                                      "ate_rmse_slam, ate_rmse_registration) with max_relative, "
+                                      "got '{}'",
+                                      constraint.metric));
+  }
+  if (!s.traces_workload()) {
+    fields.fail("reference", "needs a workload: section (the reference is a workload point)");
+  }
+  if (!reference.IsMap() || reference.size() == 0) {
+    fields.fail("reference", "expected a map of workload.* keys to values");
+  }
+  constraint.reference = nlohmann::json::object();
+  for (const auto& item : reference) {
+    const std::string k = item.first.Scalar();
+    const std::string where = key + ".reference." + k;
+    if (!k.starts_with("workload.") || k.size() == 9) {
+      fail(s.file, item.first, where,
+           "expected a workload.* key (the reference is a workload point)");
+    }
+    if (!item.second.IsScalar()) fail(s.file, item.second, where, "expected a scalar value");
+    constraint.reference[k.substr(9)] = item.second.Scalar();
+    constraint.reference_lines[k.substr(9)] = yaml_line(item.second);
+  }
+}
+
+/// `constraints:` [{metric: METRIC, min: X, max: Y}, ...] (min, max or both), or relative:
+/// [{metric: ACCURACY METRIC, max_relative: X, reference: {workload.KEY: VALUE}}].
 void read_constraints(YamlFields& top, SweepSpec& s) {
   const YAML::Node constraints = top.take("constraints");
   if (!constraints) return;
   if (!constraints.IsSequence()) {
     top.fail("constraints", "expected a list of {metric, min and/or max}");
   }
+  std::vector<std::string> keys = field_keys(ConstraintEntry::fields());
+  keys.push_back("reference");
   for (std::size_t i = 0; i < constraints.size(); ++i) {
     const YAML::Node c = constraints[i];
     const std::string key = fmt::format("constraints[{}]", i);
-    if (!c.IsMap() || !c["metric"] || !(c["min"] || c["max"])) {
-      fail(s.file, c, key, "expected {metric: METRIC, max: X} and/or min: X");
+    if (!c.IsMap() || !c["metric"] ||
+        !(c["min"] || c["max"] || c["max_relative"] || c["reference"])) {
+      fail(s.file, c, key,
+           "expected {metric: METRIC, max: X} and/or min: X, or {metric: METRIC, max_relative: X, "
+           "reference: {workload.KEY: VALUE}}");
     }
+    YamlFields fields(c, s.file, key);
+    fields.refuse_unknown(keys, one_of(keys));
     ConstraintEntry entry;
-    read_map(s.file, key, c, "{metric, min, max}", ConstraintEntry::fields(), entry);
+    parse_fields(fields, entry, ConstraintEntry::fields());
     if (!is_sweep_metric(entry.metric)) {
       YamlFields(c, s.file, key).fail("metric", fmt::format("unknown metric '{}'", entry.metric));
     }
     SweepConstraint constraint;
     constraint.metric = entry.metric;
+    constraint.line = yaml_line(c);
     constraint.min = entry.min.value_or(constraint.min);
     constraint.max = entry.max.value_or(constraint.max);
+    constraint.max_relative = entry.max_relative;
+    if (constraint.relative() || c["reference"]) {
+      read_reference(s, key, c, constraint);
+      for (const SweepConstraint& other : s.constraints) {
+        if (other.relative() && other.metric == constraint.metric) {
+          YamlFields(c, s.file, key)
+              .fail("metric", fmt::format("a second relative constraint on '{}' (one per metric)",
+                                          constraint.metric));
+        }
+      }
+    }
     s.constraints.push_back(constraint);
   }
 }
@@ -433,7 +494,8 @@ std::vector<ReferenceRow> sweep_spec_reference() {
   add(reference_rows("sampling.nsga2", nsga2_sampling_fields(), {},
                      "Sweep spec: `sampling: {nsga2: {...}}`"));
   add(reference_rows("constraints[]", ConstraintEntry::fields(), {},
-                     "Sweep spec: `constraints: [{...}]` (min, max or both)"));
+                     "Sweep spec: `constraints: [{...}]` (min, max or both; or max_relative "
+                     "with reference: {workload.KEY: VALUE, ...})"));
   return rows;
 }
 

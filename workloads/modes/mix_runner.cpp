@@ -13,6 +13,7 @@
 #include "workloads/backend/registration/registration_backend.hpp"
 #include "workloads/backend/slam/slam_backend.hpp"
 #include "workloads/backend/vio/vio_backend.hpp"
+#include "workloads/eval/segment_ate.hpp"
 #include "workloads/frontend/stereo_frontend.hpp"
 #include "workloads/frontend/task_timer.hpp"
 #include "workloads/modes/pipeline.hpp"
@@ -32,8 +33,7 @@ struct ModeSeries {
   std::vector<double> frontend_ms, backend_ms;
   KernelSeries kernel_ms;  // 0 on frames where it did not run
   std::size_t estimated = 0;
-  double squared_error_sum = 0;  // sum over segments of pairs * rmse^2
-  std::size_t pairs = 0;
+  eval::PooledAte ate;  // over the segments (eval/segment_ate.hpp)
 };
 
 /// Estimated and true poses of one (segment, mode), evaluated once the segment ends.
@@ -289,20 +289,16 @@ void MixRun::trace_frame(Segment& s, std::size_t i) {
 }
 
 void MixRun::add_accuracy(Segment& s) {
+  const eval::AlignmentMethod alignment = eval::segment_alignment(!s.dataset.imu().empty());
   for (auto& [mode, p] : s.poses) {
-    eval::EvalOptions eval_options;
-    eval_options.alignment =
-        s.dataset.imu().empty() ? eval::AlignmentMethod::kSe3 : eval::AlignmentMethod::kPosYaw;
-    eval_options.t_max_diff_s = 1e-3;
-    if (p.estimate.poses.size() < eval::min_pairs_for(eval_options.alignment)) continue;
     p.truth.stamp_kind = p.estimate.stamp_kind = eval::StampKind::kSeconds;
     p.truth.source = s.spec.name + " ground truth";
     p.estimate.source = s.spec.name + " estimate";
-    const eval::EvalResult r = eval::evaluate(p.truth, p.estimate, eval_options);
-    s.summary.ate_rmse_m[trace::to_string(mode)] = r.ate_m.rmse;
-    s.summary.ate_pairs[trace::to_string(mode)] = r.pairs;
-    series_[mode].squared_error_sum += static_cast<double>(r.pairs) * r.ate_m.rmse * r.ate_m.rmse;
-    series_[mode].pairs += r.pairs;
+    const std::optional<eval::EvalResult> r = eval::segment_ate(p.truth, p.estimate, alignment);
+    if (!r) continue;
+    s.summary.ate_rmse_m[trace::to_string(mode)] = r->ate_m.rmse;
+    s.summary.ate_pairs[trace::to_string(mode)] = r->pairs;
+    series_[mode].ate.add(*r);
   }
 }
 
@@ -336,10 +332,8 @@ std::vector<ModeRunSummary> MixRun::mode_summaries() const {
       padded.resize(s.backend_ms.size(), 0.0);
       m.kernel_ms.emplace_back(name, frontend::summarize(padded));
     }
-    if (s.pairs > 0) {
-      m.ate_rmse_m = std::sqrt(s.squared_error_sum / static_cast<double>(s.pairs));
-      m.ate_pairs = s.pairs;
-    }
+    m.ate_rmse_m = s.ate.rmse();
+    m.ate_pairs = s.ate.pairs;
     modes.push_back(std::move(m));
   }
   return modes;

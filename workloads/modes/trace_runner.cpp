@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "workloads/backend/slam/slam_backend.hpp"
+#include "workloads/eval/segment_ate.hpp"
 #include "workloads/eval/trajectory.hpp"
 #include "workloads/frontend/stereo_frontend.hpp"
 #include "workloads/frontend/task_timer.hpp"
@@ -219,15 +220,9 @@ TraceRunSummary TraceRun::finish() {
 
 std::optional<eval::EvalResult> TraceRun::accuracy() const {
   if (!backend_) return std::nullopt;
-  eval::EvalOptions eval_options;
-  eval_options.alignment = options_.alignment.value_or(
-      dataset_->imu().empty() ? eval::AlignmentMethod::kSe3 : eval::AlignmentMethod::kPosYaw);
-  eval_options.t_max_diff_s = 1e-3;  // both sides are stamped with the frame times
-  if (estimated_poses_.poses.size() < eval::min_pairs_for(eval_options.alignment) ||
-      truth_poses_.poses.empty()) {
-    return std::nullopt;
-  }
-  return eval::evaluate(truth_poses_, estimated_poses_, eval_options);
+  return eval::segment_ate(
+      truth_poses_, estimated_poses_,
+      options_.alignment.value_or(eval::segment_alignment(!dataset_->imu().empty())));
 }
 }  // namespace
 
