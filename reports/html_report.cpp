@@ -1196,7 +1196,9 @@ body { font-family: sans-serif; max-width: 1100px; margin: 2em auto; color: #222
 table { border-collapse: collapse; margin: 0.5em 0 1.5em; font-size: 0.9em; }
 th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
 th { background: #f0f0f0; } td:first-child, th:first-child { text-align: left; }
-td { overflow-wrap: break-word; } td.text { text-align: left; } td.text code { white-space: normal; }
+td.text { text-align: left; } td.text code { white-space: normal; }
+/* a table wider than the page wraps its long words (run ids, ate_rmse_vio_reference) */
+th, td { overflow-wrap: anywhere; }
 tr.miss td { background: #fdebe3; } small { color: #777; }
 h2 small { font-weight: normal; }
 tr.total td { font-weight: bold; }
