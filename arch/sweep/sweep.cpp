@@ -299,6 +299,24 @@ Platform sweep_platform(const SweepSpec& spec, const SweepPoint& point,
     source.set(param.key, value.IsScalar() ? YAML::Node(value.Scalar()) : YAML::Clone(value),
                parameter_value_place(spec, p, point.choice[p]));
   }
+  // A traced workload that states its precision makes the design's: the units compute at it
+  // (backend.precision follows workload.precision; docs/SWEEPS.md "Precision").
+  if (spec.traces_workload()) {
+    const nlohmann::json workload = point.workload(spec);
+    if (workload.contains("precision")) {
+      std::optional<InputPlace> place;
+      for (std::size_t p = 0; p < spec.workload_parameters; ++p) {
+        if (spec.parameters[p].key == "workload.precision") {
+          place = parameter_value_place(spec, p, point.choice[p]);
+        }
+      }
+      const auto line = spec.workload_lines.find("precision");
+      source.set("backend.precision", YAML::Node(workload.at("precision").get<std::string>()),
+                 place ? *place
+                       : InputPlace{spec.file,
+                                    line == spec.workload_lines.end() ? 0 : line->second});
+    }
+  }
   return Platform::parse(source);
 }
 

@@ -39,15 +39,7 @@ struct AccuracyTracer {
             [this](const nlohmann::json& resolved, const std::filesystem::path& out,
                    const std::filesystem::path&) {
               ++traced;
-              trace::TraceMeta meta;
-              for (const char* key :
-                   {"dataset", "sequence", "camera_model", "pipeline_params", "host_cpu",
-                    "host_cores", "compiler_flags", "source_revision", "created_utc"}) {
-                meta[key] = "test";
-              }
-              meta["resolution"] = "40x25";
-              meta["host_speed"] =
-                  R"({"suite": 1, "frontend_ms": 10.0, "backend_ms": 2.0, "samples": 1})";
+              trace::TraceMeta meta = sweep_trace_meta();
               trace::TraceWriter writer(out, meta);
               const double vio = resolved.at("features").get<int>() / 1000.0;
               const int window = resolved.at("window").get<int>();

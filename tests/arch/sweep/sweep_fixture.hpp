@@ -33,7 +33,8 @@ inline trace::FrameTrace sweep_frame(std::int64_t id, std::int64_t points) {
   return f;
 }
 
-inline std::filesystem::path write_sweep_trace(const std::filesystem::path& path) {
+/// The meta of the sweep tests' traces: every required key, 40x25 at fp64, a 10 ms / 2 ms host.
+inline trace::TraceMeta sweep_trace_meta() {
   trace::TraceMeta meta;
   for (std::string_view key : {"dataset", "sequence", "camera_model", "pipeline_params", "host_cpu",
                                "host_cores", "compiler_flags", "source_revision", "created_utc"}) {
@@ -42,7 +43,11 @@ inline std::filesystem::path write_sweep_trace(const std::filesystem::path& path
   meta["resolution"] = "40x25";
   meta["precision"] = "fp64";
   meta["host_speed"] = R"({"suite": 1, "frontend_ms": 10.0, "backend_ms": 2.0, "samples": 1})";
-  trace::TraceWriter writer(path, meta);
+  return meta;
+}
+
+inline std::filesystem::path write_sweep_trace(const std::filesystem::path& path) {
+  trace::TraceWriter writer(path, sweep_trace_meta());
   for (int i = 0; i < 4; ++i) writer.append(sweep_frame(i, 1000 + 500 * i));
   writer.finish();
   return path;

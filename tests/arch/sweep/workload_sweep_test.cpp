@@ -44,17 +44,8 @@ struct FakeTracer {
               const int features = resolved.at("features").get<int>();
               if (features == 13) throw std::runtime_error("features 13 cannot be traced");
               ++traced;
-              trace::TraceMeta meta;
-              for (const char* key :
-                   {"dataset", "sequence", "camera_model", "pipeline_params", "host_cpu",
-                    "host_cores", "compiler_flags", "source_revision", "created_utc"}) {
-                meta[key] = "test";
-              }
+              trace::TraceMeta meta = sweep_trace_meta();
               meta["pipeline_params"] = resolved.dump();
-              meta["resolution"] = "40x25";
-              meta["precision"] = "fp64";
-              meta["host_speed"] =
-                  R"({"suite": 1, "frontend_ms": 10.0, "backend_ms": 2.0, "samples": 1})";
               trace::TraceWriter writer(out, meta);
               for (int i = 0; i < 4; ++i) writer.append(sweep_frame(i, 1000 * features + 500 * i));
               writer.finish();
@@ -87,6 +78,42 @@ struct WorkloadSweep : ::testing::Test {
     return o;
   }
 };
+
+// A workload's precision is its design's: each point's platform computes at its workload's
+// precision, and backend.precision is then no parameter of its own.
+TEST_F(WorkloadSweep, BackendPrecisionFollowsTheWorkloadsPrecision) {
+  const SweepSpec s = SweepSpec::parse(
+      "base: base.yaml\nworkload: {features: 2}\nparameters:\n"
+      "  workload.precision: {values: [fp64, fp32]}\n"
+      "  backend.units.gemm.block: {values: [1, 4]}\nobjectives: [{minimize: dsp}]\n",
+      "w.yaml", dir.path());
+  const SweepPoints points(s);
+  ASSERT_EQ(points.size(), 4u);
+  EXPECT_EQ(sweep_platform(s, points.at(0)).backend->precision(), trace::Precision::kFp64);
+  EXPECT_EQ(sweep_platform(s, points.at(3)).backend->precision(), trace::Precision::kFp32);
+  const SweepSpec fixed = SweepSpec::parse(
+      "base: base.yaml\nworkload: {features: 2, precision: fp32}\nparameters:\n"
+      "  backend.units.gemm.block: {values: [1, 4]}\nobjectives: [{minimize: dsp}]\n",
+      "w.yaml", dir.path());
+  EXPECT_EQ(sweep_platform(fixed, SweepPoints(fixed).at(1)).backend->precision(),
+            trace::Precision::kFp32);
+  // Without a workload precision the platform's own stands (the trace's is checked when run).
+  EXPECT_EQ(sweep_platform(spec("1"), SweepPoints(spec("1")).at(0)).backend->precision(),
+            trace::Precision::kFp64);
+  try {
+    SweepSpec::parse(
+        "base: base.yaml\nworkload: {features: 2}\nparameters:\n"
+        "  workload.precision: {values: [fp64, fp32]}\n"
+        "  backend.precision: {values: [fp64, fp32]}\nobjectives: [{minimize: dsp}]\n",
+        "w.yaml", dir.path());
+    ADD_FAILURE() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_STREQ(e.what(),
+                 "w.yaml:5: parameters.backend.precision: follows workload.precision (one "
+                 "precision per design: the units compute at the trace's); sweep "
+                 "workload.precision instead");
+  }
+}
 
 TEST_F(WorkloadSweep, WorkloadParametersComeFirstAndNeedTheSection) {
   const SweepSpec s = spec("1, 3");
