@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "arch/platform/platform.hpp"
 #include "cli/commands.hpp"
@@ -28,6 +29,7 @@ struct CharacterizeArguments {
   int frames = 400;
   std::string resolution = "1280x720";
   std::string precision = "fp64";
+  std::vector<std::string> scenarios;
   std::string platform;
   std::string out;
   std::string data;
@@ -47,6 +49,9 @@ void run(const CharacterizeArguments& args) {
   options.frames = args.frames;
   options.resolution = {size.width, size.height};
   options.precision = trace::parse_precision(args.precision);
+  for (const std::string& s : args.scenarios) {
+    options.scenarios.push_back(synthetic::parse_scenario(s));
+  }
   // The frame rates simulate the traces on the platform: it must compute at their precision
   // (checked here, before any tracing).
   if (platform.backend->precision() != options.precision) {
@@ -97,6 +102,10 @@ void add_characterize_command(CLI::App& app) {
   cmd->add_option("--resolution", args->resolution, "Rendering resolution WxH")
       ->check(resolution_validator())
       ->capture_default_str();
+  cmd->add_option("--scenario", args->scenarios,
+                  "Run only this scenario (repeatable; default all four)")
+      ->check(
+          CLI::IsMember({"indoor_unknown", "indoor_known", "outdoor_unknown", "outdoor_known"}));
   cmd->add_option("--precision", args->precision,
                   "Arithmetic of the backends' offloadable kernels, fp64 or fp32 (edx trace "
                   "--precision); the platform's backend.precision must match")

@@ -2,6 +2,7 @@
 // Host timing of frontend tasks: the thread's CPU time (workloads/trace/host_clock.hpp) added to
 // a TaskRecord's host_ns.
 #include <cstdint>
+#include <mutex>
 #include <opencv2/core/utility.hpp>
 
 #include "workloads/trace/host_clock.hpp"
@@ -26,19 +27,44 @@ class ScopedTaskTimer {
 
 /// While tracing with the tasks one after another (not `parallel_images`), OpenCV runs on the
 /// calling thread only (cv::setNumThreads(1)), so that a task's thread CPU time is all of its
-/// work rather than missing what OpenCV's pool threads did; the previous setting comes back on
-/// destruction. With `parallel_images` the pool stays (nested OpenCV calls run serially).
+/// work rather than missing what OpenCV's pool threads did. With `parallel_images` the pool stays
+/// (nested OpenCV calls run serially) and the object does nothing.
+///
+/// The setting is the process's, and cv::setNumThreads is not safe while another thread runs
+/// OpenCV (with the TBB backend it rebuilds the arena under it: a sweep tracing two workload
+/// points at once crashed in libtbb). So the holders are counted under a mutex: the first sets
+/// one thread, the last brings the previous setting back, and no holder changes it in between.
 class TracingThreads {
  public:
-  explicit TracingThreads(bool parallel_images) : previous_(cv::getNumThreads()) {
-    if (!parallel_images) cv::setNumThreads(1);
+  explicit TracingThreads(bool parallel_images) : holds_(!parallel_images) {
+    if (!holds_) return;
+    State& s = state();
+    const std::lock_guard<std::mutex> lock(s.mutex);
+    if (s.holders++ == 0) {
+      s.previous = cv::getNumThreads();
+      cv::setNumThreads(1);
+    }
   }
-  ~TracingThreads() { cv::setNumThreads(previous_); }
+  ~TracingThreads() {
+    if (!holds_) return;
+    State& s = state();
+    const std::lock_guard<std::mutex> lock(s.mutex);
+    if (--s.holders == 0) cv::setNumThreads(s.previous);
+  }
   TracingThreads(const TracingThreads&) = delete;
   TracingThreads& operator=(const TracingThreads&) = delete;
 
  private:
-  int previous_;
+  struct State {
+    std::mutex mutex;
+    int holders = 0;
+    int previous = 0;
+  };
+  static State& state() {
+    static State s;
+    return s;
+  }
+  bool holds_;
 };
 
 /// A TaskRecord for `task` on `image` with every count at 0.

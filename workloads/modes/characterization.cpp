@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <fstream>
 #include <stdexcept>
 
@@ -120,6 +121,11 @@ std::vector<CharacterizationRun> run_characterization(const CharacterizationOpti
   for (int k = 0; k < options.seeds; ++k) {
     const std::uint64_t seed = kCharacterizationFirstSeed + static_cast<std::uint64_t>(k);
     for (const CharacterizationCell& cell : characterization_cells()) {
+      if (!options.scenarios.empty() &&
+          std::find(options.scenarios.begin(), options.scenarios.end(), cell.scenario) ==
+              options.scenarios.end()) {
+        continue;
+      }
       const std::string name = fmt::format("{}-{}-s{}", synthetic::to_string(cell.scenario),
                                            trace::to_string(cell.backend), seed);
       const fs::path trace = options.trace_dir / (name + ".db");

@@ -60,6 +60,8 @@ struct CharacterizationOptions {
   /// The backends' offloadable kernels' arithmetic (meta precision). A trace already there of
   /// another precision is an error, not reused.
   trace::Precision precision = trace::Precision::kFp64;
+  /// The scenarios to run (empty: all four): a study of some of them, e.g. longer indoor runs.
+  std::vector<synthetic::Scenario> scenarios;
   /// Throws std::invalid_argument naming the option (seeds, frames, resolution).
   void validate() const;
 };

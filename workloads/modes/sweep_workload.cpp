@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "workloads/datasets/dataset.hpp"
+#include "workloads/frontend/task_timer.hpp"
 #include "workloads/modes/mix_runner.hpp"
 #include "workloads/trace/precision_field.hpp"
 
@@ -109,6 +110,9 @@ void trace_sweep_workload(const SweepWorkload& workload, const std::filesystem::
   // A sweep runs one trace per worker: one render thread each.
   options.generator_threads = 1;
   std::filesystem::create_directories(data_dir);
+  // OpenCV on one thread for the whole of it, the worlds' generation included: the setting is
+  // the process's, and other workers trace at the same time (frontend::TracingThreads).
+  const frontend::TracingThreads single_threaded(false);
   {
     // Worlds and vocabulary are shared by every workload with the same resolution and seed
     // (worlds also by frames): made once, by whoever holds their lock first; others wait, then
