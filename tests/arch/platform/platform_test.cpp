@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <tuple>
 
+#include "arch/cost/resource_report.hpp"
 #include "tests/arch/backend/backend_test_support.hpp"
 
 namespace edx::arch {
@@ -110,6 +112,27 @@ TEST(Platform, BadKeysOfTheNewSectionsNameFileLineAndKey) {
   EXPECT_THAT(error_of("name: car\nhost:\n  suite: 0\n"),
               HasSubstr("p.yaml:3: host.suite: expected an integer >= 1"));
   EXPECT_EQ(error_of("name: car\npower: 3\n"), "p.yaml:2: platform.power: expected a map of keys");
+}
+
+// configs/fp32: each fp64 platform with its backend in single precision, within the fp64
+// backend's DSP budget (docs/MODEL.md "Precision"): Car 267 of 269, Drone 97 of 101.
+TEST(Platform, Fp32ConfigsFitTheirFp64BackendsDspBudget) {
+  const auto backend_dsp = [](const Platform& p) {
+    return cost::build_resource_report(p.frontend, *p.backend, p.cost, *p.memory, {},
+                                       Device::by_name(p.device), p.scheduler.offload)
+        .backend.shared.dsp;
+  };
+  const std::string dir = std::string(EDX_SOURCE_DIR) + "/configs/";
+  for (const auto& [fp64, fp32, dsp64, dsp32] :
+       {std::tuple{"edx_car.yaml", "fp32/edx_car_fp32.yaml", 269.0, 267.0},
+        std::tuple{"edx_drone.yaml", "fp32/edx_drone_fp32.yaml", 101.0, 97.0}}) {
+    const Platform a = Platform::load(dir + fp64), b = Platform::load(dir + fp32);
+    EXPECT_EQ(a.backend->precision(), trace::Precision::kFp64);
+    EXPECT_EQ(b.backend->precision(), trace::Precision::kFp32);
+    EXPECT_EQ(b.backend->matrix_format().scalar_bytes, 4);
+    EXPECT_DOUBLE_EQ(backend_dsp(a), dsp64) << fp64;
+    EXPECT_DOUBLE_EQ(backend_dsp(b), dsp32) << fp32;
+  }
 }
 
 TEST(Platform, ShippedConfigsLoad) {
