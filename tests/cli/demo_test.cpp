@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "tests/support/browser_check.hpp"
 #include "tests/support/run_command.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -162,24 +163,16 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
 // self-check (index.html?browser-check, docs/REPORTS.md) reports that every image loaded and
 // that no element is wider than the viewport.
 TEST(Demo, ReportRendersInABrowserAt1280Pixels) {
-  if (run_command("command -v chromium").exit_code != 0) {
+  if (!edx::testing::chromium_available()) {
     GTEST_SKIP() << "chromium not installed (./edx test installs it): browser check skipped";
   }
   const TempDir dir;
   const fs::path out = dir.path() / "demo";
   ASSERT_EQ(run_command(demo_command(out)).exit_code, 0);
-  const auto dom = run_command(
-      "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=1280,2000 "
-      "--virtual-time-budget=10000 --user-data-dir=" +
-      (dir.path() / "chromium").string() + " --dump-dom 'file://" +
-      (out / "report" / "index.html").string() + "?browser-check' 2>/dev/null");
-  ASSERT_EQ(dom.exit_code, 0);
-  const std::string open_tag = "<pre id=\"browser-check\">";
-  const std::size_t begin = dom.out.find(open_tag);
-  ASSERT_NE(begin, std::string::npos) << "the page did not load or its check did not run";
-  const std::size_t end = dom.out.find("</pre>", begin);
-  const auto check =
-      nlohmann::json::parse(dom.out.substr(begin + open_tag.size(), end - begin - open_tag.size()));
+  const auto check_or =
+      edx::testing::browser_check(out / "report" / "index.html", dir.path() / "chromium");
+  ASSERT_TRUE(check_or);
+  const nlohmann::json& check = *check_or;
   EXPECT_GE(check.at("images").get<int>(), 5) << check.dump();
   EXPECT_TRUE(check.at("broken").empty()) << check.dump();
   EXPECT_TRUE(check.at("wide").empty()) << check.dump();
