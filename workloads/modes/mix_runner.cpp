@@ -102,8 +102,6 @@ std::vector<std::unique_ptr<datasets::Dataset>> open_segments(const MixRunOption
   return datasets;
 }
 
-/// The mixed trace's meta: every segment's camera and data, the options of the mode switch and
-/// of the backends.
 /// The registration backend's options at the workload's precision.
 backend::registration::RegistrationOptions registration_options(trace::Precision precision) {
   backend::registration::RegistrationOptions options;
@@ -111,6 +109,8 @@ backend::registration::RegistrationOptions registration_options(trace::Precision
   return options;
 }
 
+/// The mixed trace's meta: every segment's camera and data, the options of the mode switch and
+/// of the backends, the precision.
 TraceRunMeta mix_meta(const MixRunOptions& options,
                       const std::vector<std::unique_ptr<datasets::Dataset>>& datasets) {
   const MixPlan& plan = options.plan;
