@@ -312,9 +312,9 @@ Platform sweep_platform(const SweepSpec& spec, const SweepPoint& point,
       }
       const auto line = spec.workload_lines.find("precision");
       source.set("backend.precision", YAML::Node(workload.at("precision").get<std::string>()),
-                 place ? *place
-                       : InputPlace{spec.file,
-                                    line == spec.workload_lines.end() ? 0 : line->second});
+                 place
+                     ? *place
+                     : InputPlace{spec.file, line == spec.workload_lines.end() ? 0 : line->second});
     }
   }
   return Platform::parse(source);

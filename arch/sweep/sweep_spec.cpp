@@ -289,11 +289,10 @@ void read_parameters(YamlFields& top, SweepSpec& s) {
   // A workload's precision is the design's: the platform computes at it (sweep_platform), so
   // backend.precision is not a parameter of its own then.
   const bool workload_precision =
-      s.traces_workload() && (s.workload.contains("precision") ||
-                              std::any_of(s.parameters.begin(), s.parameters.end(),
-                                          [](const SweepParameter& p) {
-                                            return p.key == "workload.precision";
-                                          }));
+      s.traces_workload() &&
+      (s.workload.contains("precision") ||
+       std::any_of(s.parameters.begin(), s.parameters.end(),
+                   [](const SweepParameter& p) { return p.key == "workload.precision"; }));
   for (const auto& item : params) {
     if (workload_precision && item.first.Scalar() == "backend.precision") {
       fail(s.file, item.first, "parameters.backend.precision",
