@@ -156,6 +156,13 @@ TEST(Characterization, EndToEndOnSmallWorlds) {
   ASSERT_EQ(again.size(), runs.size());
   EXPECT_EQ(std::filesystem::last_write_time(runs[0].trace), stamp);
   EXPECT_EQ(again[3].to_json(), runs[3].to_json());
+  // ... but not by a characterization of the other precision: refused before any tracing.
+  options.precision = trace::Precision::kFp32;
+  EXPECT_THAT([&] { modes::run_characterization(options); },
+              ::testing::ThrowsMessage<std::runtime_error>(::testing::HasSubstr(
+                  "indoor_unknown-vio-s1001.db: traced at fp64, asked for fp32 (give another "
+                  "--out, or --force to trace again)")));
+  EXPECT_EQ(std::filesystem::last_write_time(runs[0].trace), stamp);
 }
 
 }  // namespace
