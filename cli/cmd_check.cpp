@@ -34,21 +34,6 @@ struct CheckArguments {
   bool json = false;
 };
 
-/// The run of `data` to check: --run, else the only run.
-const reports::RunData& pick_run(const reports::ResultsData& data, const std::string& run_id) {
-  if (!run_id.empty()) {
-    if (const reports::RunData* r = data.find(run_id)) return *r;
-    throw std::runtime_error(fmt::format("{}: no run '{}' (--run)", data.path.string(), run_id));
-  }
-  if (data.runs.size() != 1) {
-    std::string ids;
-    for (const reports::RunData& r : data.runs) ids += (ids.empty() ? "" : ", ") + r.run_id;
-    throw std::runtime_error(fmt::format("{}: holds {} runs; choose one with --run ({})",
-                                         data.path.string(), data.runs.size(), ids));
-  }
-  return data.runs.front();
-}
-
 void run(const CheckArguments& args) {
   const std::filesystem::path targets_path =
       args.targets.empty() ? reports::default_targets_path() : std::filesystem::path(args.targets);
@@ -58,7 +43,7 @@ void run(const CheckArguments& args) {
   std::string run_id;
   if (!args.results.empty()) {
     const reports::ResultsData data = reports::read_results(args.results);
-    const reports::RunData& r = pick_run(data, args.run_id);
+    const reports::RunData& r = reports::pick_run(data, args.run_id);
     metrics = reports::run_metrics(r);
     reports::add_baseline_metrics(metrics, data, r, baselines);
     run_id = r.run_id;

@@ -34,6 +34,8 @@ void add_host_costs_command(CLI::App& app);
 void add_config_command(CLI::App& app);
 /// `edx check`: a run against the paper's Edx-Car figures (reports/paper_targets.yaml).
 void add_check_command(CLI::App& app);
+/// `edx explain`: a run's critical-path attribution (reports/explain.hpp).
+void add_explain_command(CLI::App& app);
 /// `edx characterize`: the paper's algorithm characterization (each backend on each scenario).
 void add_characterize_command(CLI::App& app);
 

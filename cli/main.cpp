@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
   edx::cli::add_export_command(app);
   edx::cli::add_report_command(app);
   edx::cli::add_check_command(app);
+  edx::cli::add_explain_command(app);
   edx::cli::add_characterize_command(app);
   edx::cli::add_config_command(app);
   edx::cli::add_host_speed_command(app);

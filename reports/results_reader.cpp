@@ -38,6 +38,8 @@ void read_run(SQLite::Database& db, RunData& r) {
   r.resources = of_run(results::resources_table(), "rowid");
   // Databases before version 1 have no timelines table: no rows.
   r.timelines = of_run(results::timelines_table(), "rowid");
+  // Databases before version 5 have no frame_causes table: no rows.
+  r.frame_causes = of_run(results::frame_causes_table(), "variant, run, frame_id");
 }
 
 SweepData read_sweep(SQLite::Database& db, const results::SweepRow& row) {
@@ -66,6 +68,20 @@ const RunData* ResultsData::find(const std::string& run_id) const {
     if (r.run_id == run_id) return &r;
   }
   return nullptr;
+}
+
+const RunData& pick_run(const ResultsData& data, const std::string& run_id) {
+  if (!run_id.empty()) {
+    if (const RunData* r = data.find(run_id)) return *r;
+    throw std::runtime_error(fmt::format("{}: no run '{}' (--run)", data.path.string(), run_id));
+  }
+  if (data.runs.size() != 1) {
+    std::string ids;
+    for (const RunData& r : data.runs) ids += (ids.empty() ? "" : ", ") + r.run_id;
+    throw std::runtime_error(fmt::format("{}: holds {} runs; choose one with --run ({})",
+                                         data.path.string(), data.runs.size(), ids));
+  }
+  return data.runs.front();
 }
 
 ResultsData read_results(const std::filesystem::path& path) {

@@ -54,6 +54,10 @@ struct ResultsData {
   const RunData* find(const std::string& run_id) const;
 };
 
+/// The run of `data` named `run_id`, or, when it is "", its only run. Throws std::runtime_error
+/// naming the database: no such run, or several and none chosen (listing them; --run).
+const RunData& pick_run(const ResultsData& data, const std::string& run_id);
+
 /// Reads every run of `path`. Errors (std::runtime_error, one line naming the file): missing
 /// file, not an SQLite database, a missing table or column, no runs, a bad summary_json.
 ResultsData read_results(const std::filesystem::path& path);

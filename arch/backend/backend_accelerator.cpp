@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
@@ -9,7 +10,10 @@ namespace edx::arch {
 
 BackendAccelerator::BackendAccelerator(sim::Simulator& sim, BackendConfig config)
     : sim_(&sim), config_((config.validate(), std::move(config))) {
+  std::size_t next_resource = 0;  // resource() counts the units of count > 0
   for (const MatrixUnitInstance& u : config_.units) {
+    resource_index_.push_back(next_resource);
+    if (u.count > 0) ++next_resource;
     clocks_.push_back(std::make_unique<sim::ClockDomain>("backend." + u.name, config_.clock_of(u)));
     units_.push_back(u.count > 0 ? std::make_unique<sim::Resource>(
                                        sim, static_cast<std::size_t>(u.count), u.name)
@@ -23,11 +27,13 @@ sim::Task<void> BackendAccelerator::run(const trace::KernelRecord& kernel) {
   co_await run(plan);
 }
 
-sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::string label) {
+sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::string label,
+                                        OffloadTimes times) {
   const sim::Time start = sim_->now();
   for (const OpTiming& t : plan.ops) {
     sim::Resource& unit = *units_[t.unit];
     const sim::ClockDomain& clock = *clocks_[t.unit];
+    const sim::Time issued = sim_->now();
     // An op issued between its unit's clock edges starts on the next one.
     if (clock.next_edge(sim_->now()) != sim_->now()) co_await sim_->cycles(clock, 0);
     std::vector<sim::Lease> leases;
@@ -42,6 +48,17 @@ sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::stri
     const std::int64_t cycles = copies == t.copies ? t.cycles : op_cycles(t.op, copies, config_);
     const sim::Time begin = sim_->now();
     if (cycles > 0) co_await sim_->cycles(clock, static_cast<std::uint64_t>(cycles));
+    if (times.ps != nullptr) {
+      // Run: the op's planned cycles from its start edge; the rest of its time waited.
+      const sim::Time planned_end =
+          cycles == t.cycles
+              ? sim_->now()
+              : std::min(sim_->now(), clock.time_of_cycles(clock.cycles_in(begin) +
+                                                           static_cast<std::uint64_t>(t.cycles)));
+      const std::size_t r = resource_index_[t.unit];
+      times.run(r, planned_end - begin);
+      times.wait(r, (begin - issued) + (sim_->now() - planned_end));
+    }
     ops_.add();
     if (timeline_ != nullptr) {
       if (label.empty()) label = plan.kernel;

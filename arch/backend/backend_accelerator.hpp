@@ -44,11 +44,16 @@ class BackendAccelerator final : public OffloadModel {
   sim::Task<void> run(const trace::KernelRecord& kernel);
   /// Runs a kernel already replayed by accelerate_kernel() on this accelerator's config (which
   /// must outlive the task). `label` names its spans (e.g. "f12 projection").
-  sim::Task<void> run(const KernelAccelResult& plan, std::string label = {});
+  /// `times` (optional): each op's time on its unit (run: its cycles as planned; wait: for a
+  /// copy, for its clock edge, and the cycles beyond the plan on fewer copies), by
+  /// resource() index.
+  sim::Task<void> run(const KernelAccelResult& plan, std::string label = {},
+                      OffloadTimes times = {});
   /// run() of a plan made by accelerate_kernel() (FpgaMatrixUnits::plan).
-  sim::Task<void> run(const OffloadPlan& plan, std::string label) override {
-    return run(static_cast<const KernelAccelResult&>(plan), std::move(label));
+  sim::Task<void> run(const OffloadPlan& plan, std::string label, OffloadTimes times) override {
+    return run(static_cast<const KernelAccelResult&>(plan), std::move(label), times);
   }
+  using OffloadModel::run;
   /// The units of count > 0, in BackendConfig::units order (FpgaMatrixUnits::resource_names).
   const sim::Resource* resource(std::size_t index) const override;
 
@@ -77,6 +82,7 @@ class BackendAccelerator final : public OffloadModel {
   BackendConfig config_;
   std::vector<std::unique_ptr<sim::ClockDomain>> clocks_;
   std::vector<std::unique_ptr<sim::Resource>> units_;
+  std::vector<std::size_t> resource_index_;  ///< per unit: its resource() index
   sim::Counter kernels_, ops_;
   sim::SampleSet latency_us_;
   sim::Timeline* timeline_ = nullptr;

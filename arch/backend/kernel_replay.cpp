@@ -78,8 +78,11 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
     (unit.arithmetic() == cost::Arithmetic::kSingle ? a.single_macs : a.double_macs) = macs;
     r.activity.push_back(a);
   }
+  r.compute_s_by_resource.assign(r.activity.size(), 0.0);
   for (const OpTiming& t : r.ops) {
     r.activity[resource_of[t.unit]].bram_bytes += double(t.spm_bytes) * double(t.op.batch);
+    r.compute_s_by_resource[resource_of[t.unit]] +=
+        static_cast<double>(t.cycles) / (config.clock_of(config.units[t.unit]) * 1e6);
   }
   r.fits_local_memory = r.local_bytes <= config.spm_bytes;
   if (!r.fits_local_memory) {

@@ -15,6 +15,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "arch/common/registry.hpp"
@@ -44,7 +45,10 @@ struct OffloadPlan {
   /// False when the accelerator cannot run it (an op it has no unit for): it stays on the host,
   /// its compute_s infinite, `message` says why.
   bool runnable = true;
-  double compute_s = 0;           ///< on an idle accelerator, transfers not included
+  double compute_s = 0;  ///< on an idle accelerator, transfers not included
+  /// compute_s by resource (resource_names() order): the time its work holds each on an idle
+  /// accelerator (they add up to compute_s).
+  std::vector<double> compute_s_by_resource;
   std::int64_t local_bytes = 0;   ///< the local memory its largest step needs
   bool fits_local_memory = true;  ///< local_bytes within the accelerator's local memory
   SpillTraffic spill;             ///< out of core: DRAM traffic (0 when it fits)
@@ -61,13 +65,27 @@ struct AcceleratorCostContext {
   std::function<cost::Resources(const MemoryStructure&)> memory_cost;
 };
 
+/// Where a kernel's time on an offload accelerator went, by resource (resource_names() order),
+/// added to `ps` (2 entries per resource, its caller's to size): ps[2i] its work held resource
+/// i (run), ps[2i + 1] it waited for resource i (wait: other kernels held it, or it ran on fewer
+/// copies than planned). Run and wait over all resources add up to the kernel's time.
+struct OffloadTimes {
+  sim::Time* ps = nullptr;
+  void run(std::size_t resource, sim::Time t) const { ps[2 * resource] += t; }
+  void wait(std::size_t resource, sim::Time t) const { ps[2 * resource + 1] += t; }
+};
+
 /// The DES model of an offload accelerator on a sim::Simulator (destroyed before it).
 class OffloadModel {
  public:
   virtual ~OffloadModel() = default;
   /// Runs `plan` (made by this model's accelerator, runnable; alive until the task completes).
-  /// `label` names its timeline spans ("f12 kalman_gain").
-  virtual sim::Task<void> run(const OffloadPlan& plan, std::string label) = 0;
+  /// `label` names its timeline spans ("f12 kalman_gain"). `times` (optional): where its time
+  /// went, by resource (the critical-path attribution of the system DES).
+  virtual sim::Task<void> run(const OffloadPlan& plan, std::string label, OffloadTimes times) = 0;
+  sim::Task<void> run(const OffloadPlan& plan, std::string label) {
+    return run(plan, std::move(label), OffloadTimes{});
+  }
   /// Resource `index` of resource_names() (its busy time is its utilization); nullptr when it
   /// is not a DES resource.
   virtual const sim::Resource* resource(std::size_t index) const = 0;

@@ -227,6 +227,28 @@ const Table<TimelineRow>& timelines_table() {
   return table;
 }
 
+const Table<FrameCausesRow>& frame_causes_table() {
+  using R = FrameCausesRow;
+  static const Table<R> table(
+      spec("frame_causes", kRun,
+           "Per variant, run and frame, the critical-path attribution of its latency (model des; "
+           "runs written with per-frame rows). docs/MODEL.md \"Critical-path attribution\".",
+           {"run_id", "variant", "run", "frame_id"}, 5),
+      {run_id_column(&R::run_id), variant_column(&R::variant),
+       column("run", &R::run, "",
+              "isolated (a frame alone: the latency of table frames) or streamed (frames at the "
+              "sensor rate, queueing included)")
+           .not_null(),
+       column("frame_id", &R::frame_id, "", "the trace's frame id").not_null(),
+       column("dropped", &R::dropped, "", "1: the camera queue dropped it (no causes)").not_null(),
+       column("latency_ms", &R::latency_ms, "ms", "its latency in that run"),
+       column("causes_json", &R::causes, "",
+              "{cause: ms}: `<resource>.run` or `.wait`, those that took time; they add up to "
+              "latency_ms")
+           .not_null()});
+  return table;
+}
+
 const Table<SweepRow>& sweeps_table() {
   using R = SweepRow;
   static const Table<R> table(
@@ -267,7 +289,11 @@ const Table<SweepPointRow>& sweep_points_table() {
            .not_null_default("''")
            .since(3),
        column("error", &R::error, "", "why it has no run (its workload failed), else NULL")
-           .since(3)});
+           .since(3),
+       column("bottleneck", &R::bottleneck, "",
+              "the resource holding the largest share of its accelerated variant's mean latency "
+              "(isolated run; frame_causes), NULL when not modelled")
+           .since(5)});
   return table;
 }
 
@@ -323,20 +349,15 @@ const Table<SweepWorkloadRow>& sweep_workloads_table() {
 }
 
 const std::vector<const TableSpec*>& all_tables() {
-  static const std::vector<const TableSpec*> tables{&runs_table().spec,
-                                                    &frames_table().spec,
-                                                    &latency_table().spec,
-                                                    &throughput_table().spec,
-                                                    &energy_table().spec,
-                                                    &offload_table().spec,
-                                                    &schedule_table().spec,
-                                                    &resources_table().spec,
-                                                    &timelines_table().spec,
-                                                    &sweeps_table().spec,
-                                                    &sweep_points_table().spec,
-                                                    &sweep_locks_table().spec,
-                                                    &sweep_generations_table().spec,
-                                                    &sweep_workloads_table().spec};
+  static const std::vector<const TableSpec*> tables{
+      &runs_table().spec,           &frames_table().spec,
+      &latency_table().spec,        &throughput_table().spec,
+      &energy_table().spec,         &offload_table().spec,
+      &schedule_table().spec,       &resources_table().spec,
+      &timelines_table().spec,      &frame_causes_table().spec,
+      &sweeps_table().spec,         &sweep_points_table().spec,
+      &sweep_locks_table().spec,    &sweep_generations_table().spec,
+      &sweep_workloads_table().spec};
   return tables;
 }
 
@@ -375,7 +396,8 @@ std::vector<TableValues> run_values(const RunRows& rows) {
           values_of(offload_table(), rows.offload),
           values_of(schedule_table(), rows.schedule),
           values_of(resources_table(), rows.resources),
-          values_of(timelines_table(), rows.timelines)};
+          values_of(timelines_table(), rows.timelines),
+          values_of(frame_causes_table(), rows.frame_causes)};
 }
 
 std::string results_reference_markdown() {

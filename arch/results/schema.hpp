@@ -19,10 +19,11 @@ namespace edx::results {
 // SQLite's user_version of a results database. 0: written before versioning (same tables, no
 // timelines); 1 (2026-11-26): the timelines table; 2 (2026-11-26): sweep_generations (a
 // search's convergence); 3 (2026-11-26): sweep_points.workload and .error, sweep_workloads
-// (sweeps that trace their workload); 4 (2026-11-28): offload.spill_ms and .spill_bytes. A writer
+// (sweeps that trace their workload); 4 (2026-11-28): offload.spill_ms and .spill_bytes; 5
+// (2026-11-28): frame_causes (critical-path attribution), sweep_points.bottleneck. A writer
 // brings an older database to this version (missing tables created, missing columns added);
 // readers read every older version and refuse newer ones.
-inline constexpr int kSchemaVersion = 4;
+inline constexpr int kSchemaVersion = 5;
 
 /// "<config_hash>-<trace_hash>": the key of a run.
 std::string run_id_of(const std::string& config_hash, const std::string& trace_hash);
@@ -47,6 +48,18 @@ struct FrameRow {
   double frontend_ms = 0, backend_ms = 0, e2e_ms = 0, host_busy_ms = 0;
   int offloaded = 0;
   double energy_j = 0;
+};
+
+/// One frame's critical-path attribution in one variant and run (table frame_causes;
+/// arch/results/causes.hpp).
+struct FrameCausesRow {
+  std::string run_id;
+  std::string variant;
+  std::string run;  ///< isolated | streamed
+  std::int64_t frame_id = 0;
+  bool dropped = false;
+  double latency_ms = 0;
+  nlohmann::json causes;  ///< {cause: ms} of the causes that took time; they add up to latency_ms
 };
 
 /// A latency distribution of one variant, mode and stage (table latency).
@@ -122,8 +135,9 @@ struct SweepPointRow {
   nlohmann::json parameters;  ///< {dotted platform key: value}
   nlohmann::json metrics;     ///< {objective or constraint metric: value}
   bool feasible = true, pareto = false;
-  std::string workload;  ///< hash of its workload point ("" when the sweep named a trace)
-  std::string error;     ///< why the point has no run (its workload failed to trace)
+  std::string workload;    ///< hash of its workload point ("" when the sweep named a trace)
+  std::string error;       ///< why the point has no run (its workload failed to trace)
+  std::string bottleneck;  ///< its accelerated variant's bottleneck resource (isolated, all)
 };
 
 struct SweepLockRow {
@@ -159,6 +173,7 @@ const Table<OffloadRow>& offload_table();
 const Table<ScheduleRow>& schedule_table();
 const Table<ResourceRow>& resources_table();
 const Table<TimelineRow>& timelines_table();
+const Table<FrameCausesRow>& frame_causes_table();
 const Table<SweepRow>& sweeps_table();
 const Table<SweepPointRow>& sweep_points_table();
 const Table<SweepLockRow>& sweep_locks_table();
@@ -182,6 +197,7 @@ struct RunTableRows {
   std::vector<ScheduleRow> schedule;
   std::vector<ResourceRow> resources;
   std::vector<TimelineRow> timelines;  ///< none, or the run's one timeline
+  std::vector<FrameCausesRow> frame_causes;
 };
 
 /// Every row of one run.

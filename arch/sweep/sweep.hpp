@@ -197,6 +197,7 @@ struct SweepPointResult {
   /// reference's), as the search constrains it; NaN when undefined.
   std::vector<double> constraints;
   nlohmann::json metrics;  ///< objectives and constraint metrics by name (null: undefined)
+  std::string bottleneck;  ///< its accelerated variant's bottleneck resource ("" unmodelled)
   bool feasible = true;
   bool computed = false;  ///< simulated in this run (false: found in the database)
   bool pareto = false;

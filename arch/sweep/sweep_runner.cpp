@@ -74,6 +74,14 @@ nlohmann::json metric_json(double v) {
   return std::isnan(v) ? nlohmann::json() : nlohmann::json(v);
 }
 
+/// The accelerated variant's bottleneck (isolated run, all frames) of a run summary; "" when the
+/// run has no attribution (model analytical).
+std::string bottleneck_of(const nlohmann::json& summary) {
+  const nlohmann::json::json_pointer where("/accelerated/attribution/isolated/all/bottleneck");
+  return summary.contains(where) && summary[where].is_string() ? summary[where].get<std::string>()
+                                                               : "";
+}
+
 /// Objectives and constraint metrics of a run summary and its trace's accuracy (null when the
 /// spec has no accuracy metric); `references[c]`: the accuracy of constraint c's reference
 /// workload point (relative constraints). A point with an undefined objective (NaN: an
@@ -85,6 +93,7 @@ void evaluate(const SweepSpec& spec, const nlohmann::json& summary, const nlohma
   r.objectives.clear();
   r.constraints.clear();
   r.feasible = true;
+  r.bottleneck = bottleneck_of(summary);
   for (const SweepObjective& o : spec.objectives) {
     r.objectives.push_back(point_metric(summary, accuracy, o.metric));
     r.metrics[o.metric] = metric_json(r.objectives.back());
@@ -112,7 +121,7 @@ void put_points(SQLite::Database& db, const std::string& sweep_id,
   std::vector<results::SweepPointRow> rows;
   for (const SweepPointResult& r : points) {
     rows.push_back({sweep_id, static_cast<std::int64_t>(r.index), r.run_id, r.parameters, r.metrics,
-                    r.feasible, r.pareto, r.workload, r.error});
+                    r.feasible, r.pareto, r.workload, r.error, r.bottleneck});
   }
   results::insert_rows(db, results::sweep_points_table(), rows, true);
 }

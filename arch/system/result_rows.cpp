@@ -48,6 +48,15 @@ results::RunRows result_rows(const SystemResult& r, bool per_frame) {
     }
     rows.throughput.push_back(
         {run_id, v->variant, v->fps_without_pipelining, v->fps_with_pipelining});
+    if (per_frame && v->isolated_causes && v->streamed_causes) {
+      for (auto [run, table] : {std::pair{"isolated", &*v->isolated_causes},
+                                std::pair{"streamed", &*v->streamed_causes}}) {
+        for (results::FrameCausesRow& row :
+             results::frame_causes_rows(run_id, v->variant, run, *table)) {
+          rows.frame_causes.push_back(std::move(row));
+        }
+      }
+    }
   }
   for (const KernelDecision& d : r.decisions) {
     if (!per_frame) break;

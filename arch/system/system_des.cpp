@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <deque>
 #include <limits>
 #include <memory>
@@ -54,6 +55,28 @@ std::vector<BackendStep> split_backend(const trace::FrameTrace& frame, double ba
   return steps;
 }
 
+CauseLayout::CauseLayout(std::vector<std::string> backend_resources)
+    : names_(kFixed + 2 * backend_resources.size()) {
+  const auto name_pair = [&](std::size_t run, const std::string& resource) {
+    names_[run] = resource + ".run";
+    names_[run + kWait] = resource + ".wait";
+  };
+  names_[kSensorWait] = "sensor.wait";
+  for (trace::Task task : trace::kTasks) {
+    name_pair(frontend(task), std::string("frontend.") + trace::to_string(task));
+  }
+  for (Direction d : {Direction::HostToFpga, Direction::FpgaToHost}) {
+    name_pair(link(d), std::string("link.") + to_string(d));
+  }
+  name_pair(kHost, "host");
+  name_pair(kCoprocessor, "coprocessor");
+  name_pair(kSpill, "backend.spill");
+  names_[kResultsWait] = "queue.results.wait";
+  for (std::size_t i = 0; i < backend_resources.size(); ++i) {
+    name_pair(backend(i), "backend." + backend_resources[i]);
+  }
+}
+
 nlohmann::json SystemRun::to_json() const {
   nlohmann::json use = nlohmann::json::object();
   for (const ResourceUse& r : resources) use[r.name] = {{"busy", r.busy}, {"max", r.max}};
@@ -71,6 +94,63 @@ namespace {
 constexpr std::size_t kEnd = std::numeric_limits<std::size_t>::max();
 
 sim::Time ms_to_time(double ms) { return sim::seconds(ms * 1e-3); }
+
+/// Adds a link transfer of `took` ps to a resource's causes (CauseLayout): run its time on the
+/// idle link `idle`, wait the rest.
+void split_transfer(sim::Time* row, std::size_t run_cause, sim::Time took, sim::Time idle) {
+  const sim::Time run = std::min(took, idle);
+  row[run_cause] += run;
+  row[run_cause + CauseLayout::kWait] += took - run;
+}
+
+/// The predecessors of a frontend task in the graph of frontend_model.hpp (DR after MO; MO after
+/// both FC; FC after FD of its image; LSS after DC; DC after IF(L)).
+std::vector<std::pair<trace::Task, trace::Image>> frontend_predecessors(trace::Task task,
+                                                                        trace::Image image) {
+  using trace::Image;
+  using trace::Task;
+  switch (task) {
+    case Task::DR:
+      return {{Task::MO, Image::Stereo}};
+    case Task::MO:
+      return {{Task::FC, Image::Left}, {Task::FC, Image::Right}};
+    case Task::FC:
+      return {{Task::FD, image}};
+    case Task::LSS:
+      return {{Task::DC, Image::Left}};
+    case Task::DC:
+      return {{Task::IF, Image::Left}};
+    default:
+      return {};
+  }
+}
+
+/// A frame's frontend critical path (CauseLayout) from `origin` to the last of DR and LSS: from
+/// that task back through the predecessor that finished last, each task's run its span, its wait
+/// from its ready time (its predecessors done, or `origin`) to its start (its unit busy, its
+/// clock edge). Adds up to max(DR end, LSS end) − origin.
+void attribute_frontend(const FrontendFrameTiming& t, sim::Time origin, sim::Time* row) {
+  const auto span_of = [&](trace::Task task, trace::Image image) -> const TaskSpan& {
+    for (const TaskSpan& s : t.tasks) {
+      if (s.task == task && s.image == image) return s;
+    }
+    throw std::logic_error("attribute_frontend: a task row of the graph is missing");
+  };
+  const TaskSpan& dr = span_of(trace::Task::DR, trace::Image::Stereo);
+  const TaskSpan& lss = span_of(trace::Task::LSS, trace::Image::Left);
+  const TaskSpan* task = dr.end >= lss.end ? &dr : &lss;
+  while (task != nullptr) {
+    const std::size_t cause = CauseLayout::frontend(task->task);
+    row[cause] += task->end - task->start;
+    const TaskSpan* last = nullptr;
+    for (const auto& [p_task, p_image] : frontend_predecessors(task->task, task->image)) {
+      const TaskSpan& p = span_of(p_task, p_image);
+      if (last == nullptr || p.end > last->end) last = &p;
+    }
+    row[cause + CauseLayout::kWait] += task->start - (last != nullptr ? last->end : origin);
+    task = last;
+  }
+}
 
 /// One run: the components, the queues and the threads of one variant (see the header).
 class SystemSimulation {
@@ -94,8 +174,10 @@ class SystemSimulation {
                  contention_ ? static_cast<std::size_t>(system.results_queue_depth) : unbounded_,
                  "queue.results"),
         camera_queue_(sim_),
+        layout_(accelerated ? backend.resource_names() : std::vector<std::string>{}),
         timeline_(timeline) {
     system.validate();
+    cause_ps_.assign(work.size() * layout_.size(), 0);
     if (accelerated_) {
       frontend_.emplace(sim_, frontend);
       link_ = link.make_model(sim_);
@@ -192,6 +274,12 @@ class SystemSimulation {
     finish_frontend_frame(fe_[f]);
     frames_[f].start = fe_[f].start;
     frames_[f].frontend_end = sim_.now();
+    sim::Time* causes = row(f);
+    attribute_frontend(fe_[f], fe_[f].start, causes);
+    const std::int64_t bytes = fe_[f].transfer_bytes;
+    split_transfer(causes, CauseLayout::link(Direction::FpgaToHost),
+                   fe_[f].end - fe_[f].transfer_start,
+                   bytes > 0 ? link_kind_->transfer_time(bytes) : 0);
     co_await results_.put(f);  // waits while the results queue is full, holding the buffer
     buffer.release();
   }
@@ -205,17 +293,26 @@ class SystemSimulation {
       admissions_[f] = std::move(admit);
       frames_[f].start = sim_.now();
       if (work_[f].frontend_host_chains.empty()) {
-        co_await host_work(f, work_[f].frontend_host_ms, frontend_thread_track_);
+        co_await host_work(f, work_[f].frontend_host_ms, frontend_thread_track_, row(f));
       } else {
         // Each stage's chains side by side on the cores (their device parts first, on the
-        // coprocessor in chain order), the stages one after the other.
+        // coprocessor in chain order), the stages one after the other; the critical path goes
+        // through the chain that finished last.
         for (const std::vector<ChainTime>& stage : work_[f].frontend_host_chains) {
           std::vector<sim::ProcessHandle> chains;
+          std::vector<ChainCauses> causes(stage.size());
           chains.reserve(stage.size());
-          for (const ChainTime& chain : stage) {
-            chains.push_back(sim_.spawn(host_chain(f, chain), "frontend chain"));
+          for (std::size_t c = 0; c < stage.size(); ++c) {
+            chains.push_back(sim_.spawn(host_chain(f, stage[c], causes[c]), "frontend chain"));
           }
           for (const sim::ProcessHandle& h : chains) co_await h;
+          const ChainCauses* last = nullptr;
+          for (const ChainCauses& c : causes) {
+            if (last == nullptr || c.end > last->end) last = &c;
+          }
+          if (last != nullptr) {
+            for (std::size_t k = 0; k < CauseLayout::kFixed; ++k) row(f)[k] += last->ps[k];
+          }
         }
       }
       frames_[f].frontend_end = sim_.now();
@@ -231,16 +328,21 @@ class SystemSimulation {
       const std::size_t f = co_await results_.get();
       if (f == kEnd) break;
       frames_[f].backend_start = sim_.now();
+      sim::Time* causes = row(f);
+      // The camera queue (the isolated run's latency starts with the frontend) and the results
+      // queue.
+      if (!isolated_) causes[CauseLayout::kSensorWait] += frames_[f].start - frames_[f].arrival;
+      causes[CauseLayout::kResultsWait] += frames_[f].backend_start - frames_[f].frontend_end;
       const SystemFrameWork& w = work_[f];
       if (!accelerated_) {
-        co_await host_work(f, w.backend_host_ms, backend_thread_track_);
-        co_await device_work(w.backend_device_ms);
+        co_await host_work(f, w.backend_host_ms, backend_thread_track_, causes);
+        co_await device_work(w.backend_device_ms, causes);
       } else {
         for (const BackendStep& step : w.backend_steps) {
           if (step.offload < 0) {
-            co_await host_work(f, step.host_ms, backend_thread_track_);
+            co_await host_work(f, step.host_ms, backend_thread_track_, causes);
           } else {
-            co_await offload(w.offloads[static_cast<std::size_t>(step.offload)]);
+            co_await offload(w.offloads[static_cast<std::size_t>(step.offload)], causes);
           }
         }
       }
@@ -249,26 +351,43 @@ class SystemSimulation {
     }
   }
 
+  /// A baseline frontend chain's causes (the fixed part of CauseLayout) and its end.
+  struct ChainCauses {
+    std::array<sim::Time, CauseLayout::kFixed> ps{};
+    sim::Time end = 0;
+  };
+
   /// A frontend chain of the CPU baseline: its rows on the coprocessor, then its host work on a
   /// core (arch/host/frontend_graph.hpp).
-  sim::Process host_chain(std::size_t f, ChainTime chain) {
-    co_await device_work(chain.device_ms);
-    co_await host_work(f, chain.host_ms, frontend_thread_track_);
+  sim::Process host_chain(std::size_t f, ChainTime chain, ChainCauses& causes) {
+    co_await device_work(chain.device_ms, causes.ps.data());
+    co_await host_work(f, chain.host_ms, frontend_thread_track_, causes.ps.data());
+    causes.end = sim_.now();
   }
 
-  /// Work of `ms` on the CPU baseline's coprocessor (waits while it runs another's).
-  sim::Task<void> device_work(double ms) {
+  /// Work of `ms` on the CPU baseline's coprocessor (waits while it runs another's); its wait
+  /// and run added to `causes`.
+  sim::Task<void> device_work(double ms, sim::Time* causes) {
     if (!(ms > 0)) co_return;
+    const sim::Time asked = sim_.now();
     sim::Lease device = co_await device_.acquire();
+    const sim::Time begin = sim_.now();
     co_await sim_.delay(ms_to_time(ms));
+    causes[CauseLayout::kCoprocessor + CauseLayout::kWait] += begin - asked;
+    causes[CauseLayout::kCoprocessor] += sim_.now() - begin;
   }
 
-  /// Host work of `ms` on a core (waits for one when all are busy).
-  sim::Task<void> host_work(std::size_t f, double ms, sim::Timeline::TrackId track) {
+  /// Host work of `ms` on a core (waits for one when all are busy); its wait and run added to
+  /// `causes`.
+  sim::Task<void> host_work(std::size_t f, double ms, sim::Timeline::TrackId track,
+                            sim::Time* causes) {
     if (!(ms > 0)) co_return;
+    const sim::Time asked = sim_.now();
     sim::Lease core = co_await cores_.acquire();
     const sim::Time begin = sim_.now();
     co_await sim_.delay(ms_to_time(ms));
+    causes[CauseLayout::kHost + CauseLayout::kWait] += begin - asked;
+    causes[CauseLayout::kHost] += sim_.now() - begin;
     frames_[f].host_busy_ms += ms;
     if (timeline_.timeline != nullptr) {
       timeline_.timeline->span(track, fmt::format("f{}", work_[f].frame_id), begin, sim_.now());
@@ -277,25 +396,64 @@ class SystemSimulation {
 
   /// Transfer 2, the spill reads, the kernel on the units, the spill writes, transfer 3 (spill
   /// traffic serialized with the units: the conservative reading, docs/MODEL.md "SPM spills").
-  sim::Task<void> offload(const OffloadWork& o) {
-    if (contention_) {
-      co_await link_->transfer(o.input_bytes, Direction::HostToFpga, label(o, " in"));
-      if (o.spill_read_bytes > 0) {
-        co_await link_->transfer(o.spill_read_bytes, Direction::HostToFpga, label(o, " spill in"));
-      }
-      co_await backend_->run(*o.plan, label(o, ""));
-      if (o.spill_write_bytes > 0) {
-        co_await link_->transfer(o.spill_write_bytes, Direction::FpgaToHost,
-                                 label(o, " spill out"));
-      }
-      co_await link_->transfer(o.output_bytes, Direction::FpgaToHost, label(o, " out"));
-    } else {
-      co_await sim_.delay(link_kind_->transfer_time(o.input_bytes));
-      co_await sim_.delay(link_kind_->transfer_time(o.spill_read_bytes));
-      co_await sim_.delay(sim::seconds(o.plan->compute_s));
-      co_await sim_.delay(link_kind_->transfer_time(o.spill_write_bytes));
-      co_await sim_.delay(link_kind_->transfer_time(o.output_bytes));
+  /// Its causes go to `causes`: each transfer's to its link direction (the spill's to
+  /// backend.spill), the units' run and wait to their resources.
+  sim::Task<void> offload(const OffloadWork& o, sim::Time* causes) {
+    constexpr Direction kIn = Direction::HostToFpga, kOut = Direction::FpgaToHost;
+    co_await timed_transfer(o, o.input_bytes, kIn, CauseLayout::link(kIn), " in", causes);
+    if (o.spill_read_bytes > 0 || !contention_) {
+      co_await timed_transfer(o, o.spill_read_bytes, kIn, CauseLayout::kSpill, " spill in", causes);
     }
+    if (contention_) {
+      co_await backend_->run(*o.plan, label(o, ""), OffloadTimes{causes + CauseLayout::backend(0)});
+    } else {
+      // On an idle accelerator: its plan's compute time, split by resource.
+      const sim::Time compute = sim::seconds(o.plan->compute_s);
+      co_await sim_.delay(compute);
+      attribute_compute(*o.plan, compute, causes);
+    }
+    if (o.spill_write_bytes > 0 || !contention_) {
+      co_await timed_transfer(o, o.spill_write_bytes, kOut, CauseLayout::kSpill, " spill out",
+                              causes);
+    }
+    co_await timed_transfer(o, o.output_bytes, kOut, CauseLayout::link(kOut), " out", causes);
+  }
+
+  /// One transfer of an offload on the link (contention off: its idle time), its time added to
+  /// `cause` (a link's run cause, or backend.spill's) of `causes`.
+  sim::Task<void> timed_transfer(const OffloadWork& o, std::int64_t bytes, Direction direction,
+                                 std::size_t cause, const char* suffix, sim::Time* causes) {
+    const sim::Time asked = sim_.now();
+    const sim::Time idle = link_kind_->transfer_time(bytes);
+    if (contention_) {
+      co_await link_->transfer(bytes, direction, label(o, suffix));
+    } else {
+      co_await sim_.delay(idle);
+    }
+    split_transfer(causes, cause, sim_.now() - asked, idle);
+  }
+
+  /// `compute` ps of a plan on an idle accelerator, split over its resources in proportion to
+  /// their compute_s_by_resource.
+  void attribute_compute(const OffloadPlan& plan, sim::Time compute, sim::Time* causes) const {
+    const std::vector<double>& by = plan.compute_s_by_resource;
+    double total = 0;
+    std::size_t last = by.size();
+    for (std::size_t i = 0; i < by.size(); ++i) {
+      total += by[i];
+      if (by[i] > 0) last = i;
+    }
+    if (last == by.size()) {  // no split known: the first resource
+      if (layout_.size() > CauseLayout::kFixed) causes[CauseLayout::backend(0)] += compute;
+      return;
+    }
+    sim::Time given = 0;
+    for (std::size_t i = 0; i < last; ++i) {
+      const auto share = static_cast<sim::Time>(static_cast<double>(compute) * by[i] / total);
+      causes[CauseLayout::backend(i)] += share;
+      given += share;
+    }
+    causes[CauseLayout::backend(last)] += compute - given;
   }
 
   // --- Timeline and results ---
@@ -422,6 +580,8 @@ class SystemSimulation {
     occupancy("queue.results", results_.occupancy());
     if (timeline_.timeline != nullptr) write_timeline_window();
     r.frames = std::move(frames_);
+    r.causes = layout_.names();
+    r.cause_ps = std::move(cause_ps_);
     return r;
   }
 
@@ -448,6 +608,10 @@ class SystemSimulation {
   std::vector<SystemFrameTiming> frames_;
   std::vector<FrontendFrameTiming> fe_;
   std::vector<sim::Lease> admissions_;
+  CauseLayout layout_;
+  std::vector<sim::Time> cause_ps_;  ///< frames × layout_.size() (SystemRun::cause_ps)
+  /// Frame f's row of cause_ps_.
+  sim::Time* row(std::size_t f) { return cause_ps_.data() + f * layout_.size(); }
   SystemTimelineOptions timeline_;
   /// Spans that may overlap (frames in flight, frames waiting in a queue) on as many tracks as
   /// they need: each goes to the first track free at its start ("frames", "frames 2", ...), so

@@ -81,6 +81,43 @@ std::vector<BackendStep> split_backend(const trace::FrameTrace& frame, double ba
                                        const std::vector<double>& kernel_host_ms,
                                        const std::vector<bool>& offloaded);
 
+/// Critical-path attribution (docs/MODEL.md, "Critical-path attribution"): each frame's latency
+/// split into causes that add up to it exactly (integer ps). A cause is a resource and a state,
+/// "<resource>.run" (the frame's own work held it) or "<resource>.wait" (the frame waited for
+/// it). The frame's path is sequential except in the frontend, whose critical path is walked back
+/// through its task graph from the last of DR and LSS (the predecessor that finished last, each
+/// task's wait from its ready time to its start), and the CPU baseline's frontend chains, of
+/// which the last to finish counts. Resources:
+///   sensor                    wait: in the camera queue (streamed runs)
+///   frontend.<task>           the frontend units (accelerated)
+///   link.<direction>          run: the transfer's time on the idle link; wait: the rest
+///   host                      the host cores (backend thread, baseline frontend)
+///   coprocessor               the CPU baseline's GPU or DSP
+///   backend.spill             a kernel's spill traffic on the link (run and wait as a link's)
+///   queue.results             wait: the results waited for the backend thread
+///   backend.<unit>            the offload accelerator's resources (resource_names())
+class CauseLayout {
+ public:
+  explicit CauseLayout(std::vector<std::string> backend_resources);
+  static constexpr std::size_t kSensorWait = 0;
+  static std::size_t frontend(trace::Task task) { return 1 + 2 * static_cast<std::size_t>(task); }
+  static std::size_t link(Direction d) { return 15 + (d == Direction::HostToFpga ? 0 : 2); }
+  static constexpr std::size_t kHost = 19, kCoprocessor = 21, kSpill = 23;
+  static constexpr std::size_t kResultsWait = 25;
+  /// Causes before the backend units' (a frame's fixed part).
+  static constexpr std::size_t kFixed = 26;
+  /// The run cause of backend resource i (its wait is the next).
+  static std::size_t backend(std::size_t i) { return kFixed + 2 * i; }
+  /// A resource's wait cause: run cause + 1.
+  static constexpr std::size_t kWait = 1;
+  std::size_t size() const { return names_.size(); }
+  /// "sensor.wait", "frontend.FD.run", ... (sensor and queue.results have a wait only).
+  const std::vector<std::string>& names() const { return names_; }
+
+ private:
+  std::vector<std::string> names_;
+};
+
 /// One frame of a run (ps from the run's start).
 struct SystemFrameTiming {
   std::int64_t frame_id = 0;
@@ -108,6 +145,10 @@ struct SystemRun {
   double fps = 0;           ///< (n − 1) / (last end − first end) over processed frames
   double host_busy_ms = 0;  ///< Σ core busy time
   std::vector<ResourceUse> resources;
+  /// Critical-path attribution (CauseLayout): frames × causes, row-major, ps; a frame's row adds
+  /// up to its latency (isolated: end − start; streamed: end − arrival); 0 for a dropped frame.
+  std::vector<std::string> causes;
+  std::vector<sim::Time> cause_ps;
   nlohmann::json to_json() const;  ///< summary (no frames)
 };
 

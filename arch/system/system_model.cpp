@@ -176,6 +176,35 @@ StreamSummary summarize_stream(const SystemRun& run, const std::vector<FrameResu
   return s;
 }
 
+/// A run's attribution (SystemRun::cause_ps) as a CauseTable: the causes that took time in
+/// some frame, in ms; the frames' modes from `frames`.
+results::CauseTable cause_table(const SystemRun& run, const std::vector<FrameResult>& frames) {
+  const std::size_t n = run.causes.size();
+  std::vector<std::size_t> kept;
+  for (std::size_t c = 0; c < n; ++c) {
+    for (std::size_t f = 0; f < run.frames.size(); ++f) {
+      if (run.cause_ps[f * n + c] != 0) {
+        kept.push_back(c);
+        break;
+      }
+    }
+  }
+  results::CauseTable t;
+  for (std::size_t c : kept) t.causes.push_back(run.causes[c]);
+  t.frames.reserve(run.frames.size());
+  t.ms.reserve(run.frames.size() * kept.size());
+  for (std::size_t f = 0; f < run.frames.size(); ++f) {
+    const SystemFrameTiming& timing = run.frames[f];
+    sim::Time sum = 0;
+    for (std::size_t c : kept) {
+      sum += run.cause_ps[f * n + c];
+      t.ms.push_back(sim::to_ms(run.cause_ps[f * n + c]));
+    }
+    t.frames.push_back({timing.frame_id, frames[f].mode, timing.dropped, sim::to_ms(sum)});
+  }
+  return t;
+}
+
 /// Model "des": runs the whole-system DES (system_des.hpp) for both variants, isolated and
 /// streamed, and replaces the analytical latencies of `r`'s frames by the isolated runs'.
 /// `accel`, `transfers`: per accelerable invocation, in the order of r.decisions.
@@ -239,9 +268,11 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
       out.e2e_ms = sim::to_ms(t.end - t.start);
       out.host_busy_ms = std::min(t.host_busy_ms, out.e2e_ms);
     }
+    v->isolated_causes = cause_table(isolated, v->frames);
     const SystemRun streamed =
         run(accelerated, false, accelerated ? timeline_options : SystemTimelineOptions{});
     v->stream = summarize_stream(streamed, v->frames, platform.system.sensor_fps, platform);
+    v->streamed_causes = cause_table(streamed, v->frames);
   }
   if (options.timeline) {
     r.timeline_json = timeline.to_json().dump();
@@ -330,6 +361,10 @@ nlohmann::json VariantResult::to_json() const {
                       {"fps_without_pipelining", fps_without_pipelining},
                       {"fps_with_pipelining", fps_with_pipelining}};
   if (stream) j["stream"] = stream->to_json();
+  if (isolated_causes && streamed_causes) {
+    j["attribution"] = {{"isolated", results::causes_json(*isolated_causes)},
+                        {"streamed", results::causes_json(*streamed_causes)}};
+  }
   return j;
 }
 

@@ -39,6 +39,7 @@
 #include "arch/cost/energy.hpp"
 #include "arch/cost/resource_report.hpp"
 #include "arch/platform/platform.hpp"
+#include "arch/results/causes.hpp"
 #include "arch/scheduler/scheduler.hpp"
 #include "arch/system/frontend_study.hpp"
 #include "arch/system/system_des.hpp"
@@ -129,7 +130,10 @@ struct VariantResult {
   std::map<std::string, ModeSummary> modes;  ///< per mode and "all"
   double fps_without_pipelining = 0, fps_with_pipelining = 0;
   std::optional<StreamSummary> stream;  ///< model "des"
-  nlohmann::json to_json() const;       ///< summaries only (frames go to the results database)
+  /// Critical-path attribution of each frame (model "des"; docs/MODEL.md "Critical-path
+  /// attribution"): in the isolated run (adding up to frames' e2e_ms) and the streamed run.
+  std::optional<results::CauseTable> isolated_causes, streamed_causes;
+  nlohmann::json to_json() const;  ///< summaries only (frames go to the results database)
 };
 
 struct SystemResult {

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "tests/arch/backend/backend_test_support.hpp"
 
@@ -103,6 +104,37 @@ TEST(BackendAccelerator, OpsOfOneKernelWaitForEachOther) {
     }
   }
   EXPECT_TRUE(found) << doc.dump();
+}
+
+TEST(BackendAccelerator, AttributesAKernelsTimeToRunAndWaitPerUnit) {
+  // Two projections issued at once on two gemm copies (CopiesOfAUnitShareAnOpOrServeTwoKernels):
+  // the first runs its planned 156 cycles; the second waits 156 cycles for the copies, then
+  // runs its 156. Run and wait add up to each kernel's time.
+  BackendConfig c = small_config();
+  const std::size_t gemm = testing::unit_index(c, "gemm");
+  c.units[gemm].count = 2;
+  std::size_t resource = 0;  // gemm's index among the units of count > 0
+  for (std::size_t u = 0; u < gemm; ++u) resource += c.units[u].count > 0 ? 1 : 0;
+  const KernelAccelResult plan =
+      accelerate_kernel(kernel_of("projection", {OpRecord{Op::Gemm, 3, 100, 4, 0, 0}}), c);
+  sim::Simulator sim;
+  BackendAccelerator accel(sim, c);
+  const std::size_t resources = 2 * c.units.size();
+  std::vector<sim::Time> times_a(resources, 0), times_b(resources, 0);
+  auto run = [&](std::vector<sim::Time>& times) -> sim::Process {
+    co_await accel.run(plan, "", OffloadTimes{times.data()});
+  };
+  sim.spawn(run(times_a), "a");
+  sim.spawn(run(times_b), "b");
+  sim.run();
+  const sim::Time cycles156 = accel.clock(gemm).time_of_cycles(156);
+  EXPECT_EQ(times_a[2 * resource], cycles156);
+  EXPECT_EQ(times_a[2 * resource + 1], 0);
+  EXPECT_EQ(times_b[2 * resource + 1], cycles156);
+  EXPECT_EQ(times_b[2 * resource], accel.clock(gemm).time_of_cycles(312) - cycles156);
+  sim::Time sum_b = 0;
+  for (sim::Time t : times_b) sum_b += t;
+  EXPECT_EQ(sum_b, accel.clock(gemm).time_of_cycles(312));
 }
 
 TEST(BackendAccelerator, CopiesOfAUnitShareAnOpOrServeTwoKernels) {

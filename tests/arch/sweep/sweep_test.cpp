@@ -290,6 +290,12 @@ TEST(Sweep, RunsStoresResumesAndExports) {
     EXPECT_EQ(db.execAndGet("SELECT count(*) FROM sweep_points WHERE sweep_id = 'blocks'").getInt(),
               4);
     EXPECT_EQ(db.execAndGet("SELECT count(*) FROM frames").getInt(), 0);  // summaries only
+    EXPECT_EQ(db.execAndGet("SELECT count(*) FROM frame_causes").getInt(), 0);
+    // Each point records its bottleneck (the attribution of its run's summary).
+    EXPECT_EQ(db.execAndGet("SELECT count(*) FROM sweep_points WHERE sweep_id = 'blocks' AND "
+                            "bottleneck <> ''")
+                  .getInt(),
+              4);
     EXPECT_EQ(db.execAndGet("PRAGMA journal_mode").getString(), "wal");
   }
   // CSV of the sweep's points and of a table.

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -212,6 +213,71 @@ namespace {
 // VIO's covariance update and null-space projection named in scheduler.offload are simulated on
 // the backend units (the reference trace records their ops; the projection's QR runs on an added
 // householder unit), and their rows are in the results database.
+TEST(SimulateCommand, ExplainSplitsEveryFramesLatencyIntoCauses) {
+  // The golden mix through Edx-Car into a results database: every frame's stored causes add
+  // up to its e2e latency, and `edx explain` prints the per-mode tables and a frame.
+  testing::TempDir dir;
+  const fs::path golden = fs::path(EDX_SOURCE_DIR) / "tests" / "data" / "golden" / "golden_mix.db";
+  const fs::path db = dir.path() / "r.db";
+  const auto sim =
+      edx::testing::run_command(fmt::format("{} simulate --config {} --trace {} --out {}", kEdx,
+                                            kCarConfig.string(), golden.string(), db.string()));
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  std::int64_t first_frame = 0;
+  {
+    SQLite::Database sql(db.string());
+    SQLite::Statement q(sql,
+                        "SELECT f.frame_id, f.e2e_ms, c.latency_ms, c.causes_json FROM frames f "
+                        "JOIN frame_causes c ON c.run_id = f.run_id AND c.variant = f.variant AND "
+                        "c.frame_id = f.frame_id AND c.run = 'isolated' ORDER BY f.frame_id");
+    int rows = 0;
+    while (q.executeStep()) {
+      if (rows++ == 0) first_frame = q.getColumn(0).getInt64();
+      const double e2e = q.getColumn(1).getDouble();
+      double sum = 0;
+      const nlohmann::json causes = nlohmann::json::parse(q.getColumn(3).getString());
+      for (const auto& [cause, ms] : causes.items()) sum += ms.get<double>();
+      EXPECT_LE(std::abs(sum - e2e), 1e-9 * e2e) << q.getColumn(0).getInt64();
+      EXPECT_LE(std::abs(q.getColumn(2).getDouble() - e2e), 1e-9 * e2e);
+    }
+    EXPECT_EQ(rows, 2 * sql.execAndGet("SELECT frames FROM runs").getInt());
+  }
+  const auto text = edx::testing::run_command(
+      fmt::format("{} explain {} --frame {}", kEdx, db.string(), first_frame));
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_THAT(text.out, HasSubstr("accelerated isolated"));
+  EXPECT_THAT(text.out, HasSubstr("bottleneck"));
+  EXPECT_THAT(text.out, HasSubstr(fmt::format("frame {} (", first_frame)));
+  const auto json =
+      edx::testing::run_command(fmt::format("{} explain {} --json", kEdx, db.string()));
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  const nlohmann::json j = nlohmann::json::parse(json.out);
+  const nlohmann::json& all = j["attribution"]["accelerated"]["isolated"]["all"];
+  SQLite::Database sql(db.string());
+  const double mean = sql.execAndGet(
+                             "SELECT mean FROM latency WHERE variant = 'accelerated' AND mode = "
+                             "'all' AND stage = 'e2e'")
+                          .getDouble();
+  EXPECT_NEAR(all["latency_ms"].get<double>(), mean, 1e-9 * mean);
+  EXPECT_FALSE(all["bottleneck"].get<std::string>().empty());
+  // A frame the run does not have, and a run of the analytical model (no attribution): one
+  // line naming the database, exit 1.
+  const auto missing =
+      edx::testing::run_command(fmt::format("{} explain {} --frame 999999", kEdx, db.string()));
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_THAT(missing.err, HasSubstr("no frame 999999"));
+  const fs::path analytical = dir.path() / "a.db";
+  ASSERT_EQ(edx::testing::run_command(
+                fmt::format("{} simulate --config {} --trace {} --out {} --model analytical", kEdx,
+                            kCarConfig.string(), golden.string(), analytical.string()))
+                .exit_code,
+            0);
+  const auto none =
+      edx::testing::run_command(fmt::format("{} explain {}", kEdx, analytical.string()));
+  EXPECT_EQ(none.exit_code, 1);
+  EXPECT_THAT(none.err, HasSubstr("has no critical-path attribution"));
+}
+
 TEST(SimulateCommand, KernelsBeyondThePapersThreeCanBeOffloaded) {
   const testing::TempDir dir;
   const fs::path golden = fs::path(EDX_SOURCE_DIR) / "tests" / "data" / "golden" / "golden_mix.db";
