@@ -15,6 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
+#include <tuple>
 
 #include "arch/memory/bram.hpp"
 #include "arch/results/schema.hpp"
@@ -529,8 +530,10 @@ class RunReport {
     // figures, so only for an Edx-Car run.
     const nlohmann::json& res = run_.summary.value("resources", nlohmann::json::object());
     if (!is_edx_car_run(run_)) {
-      h += "<p class=\"cap\">Table III (the paper's Edx-Car resources) is compared only for "
-           "Edx-Car runs (platform edx_car on the XC7V690T).</p>\n";
+      h += fmt::format(
+          "<p class=\"cap\">Table III (the paper's Edx-Car resources) is compared only for "
+          "Edx-Car runs (platform edx_car on the {}).</p>\n",
+          arch::Device::xc7v690t().name);
     } else if (res.contains("edx_car_table_iii") && res["edx_car_table_iii"].is_array()) {
       h += "<table><tr><th>Table III figure (Edx-Car)</th><th>paper</th><th>simulated</th>"
            "<th>error</th></tr>\n";
@@ -568,7 +571,9 @@ class RunReport {
         {"BRAM36 blocks", "bram_blocks", device ? device->bram36_blocks : 0}};
     std::string h = fmt::format(
         "<p class=\"cap\">The design against its own device, {} (<code>device:</code> of the "
-        "platform{}). Over 100 %: it does not fit.</p>\n<table><tr><th>resource</th><th>used</th>"
+        "platform{}). A row over 100 % utilization is tinted: the design does not fit (N.S.: the "
+        "paper's non-shared comparison, not a design to "
+        "build).</p>\n<table><tr><th>resource</th><th>used</th>"
         "<th>N.S. used</th><th>device capacity</th><th>utilization</th><th>N.S. utilization</th>"
         "</tr>\n",
         html_escape(name.empty() ? std::string("unknown") : name),
