@@ -1,6 +1,7 @@
 // `edx check`: the paper's Edx-Car figures (reports/paper_targets.yaml) against a simulated run,
 // read from a results database or simulated here from a config and a trace. Prints paper,
-// simulated, error and verdict per target; exits 1 when any target misses or is not found.
+// simulated, error and verdict per target; exits 1 when any target misses or is not found (n/a
+// rows, figures of modes the run has no frames of, are listed and do not count).
 // Logic: reports/paper_check (docs/REPORTS.md).
 #include <fmt/core.h>
 #include <unistd.h>

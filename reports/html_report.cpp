@@ -15,7 +15,9 @@
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
+#include <tuple>
 
+#include "arch/memory/bram.hpp"
 #include "arch/results/schema.hpp"
 #include "common/atomic_file.hpp"
 #include "common/yaml_fields.hpp"
@@ -523,17 +525,16 @@ class RunReport {
           num(r.ns_lut, 0), num(r.ns_ff, 0), num(r.ns_dsp, 0), num(r.ns_bram, 1));
     }
     h += "</table>\n";
-    // The model's own comparison with the paper's Table III (summary_json, resources).
+    h += device_table();
+    // The model's own comparison with the paper's Table III (summary_json, resources): Edx-Car's
+    // figures, so only for an Edx-Car run.
     const nlohmann::json& res = run_.summary.value("resources", nlohmann::json::object());
-    if (res.contains("utilization") && res["utilization"].is_object()) {
-      h += "<p>Utilization of " + html_escape(res.value("device", std::string("the device"))) + ":";
-      for (const auto& [k, v] : res["utilization"].items()) {
-        if (v.is_number()) h += " " + html_escape(k) + " " + pct(v.get<double>());
-      }
-      h += fmt::format("; BRAM {} MiB (N.S. {} MiB).</p>\n", num(res.value("bram_mib", NAN)),
-                       num(res.value("ns_bram_mib", NAN)));
-    }
-    if (res.contains("edx_car_table_iii") && res["edx_car_table_iii"].is_array()) {
+    if (!is_edx_car_run(run_)) {
+      h += fmt::format(
+          "<p class=\"cap\">Table III (the paper's Edx-Car resources) is compared only for "
+          "Edx-Car runs (platform edx_car on the {}).</p>\n",
+          arch::Device::xc7v690t().name);
+    } else if (res.contains("edx_car_table_iii") && res["edx_car_table_iii"].is_array()) {
       h += "<table><tr><th>Table III figure (Edx-Car)</th><th>paper</th><th>simulated</th>"
            "<th>error</th></tr>\n";
       for (const nlohmann::json& c : res["edx_car_table_iii"]) {
@@ -544,6 +545,50 @@ class RunReport {
       h += "</table>\n";
     }
     return h;
+  }
+
+  /// The design's totals against its own device's capacity (the platform's `device`, as the
+  /// summary names it; capacities from the datasheet, arch/memory/bram.hpp Device): used, N.S.,
+  /// capacity and utilization per resource. Without a known device: the summary's utilization.
+  std::string device_table() const {
+    const nlohmann::json& res = run_.summary.value("resources", nlohmann::json::object());
+    if (!res.is_object() || !res.contains("total")) return "";
+    const std::string name = res.value("device", std::string());
+    const std::optional<arch::Device> device = arch::Device::find(name);
+    const auto number = [&res](const char* group, const char* key) {
+      const nlohmann::json& g = res.value(group, nlohmann::json::object());
+      return g.is_object() && g.contains(key) && g[key].is_number() ? g[key].get<double>() : NAN;
+    };
+    struct Row {
+      const char* label;
+      const char* key;
+      std::int64_t capacity;
+    };
+    const std::vector<Row> rows = {
+        {"LUT", "lut", device ? device->luts : 0},
+        {"FF", "ff", device ? device->flip_flops : 0},
+        {"DSP", "dsp", device ? device->dsps : 0},
+        {"BRAM36 blocks", "bram_blocks", device ? device->bram36_blocks : 0}};
+    std::string h = fmt::format(
+        "<p class=\"cap\">The design against its own device, {} (<code>device:</code> of the "
+        "platform{}). A row over 100 % utilization is tinted: the design does not fit (N.S.: the "
+        "paper's non-shared comparison, not a design to "
+        "build).</p>\n<table><tr><th>resource</th><th>used</th>"
+        "<th>N.S. used</th><th>device capacity</th><th>utilization</th><th>N.S. utilization</th>"
+        "</tr>\n",
+        html_escape(name.empty() ? std::string("unknown") : name),
+        device ? "; capacities: " + html_escape(device->source) : "");
+    for (const Row& r : rows) {
+      const double used = number("total", r.key), ns = number("ns_total", r.key);
+      const double util = device ? used / double(r.capacity) : number("utilization", r.key);
+      h += fmt::format(
+          "<tr{}><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+          util > 1 ? " class=\"miss\"" : "", r.label, num(used, 0), num(ns, 0),
+          device ? fmt::format("{}", r.capacity) : std::string("–"), pct(util),
+          device ? pct(ns / double(r.capacity)) : std::string("–"));
+    }
+    return h + fmt::format("</table>\n<p>BRAM {} MiB (N.S. {} MiB).</p>\n",
+                           num(res.value("bram_mib", NAN)), num(res.value("ns_bram_mib", NAN)));
   }
 
   const RunData& run_;
@@ -1043,8 +1088,48 @@ std::string characterization_html(const fs::path& file, const fs::path& dir,
   return h + "</table>\n";
 }
 
+/// Whether the run's trace is the paper's scenario mix: the trace, read at the path the run
+/// recorded, has meta sequence "mix:paper" (`edx trace --mix paper`, workloads/modes/mix_runner.cpp
+/// mix_meta). False when the trace cannot be read there.
+bool traces_paper_mix(const RunData& r) {
+  try {
+    const trace::TraceReader reader(r.trace);
+    const auto sequence = reader.meta().find("sequence");
+    return sequence != reader.meta().end() && sequence->second == "mix:paper";
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+/// The runs (indices of data.runs) whose paper check the report shows: the Edx-Car runs with a
+/// section, the paper-mix run first (traces_paper_mix), then by the number of backend modes the
+/// run has frames of (a mixed trace before a one-mode one, also when the trace is not readable),
+/// then in database order.
+std::vector<std::size_t> paper_check_runs(const ResultsData& data,
+                                          const std::vector<std::size_t>& sections) {
+  struct Key {
+    bool paper_mix;
+    std::size_t modes;
+    std::size_t index;
+  };
+  std::vector<Key> keys;
+  for (std::size_t i : sections) {
+    const RunData& r = data.runs[i];
+    if (!is_edx_car_run(r)) continue;
+    const auto modes = modes_with_frames(nlohmann::json{{"system", r.summary}});
+    keys.push_back({traces_paper_mix(r), modes ? modes->size() : 0, i});
+  }
+  std::stable_sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
+    return std::tie(b.paper_mix, b.modes) < std::tie(a.paper_mix, a.modes);
+  });
+  std::vector<std::size_t> order;
+  for (const Key& k : keys) order.push_back(k.index);
+  return order;
+}
+
 /// The paper check (reports/paper_targets.yaml, as `edx check`) of each Edx-Car run with a
-/// section: a table and a plot of simulated / paper per target with the tolerance band.
+/// section (in paper_check_runs' order): a table and a plot of simulated / paper per target with
+/// the tolerance band; n/a rows (modes the run has no frames of) are listed, not plotted.
 std::string paper_check_html(const ResultsData& data, const std::vector<std::size_t>& sections,
                              const fs::path& dir, const std::string& gnuplot, bool plot,
                              std::vector<std::string>& images) {
@@ -1057,18 +1142,21 @@ std::string paper_check_html(const ResultsData& data, const std::vector<std::siz
       (default_targets_path().parent_path().parent_path() / "docs" / "MODEL.md").string();
   const std::string model_doc = model_file + "#what-is-not-reachable-honestly-and-why";
   std::string h;
-  for (std::size_t i : sections) {
+  for (std::size_t i : paper_check_runs(data, sections)) {
     const RunData& r = data.runs[i];
-    if (r.platform != "edx_car") continue;
     nlohmann::json metrics = run_metrics(r);
     add_baseline_metrics(metrics, data, r, baselines);  // the runs of the compared platforms
     const CheckResult check = check_targets(targets, metrics, r.run_id);
+    const std::size_t not_applicable = check.count(Verdict::kNotApplicable);
     h += fmt::format(
         "<h2 id=\"check{0}\">Paper check: {1} <small>{2}</small></h2>\n<p class=\"cap\">{3} of "
         "{4} of the paper's Edx-Car figures within tolerance (as <code>edx check --results DB "
-        "--run {2}</code>). Why targets miss: <a href=\"{5}\">docs/MODEL.md</a>.</p>\n",
+        "--run {2}</code>){6}. Why targets miss: <a href=\"{5}\">docs/MODEL.md</a>.</p>\n",
         i + 1, html_escape(run_title(r)), html_escape(r.run_id), check.passed(), check.counted(),
-        html_escape(model_doc));
+        html_escape(model_doc),
+        not_applicable == 0
+            ? ""
+            : fmt::format("; {} n/a: figures of modes this run has no frames of", not_applicable));
     std::string dat = "# index ratio(simulated/paper) tolerance label\n";
     std::string rows =
         "<table><tr><th>target</th><th>paper</th><th>simulated</th><th>error</th>"
@@ -1078,22 +1166,25 @@ std::string paper_check_html(const ResultsData& data, const std::vector<std::siz
       if (row.verdict == Verdict::kNotRun) continue;  // the characterization's: not in a DB
       const std::string verdict = to_string(row.verdict);
       const std::string unit = row.target.unit.empty() ? "" : " " + row.target.unit;
+      const bool counted = row.verdict != Verdict::kNotApplicable;
       rows += fmt::format(
           "<tr{}><td>{}</td><td>{:.4g}{}</td><td>{}</td><td>{}</td><td>±{:.0f}%</td><td>{}</td>"
           "<td>{}</td></tr>\n",
-          row.verdict == Verdict::kPass ? "" : " class=\"miss\"", html_escape(row.target.name),
-          row.target.paper, html_escape(unit),
+          row.verdict == Verdict::kPass || !counted ? "" : " class=\"miss\"",
+          html_escape(row.target.name), row.target.paper, html_escape(unit),
           row.simulated ? fmt::format("{:.4g}{}", *row.simulated, html_escape(unit)) : "–",
           row.simulated ? fmt::format("{:+.1f}%", 100 * row.error) : "–",
           100 * row.target.tolerance,
-          row.verdict == Verdict::kPass
-              ? verdict
-              : fmt::format("<a href=\"{}\">{}</a>",
-                            html_escape(row.target.explained.empty()
-                                            ? model_doc
-                                            : model_file + "#" + row.target.explained),
-                            verdict),
+          row.verdict == Verdict::kPass ? verdict
+          : !counted ? fmt::format("<span title=\"no {} frames in this run\">{}</span>",
+                                   html_escape(row.absent_mode), verdict)
+                     : fmt::format("<a href=\"{}\">{}</a>",
+                                   html_escape(row.target.explained.empty()
+                                                   ? model_doc
+                                                   : model_file + "#" + row.target.explained),
+                                   verdict),
           html_escape(row.target.source));
+      if (!counted) continue;  // listed, not plotted
       if (row.simulated) {
         std::string label = row.target.name;
         std::erase(label, '"');

@@ -4,10 +4,23 @@
 #include <map>
 #include <set>
 
+#include "arch/kernels/kernels.hpp"
+
 namespace edx::reports {
 namespace {
 
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
+
+/// The keys of a dotted metric path, "a.b.c" -> {a, b, c}.
+std::vector<std::string> path_keys(const std::string& path) {
+  std::vector<std::string> keys;
+  for (std::size_t start = 0;;) {
+    const std::size_t dot = path.find('.', start);
+    keys.push_back(path.substr(start, dot == std::string::npos ? dot : dot - start));
+    if (dot == std::string::npos) return keys;
+    start = dot + 1;
+  }
+}
 
 }  // namespace
 
@@ -109,17 +122,45 @@ nlohmann::json run_metrics(const RunData& run) {
   return {{"system", run.summary}, {"derived", derived}};
 }
 
+std::optional<std::string> metric_mode(const std::string& path) {
+  const std::vector<std::string> keys = path_keys(path);
+  const auto key = [&keys](std::size_t i) { return i < keys.size() ? keys[i] : std::string(); };
+  std::string mode;
+  if (key(0) == "system" && key(1) == "comparison") {
+    mode = key(2);
+  } else if (key(0) == "system" && key(2) == "modes") {
+    mode = key(3);
+  } else if (key(0) == "derived" && key(1) == "backend") {
+    mode = key(2);
+  } else if (key(0) == "derived" && (key(1) == "kernels" || key(1) == "schedule")) {
+    if (const arch::AccelerableKernel* k = arch::find_accelerable_kernel(key(2))) {
+      mode = std::string(k->mode);
+    }
+  }
+  if (mode.empty() || mode == "all") return std::nullopt;
+  return mode;
+}
+
+std::optional<std::set<std::string>> modes_with_frames(const nlohmann::json& metrics) {
+  const nlohmann::json::json_pointer pointer("/system/baseline/modes");
+  if (!metrics.contains(pointer) || !metrics.at(pointer).is_object()) return std::nullopt;
+  std::set<std::string> modes;
+  for (const auto& [mode, summary] : metrics.at(pointer).items()) {
+    if (mode == "all") continue;
+    if (summary.is_object() && summary.contains("frames") && summary["frames"].is_number() &&
+        summary["frames"].get<double>() == 0) {
+      continue;
+    }
+    modes.insert(mode);
+  }
+  return modes;
+}
+
 std::optional<double> metric_at(const nlohmann::json& tree, const std::string& path) {
   const nlohmann::json* node = &tree;
-  std::size_t start = 0;
-  while (start <= path.size()) {
-    const std::size_t dot = path.find('.', start);
-    const std::string key =
-        path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+  for (const std::string& key : path_keys(path)) {
     if (!node->is_object() || !node->contains(key)) return std::nullopt;
     node = &(*node)[key];
-    if (dot == std::string::npos) break;
-    start = dot + 1;
   }
   if (!node->is_number()) return std::nullopt;
   return node->get<double>();

@@ -19,6 +19,7 @@
 // "derived.kernels.projection.speedup".
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,18 @@ nlohmann::json run_metrics(const RunData& run);
 
 /// The value at dotted `path` in `tree`, when it is there and a number.
 std::optional<double> metric_at(const nlohmann::json& tree, const std::string& path);
+
+/// The backend mode whose frames a metric is computed from, by the tree's keying: the <mode> of
+/// system.comparison.<mode>.*, system.<variant>.modes.<mode>.* and derived.backend.<mode>.*, and
+/// the mode that runs kernel <k> (arch/kernels: AccelerableKernel::mode) of derived.kernels.<k>.*
+/// and derived.schedule.<k>.*. std::nullopt for figures over all frames (<mode> "all"), of no
+/// mode (resources, FPS, baselines, frontend) and of a kernel edx does not know.
+std::optional<std::string> metric_mode(const std::string& path);
+
+/// The modes the run of a metric tree has frames of: the keys of system.baseline.modes but "all"
+/// whose `frames` is not 0. std::nullopt when the tree has no per-mode summary (then no mode can
+/// be said to be absent).
+std::optional<std::set<std::string>> modes_with_frames(const nlohmann::json& metrics);
 
 /// The modes of a run in display order (registration, vio, slam, none; only those present).
 std::vector<std::string> run_modes(const RunData& run);

@@ -4,9 +4,11 @@
 #include <fmt/ranges.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
+#include "arch/memory/bram.hpp"
 #include "common/config_fields.hpp"
 #include "common/resources.hpp"
 #include "reports/metrics.hpp"
@@ -75,10 +77,28 @@ const char* to_string(Verdict v) {
       return "MISS";
     case Verdict::kNotRun:
       return "not run";
+    case Verdict::kNotApplicable:
+      return "n/a";
     case Verdict::kNotFound:
       break;
   }
   return "MISS (not found)";
+}
+
+const char* json_key(Verdict v) {
+  switch (v) {
+    case Verdict::kPass:
+      return "pass";
+    case Verdict::kMiss:
+      return "miss";
+    case Verdict::kNotRun:
+      return "not_run";
+    case Verdict::kNotApplicable:
+      return "n/a";
+    case Verdict::kNotFound:
+      break;
+  }
+  return "not_found";
 }
 
 bool is_optional_study_metric(const std::string& metric) {
@@ -207,51 +227,77 @@ std::vector<ReferenceRow> paper_targets_reference() {
   return rows;
 }
 
-std::size_t CheckResult::passed() const {
+std::size_t CheckResult::count(Verdict v) const {
   std::size_t n = 0;
-  for (const CheckRow& r : rows) n += r.verdict == Verdict::kPass ? 1 : 0;
+  for (const CheckRow& r : rows) n += r.verdict == v ? 1 : 0;
   return n;
 }
 
+std::size_t CheckResult::passed() const { return count(Verdict::kPass); }
+
 std::size_t CheckResult::counted() const {
-  std::size_t n = 0;
-  for (const CheckRow& r : rows) n += r.verdict == Verdict::kNotRun ? 0 : 1;
-  return n;
+  return rows.size() - count(Verdict::kNotRun) - count(Verdict::kNotApplicable);
 }
 
 nlohmann::json CheckResult::to_json() const {
   nlohmann::json list = nlohmann::json::array();
   for (const CheckRow& r : rows) {
-    list.push_back({{"name", r.target.name},
-                    {"metric", r.target.metric},
-                    {"paper", r.target.paper},
-                    {"simulated", r.simulated ? nlohmann::json(*r.simulated) : nullptr},
-                    {"error", r.simulated ? nlohmann::json(r.error) : nullptr},
-                    {"tolerance", r.target.tolerance},
-                    {"unit", r.target.unit},
-                    {"source", r.target.source},
-                    {"explained", r.target.explained},
-                    {"verdict", r.verdict == Verdict::kPass     ? "pass"
-                                : r.verdict == Verdict::kMiss   ? "miss"
-                                : r.verdict == Verdict::kNotRun ? "not_run"
-                                                                : "not_found"}});
+    nlohmann::json row = {{"name", r.target.name},
+                          {"metric", r.target.metric},
+                          {"paper", r.target.paper},
+                          {"simulated", r.simulated ? nlohmann::json(*r.simulated) : nullptr},
+                          {"error", r.simulated ? nlohmann::json(r.error) : nullptr},
+                          {"tolerance", r.target.tolerance},
+                          {"unit", r.target.unit},
+                          {"source", r.target.source},
+                          {"explained", r.target.explained},
+                          {"verdict", json_key(r.verdict)}};
+    if (r.verdict == Verdict::kNotApplicable) row["absent_mode"] = r.absent_mode;
+    if (r.interval) {
+      row["interval"] = {{"mean", r.interval->mean},
+                         {"low", r.interval->low},
+                         {"high", r.interval->high},
+                         {"n", r.interval->n},
+                         {"has_spread", r.interval->has_spread()}};
+    }
+    if (r.interval_verdict) row["interval_verdict"] = to_string(*r.interval_verdict);
+    list.push_back(std::move(row));
   }
-  return {{"run_id", run_id},   {"targets", counted()}, {"not_run", rows.size() - counted()},
-          {"passed", passed()}, {"ok", all_passed()},   {"rows", list}};
+  return {{"run_id", run_id},
+          {"runs", runs},
+          {"targets", counted()},
+          {"not_run", count(Verdict::kNotRun)},
+          {"not_applicable", count(Verdict::kNotApplicable)},
+          {"passed", passed()},
+          {"ok", all_passed()},
+          {"rows", list}};
 }
+
+namespace {
+
+/// A row's value, error and pass / MISS verdict.
+void judge(CheckRow& row, double value) {
+  row.simulated = value;
+  row.error = (value - row.target.paper) / std::abs(row.target.paper);
+  row.verdict = within_tolerance(row.error, row.target.tolerance) ? Verdict::kPass : Verdict::kMiss;
+}
+
+}  // namespace
 
 CheckResult check_targets(const std::vector<PaperTarget>& targets, const nlohmann::json& metrics,
                           const std::string& run_id) {
   CheckResult result;
   result.run_id = run_id;
+  const std::optional<std::set<std::string>> modes = modes_with_frames(metrics);
   for (const PaperTarget& t : targets) {
     CheckRow row;
     row.target = t;
-    row.simulated = metric_at(metrics, t.metric);
-    if (row.simulated) {
-      row.error = (*row.simulated - t.paper) / std::abs(t.paper);
-      // A small epsilon keeps a value exactly on the tolerance edge a pass despite rounding.
-      row.verdict = std::abs(row.error) <= t.tolerance + 1e-12 ? Verdict::kPass : Verdict::kMiss;
+    const std::optional<std::string> mode = metric_mode(t.metric);
+    if (mode && modes && !modes->contains(*mode)) {
+      row.verdict = Verdict::kNotApplicable;
+      row.absent_mode = *mode;
+    } else if (const std::optional<double> value = metric_at(metrics, t.metric)) {
+      judge(row, *value);
     } else if (is_optional_study_metric(t.metric) &&
                !metrics.contains(t.metric.substr(0, t.metric.find('.')))) {
       row.verdict = Verdict::kNotRun;
@@ -259,6 +305,56 @@ CheckResult check_targets(const std::vector<PaperTarget>& targets, const nlohman
     result.rows.push_back(std::move(row));
   }
   return result;
+}
+
+CheckResult check_targets_over_runs(const std::vector<PaperTarget>& targets,
+                                    const std::vector<nlohmann::json>& runs,
+                                    const std::vector<std::string>& run_ids) {
+  if (runs.empty() || runs.size() != run_ids.size()) {
+    throw std::invalid_argument(fmt::format(
+        "check over runs: {} metric trees and {} run ids (expected the same number, at least 1)",
+        runs.size(), run_ids.size()));
+  }
+  std::vector<CheckResult> each;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    each.push_back(check_targets(targets, runs[i], run_ids[i]));
+  }
+  CheckResult result;
+  result.run_id = fmt::format("{}", fmt::join(run_ids, ", "));
+  result.runs = runs.size();
+  for (std::size_t t = 0; t < targets.size(); ++t) {
+    CheckRow row;
+    row.target = targets[t];
+    std::vector<double> values;
+    for (const CheckResult& run : each) {
+      const CheckRow& r = run.rows[t];
+      if (!r.simulated) {  // a run without the figure: its verdict is the row's
+        row.verdict = r.verdict;
+        row.absent_mode = r.absent_mode;
+        break;
+      }
+      values.push_back(*r.simulated);
+    }
+    if (values.size() == runs.size()) {
+      const Interval interval = student_t_interval(values, row.target.name);
+      judge(row, interval.mean);
+      row.interval = interval;
+      row.interval_verdict = interval_verdict(interval, row.target.paper, row.target.tolerance);
+    }
+    result.rows.push_back(std::move(row));
+  }
+  return result;
+}
+
+bool is_edx_car_run(const RunData& run) {
+  const nlohmann::json::json_pointer device("/resources/device");
+  if (run.platform != "edx_car" || !run.summary.contains(device) ||
+      !run.summary.at(device).is_string()) {
+    return false;
+  }
+  const std::optional<arch::Device> d =
+      arch::Device::find(run.summary.at(device).get<std::string>());
+  return d && d->name == arch::Device::xc7v690t().name;
 }
 
 namespace {
@@ -271,25 +367,52 @@ std::string figure(double v) {
 }  // namespace
 
 std::string format_check(const CheckResult& r) {
-  std::string text =
-      fmt::format("paper check of run {} (Edx-Car, reports/paper_targets.yaml)\n", r.run_id);
-  text += fmt::format("{:<40} {:<8} {:>10} {:>10} {:>9} {:>5}  {}\n", "target", "unit", "paper",
-                      "simulated", "error", "tol", "verdict");
-  std::vector<std::string> not_found;
+  bool intervals = false;
+  std::vector<std::string> simulated;  // per row: the value, or "mean [low, high]"
+  std::size_t width = 10;
   for (const CheckRow& row : r.rows) {
-    const std::string sim = row.simulated ? figure(*row.simulated) : "-";
+    std::string sim = row.simulated ? figure(*row.simulated) : "-";
+    if (row.interval) {
+      intervals = true;
+      sim = fmt::format("{} [{}, {}]", sim, figure(row.interval->low), figure(row.interval->high));
+    }
+    width = std::max(width, sim.size());
+    simulated.push_back(std::move(sim));
+  }
+  std::string text =
+      r.runs > 1
+          ? fmt::format(
+                "paper check over {} runs ({}; mean [95% Student-t interval]) "
+                "(Edx-Car, reports/paper_targets.yaml)\n",
+                r.runs, r.run_id)
+          : fmt::format("paper check of run {} (Edx-Car, reports/paper_targets.yaml)\n", r.run_id);
+  text +=
+      fmt::format("{:<40} {:<8} {:>10} {:>{}} {:>9} {:>5}  {:<16}{}\n", "target", "unit", "paper",
+                  "simulated", width, "error", "tol", "verdict", intervals ? " interval" : "");
+  std::vector<std::string> not_found;
+  std::set<std::string> absent_modes;
+  for (std::size_t i = 0; i < r.rows.size(); ++i) {
+    const CheckRow& row = r.rows[i];
     const std::string err = row.simulated ? fmt::format("{:+.1f}%", 100 * row.error) : "-";
-    text += fmt::format("{:<40} {:<8} {:>10} {:>10} {:>9} {:>4.0f}%  {}\n", row.target.name,
-                        row.target.unit, figure(row.target.paper), sim, err,
-                        100 * row.target.tolerance, to_string(row.verdict));
+    const std::string interval =
+        !intervals ? "" : (row.interval_verdict ? to_string(*row.interval_verdict) : "-");
+    std::string line =
+        fmt::format("{:<40} {:<8} {:>10} {:>{}} {:>9} {:>4.0f}%  {:<16} {}", row.target.name,
+                    row.target.unit, figure(row.target.paper), simulated[i], width, err,
+                    100 * row.target.tolerance, to_string(row.verdict), interval);
+    line.erase(line.find_last_not_of(' ') + 1);
+    text += line + "\n";
     if (row.verdict == Verdict::kNotFound) not_found.push_back(row.target.metric);
+    if (row.verdict == Verdict::kNotApplicable) absent_modes.insert(row.absent_mode);
   }
   text += fmt::format("{} of {} targets within tolerance", r.passed(), r.counted());
-  if (r.counted() < r.rows.size()) {
+  if (const std::size_t n = r.count(Verdict::kNotApplicable); n > 0) {
+    text += fmt::format("; {} n/a (the run has no frames of their mode: {})", n,
+                        fmt::join(absent_modes, ", "));
+  }
+  if (const std::size_t n = r.count(Verdict::kNotRun); n > 0) {
     text += fmt::format(
-        "; {} not run (the characterization's: edx characterize, then "
-        "--characterization)",
-        r.rows.size() - r.counted());
+        "; {} not run (the characterization's: edx characterize, then --characterization)", n);
   }
   if (!not_found.empty()) {
     text += fmt::format("; not found in the results: {}", fmt::join(not_found, ", "));

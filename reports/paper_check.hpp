@@ -1,7 +1,10 @@
 #pragma once
 // `edx check`: the paper's Edx-Car figures (reports/paper_targets.yaml) against a simulated run
 // (docs/REPORTS.md, "Paper check"). A target passes when |simulated − paper| <= tolerance ·
-// |paper|; a metric the run does not hold counts as a miss ("not found").
+// |paper|; a metric the run does not hold counts as a miss ("not found"), unless the run cannot
+// hold it: its backend mode has no frames in the run ("n/a", not counted). Over several runs of
+// one workload (seeds) each figure is their mean with its 95 % Student-t interval
+// (reports/confidence.hpp), judged against the tolerance band.
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -9,6 +12,7 @@
 #include <vector>
 
 #include "common/config_fields.hpp"
+#include "reports/confidence.hpp"
 
 namespace edx::reports {
 
@@ -65,10 +69,14 @@ std::vector<ReferenceRow> paper_targets_reference();
 std::filesystem::path default_targets_path();
 
 /// kNotRun: the target's metric belongs to an optional study that was not given (the
-/// characterization: `edx check --characterization`); such a row is shown, not counted.
-enum class Verdict { kPass, kMiss, kNotFound, kNotRun };
-/// "pass", "MISS", "MISS (not found)", "not run".
+/// characterization: `edx check --characterization`); kNotApplicable: the target's metric belongs
+/// to a backend mode (metric_mode) that the run has no frames of (modes_with_frames), so the run
+/// cannot have it. Both are shown, not counted (neither a pass nor a miss).
+enum class Verdict { kPass, kMiss, kNotFound, kNotRun, kNotApplicable };
+/// "pass", "MISS", "MISS (not found)", "not run", "n/a".
 const char* to_string(Verdict v);
+/// The verdict's key in `edx check --json`: "pass", "miss", "not_found", "not_run", "n/a".
+const char* json_key(Verdict v);
 
 /// The metric trees' optional studies: top-level keys a run's metrics hold only when the study
 /// was given ("characterization").
@@ -76,26 +84,51 @@ bool is_optional_study_metric(const std::string& metric);
 
 struct CheckRow {
   PaperTarget target;
-  std::optional<double> simulated;
-  double error = 0;  ///< (simulated − paper) / |paper|
-  Verdict verdict = Verdict::kNotFound;
+  std::optional<double> simulated;       ///< over several runs: their mean
+  double error = 0;                      ///< (simulated − paper) / |paper|
+  Verdict verdict = Verdict::kNotFound;  ///< of `simulated` (over runs: of the mean)
+  std::string absent_mode;               ///< kNotApplicable: the mode the run has no frames of
+  /// Over several runs (check_targets_over_runs): the 95 % interval of the mean and where it
+  /// lies against the tolerance band; absent for one run's check.
+  std::optional<Interval> interval;
+  std::optional<IntervalVerdict> interval_verdict;
 };
 
 struct CheckResult {
-  std::string run_id;
+  std::string run_id;  ///< over several runs: their ids joined by ", "
+  std::size_t runs = 1;
   std::vector<CheckRow> rows;
   std::size_t passed() const;
-  std::size_t counted() const;  ///< rows not kNotRun
+  std::size_t counted() const;  ///< rows neither kNotRun nor kNotApplicable
+  std::size_t count(Verdict v) const;
   bool all_passed() const { return passed() == counted(); }
   nlohmann::json to_json() const;
 };
 
-/// Compares each target with the metric tree of one run (run_metrics, plus "frontend").
+/// Compares each target with the metric tree of one run (run_metrics, plus "frontend"). A target
+/// of a mode the tree's run has no frames of is kNotApplicable, whatever the tree holds there.
 CheckResult check_targets(const std::vector<PaperTarget>& targets, const nlohmann::json& metrics,
                           const std::string& run_id);
 
+/// Compares each target with several runs of the same workload (seeds), `runs` their metric
+/// trees and `run_ids` their ids (same length, at least one). A target every run holds: the mean
+/// (its pass / MISS verdict as check_targets judges a value), its 95 % Student-t interval and
+/// the interval's verdict against [paper − tol·|paper|, paper + tol·|paper|]. A target some run
+/// does not hold: that run's verdict (n/a, not run or not found) and no interval. Throws
+/// std::invalid_argument for no runs or unequal lengths.
+CheckResult check_targets_over_runs(const std::vector<PaperTarget>& targets,
+                                    const std::vector<nlohmann::json>& runs,
+                                    const std::vector<std::string>& run_ids);
+
+/// Whether a run is of Edx-Car, the platform whose figures paper_targets.yaml and Table III
+/// hold: its platform is named edx_car (configs/edx_car.yaml) and its design is on Table III's
+/// device (XC7V690T; the run summary's resources.device). The report shows the paper check and
+/// the Table III comparison only for such runs.
+bool is_edx_car_run(const RunData& run);
+
 /// The table `edx check` prints: name, paper, simulated, error, tolerance, verdict per row, then
-/// the count and the metrics not found.
+/// the count, the n/a rows and the metrics not found. Over several runs the simulated column is
+/// "mean [low, high]" and a column gives the interval verdict.
 std::string format_check(const CheckResult& result);
 
 }  // namespace edx::reports

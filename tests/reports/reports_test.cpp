@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "arch/memory/bram.hpp"
 #include "arch/platform/platform.hpp"
 #include "arch/results/results_db.hpp"
 #include "arch/results/schema.hpp"
@@ -18,6 +19,8 @@
 #include "reports/results_reader.hpp"
 #include "tests/support/run_command.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "workloads/trace/schema.hpp"
+#include "workloads/trace/writer.hpp"
 
 namespace edx::reports {
 namespace {
@@ -173,6 +176,70 @@ targets:
             std::string::npos);
 }
 
+TEST(PaperCheck, AMetricsModeComesFromItsKeysOrItsKernel) {
+  EXPECT_EQ(metric_mode("system.comparison.registration.e2e_speedup"), "registration");
+  EXPECT_EQ(metric_mode("system.accelerated.modes.slam.e2e_ms.mean"), "slam");
+  EXPECT_EQ(metric_mode("derived.backend.vio.baseline.other"), "vio");
+  EXPECT_EQ(metric_mode("derived.kernels.kalman_gain.speedup"), "vio");  // arch/kernels
+  EXPECT_EQ(metric_mode("derived.schedule.projection.r_squared_eval"), "registration");
+  EXPECT_EQ(metric_mode("derived.schedule.marginalization.offloaded_fraction"), "slam");
+  EXPECT_FALSE(metric_mode("system.comparison.all.e2e_speedup"));
+  EXPECT_FALSE(metric_mode("system.baseline.modes.all.energy_j.mean"));
+  EXPECT_FALSE(metric_mode("derived.kernels.no_such_kernel.speedup"));
+  EXPECT_FALSE(metric_mode("system.resources.total.lut"));
+  EXPECT_FALSE(metric_mode("baselines.single_core.speedup"));
+  EXPECT_FALSE(metric_mode("frontend.fps_without_pipelining"));
+}
+
+TEST(PaperCheck, TargetsOfModesTheRunHasNoFramesOfAreNotApplicable) {
+  TempDir dir;
+  arch::write_results(dir.path() / "r.db", arch::result_rows(hand_made()));  // VIO and SLAM
+  const std::filesystem::path yaml = write_targets(dir.path(), R"(targets:
+  - {name: e2e speedup registration, metric: system.comparison.registration.e2e_speedup, paper: 2.5}
+  - {name: projection, metric: derived.kernels.projection.latency_reduction, paper: 0.95}
+  - {name: R2 registration, metric: derived.schedule.projection.r_squared_eval, paper: 0.83}
+  - {name: registration e2e, metric: system.accelerated.modes.registration.e2e_ms.mean, paper: 9}
+  - {name: e2e speedup VIO, metric: system.comparison.vio.e2e_speedup, paper: 2.0}
+  - {name: R2 VIO, metric: derived.schedule.kalman_gain.r_squared_eval, paper: 0.82}
+  - {name: overall, metric: system.comparison.all.e2e_speedup, paper: 2.0}
+)");
+  const std::vector<PaperTarget> targets = load_targets(yaml);
+  const ResultsData data = read_results(dir.path() / "r.db");
+  nlohmann::json metrics = run_metrics(data.runs[0]);
+  const CheckResult c = check_targets(targets, metrics, data.runs[0].run_id);
+  ASSERT_EQ(c.rows.size(), 7u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(c.rows[i].verdict, Verdict::kNotApplicable) << c.rows[i].target.name;
+    EXPECT_EQ(c.rows[i].absent_mode, "registration");
+    EXPECT_FALSE(c.rows[i].simulated);
+  }
+  EXPECT_EQ(c.rows[4].verdict, Verdict::kPass);
+  // VIO has frames but no scheduler row of kalman_gain: a figure the run should have, missing.
+  EXPECT_EQ(c.rows[5].verdict, Verdict::kNotFound);
+  EXPECT_EQ(c.rows[6].verdict, Verdict::kPass);
+  EXPECT_EQ(c.counted(), 3u);
+  EXPECT_EQ(c.passed(), 2u);
+  EXPECT_NE(format_check(c).find("4 n/a (the run has no frames of their mode: registration)"),
+            std::string::npos);
+  // Decided from the run's data: a tree without its per-mode summary cannot tell, so the
+  // registration figures are simply not found.
+  metrics["system"]["baseline"].erase("modes");
+  const CheckResult unknown = check_targets(targets, metrics, data.runs[0].run_id);
+  EXPECT_EQ(unknown.rows[0].verdict, Verdict::kNotFound);
+  EXPECT_EQ(unknown.count(Verdict::kNotApplicable), 0u);
+  // edx check: n/a rows do not fail it.
+  const std::filesystem::path pass_and_na = write_targets(dir.path(), R"(targets:
+  - {name: overall, metric: system.comparison.all.e2e_speedup, paper: 2.0}
+  - {name: e2e speedup registration, metric: system.comparison.registration.e2e_speedup, paper: 2.5}
+)");
+  const std::string edx = edx::testing::built_binary("edx");
+  const std::string db = (dir.path() / "r.db").string();
+  auto ok = edx::testing::run_command(edx + " check --results " + db + " --targets " +
+                                      pass_and_na.string());
+  EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
+  EXPECT_NE(ok.out.find("1 of 1 targets within tolerance; 1 n/a"), std::string::npos) << ok.out;
+}
+
 TEST(PaperCheck, CommandExitCodes) {
   TempDir dir;
   arch::write_results(dir.path() / "r.db", arch::result_rows(hand_made()));
@@ -306,6 +373,100 @@ TEST(Report, WritesIndexAndPlots) {
     EXPECT_NE(svg.find("</svg>"), std::string::npos) << image;
     EXPECT_NE(html.find("src=\"" + image + "\""), std::string::npos) << image;
   }
+}
+
+/// hand_made() as a run of `platform` with its design on `device` (LUT 137 040: half a ZU9),
+/// on the trace `trace_path` (hash `trace_hash`), its frames' modes cycling through `modes`.
+arch::SystemResult platform_run(const std::string& platform, const std::string& device,
+                                const std::string& trace_path, const std::string& trace_hash,
+                                const std::vector<std::string>& modes) {
+  arch::SystemResult r = hand_made();
+  r.platform = platform;
+  r.config_hash = platform == "edx_car" ? "00000000000000ca" : "00000000000000d0";
+  r.trace_path = trace_path;
+  r.trace_hash = trace_hash;
+  r.resources.device = arch::Device::by_name(device);
+  r.resources.total.shared = {137040, 100000, 1260, 456};
+  r.resources.total.ns = {274080, 200000, 2520, 912};
+  for (arch::VariantResult* v : {&r.baseline, &r.accelerated}) {
+    for (std::size_t i = 0; i < v->frames.size(); ++i) v->frames[i].mode = modes[i % modes.size()];
+    const arch::ModeSummary all = v->modes.at("all");
+    v->modes.clear();
+    v->modes["all"] = all;
+    for (const std::string& m : modes) v->modes[m] = all;
+  }
+  return r;
+}
+
+TEST(Report, PaperChecksOfEdxCarRunsOnlyThePaperMixFirst) {
+  TempDir dir;
+  // The paper mix's trace: its meta sequence is what `edx trace --mix paper` writes.
+  const std::filesystem::path mix = dir.path() / "c_paper.db";
+  {
+    trace::TraceMeta meta;
+    for (const std::string_view key : trace::kRequiredMetaKeys) meta[std::string(key)] = "test";
+    meta["sequence"] = "mix:paper";
+    meta["precision"] = "fp64";
+    trace::TraceWriter writer(mix, meta);
+    writer.finish();
+  }
+  const std::filesystem::path db = dir.path() / "r.db";
+  // In database (run id) order: a SLAM-only run, a VIO + SLAM run, the paper mix (here with SLAM
+  // frames only, so that only its trace puts it first), a drone run.
+  arch::write_results(db, arch::result_rows(platform_run("edx_car", "xc7v690t", "a_slam.db",
+                                                         "0000000000000001", {"slam"})));
+  arch::write_results(db, arch::result_rows(platform_run("edx_car", "xc7v690t", "b_two.db",
+                                                         "0000000000000002", {"vio", "slam"})));
+  arch::write_results(db, arch::result_rows(platform_run("edx_car", "xc7v690t", mix.string(),
+                                                         "0000000000000003", {"slam"})));
+  arch::write_results(db, arch::result_rows(platform_run("edx_drone", "zu9cg", "drone.db",
+                                                         "0000000000000004", {"vio", "slam"})));
+  const ResultsData data = read_results(db);
+  ASSERT_EQ(data.runs.size(), 4u);
+  EXPECT_TRUE(is_edx_car_run(data.runs[0]));
+  EXPECT_FALSE(is_edx_car_run(data.runs[3]));
+  ReportOptions options;
+  options.out_dir = dir.path() / "report";
+  options.gnuplot = "/nonexistent/gnuplot";
+  write_report(data, options);
+  const std::string html = edx::testing::read_file(dir.path() / "report" / "index.html");
+  const std::size_t paper_mix = html.find("Paper check: edx_car × c_paper.db");
+  const std::size_t two_modes = html.find("Paper check: edx_car × b_two.db");
+  const std::size_t slam = html.find("Paper check: edx_car × a_slam.db");
+  ASSERT_NE(slam, std::string::npos);
+  EXPECT_LT(paper_mix, two_modes);
+  EXPECT_LT(two_modes, slam);
+  EXPECT_EQ(html.find("Paper check: edx_drone"), std::string::npos);
+  // The SLAM-only run's registration and VIO figures are n/a, not misses.
+  EXPECT_NE(html.find("<span title=\"no registration frames in this run\">n/a</span>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<span title=\"no vio frames in this run\">n/a</span>"), std::string::npos);
+  // Resources: each run against its own device; Table III for the three Edx-Car runs only.
+  EXPECT_NE(html.find("The design against its own device, ZU9CG"), std::string::npos);
+  EXPECT_NE(html.find("<td>LUT</td><td>137040</td><td>274080</td><td>274080</td><td>50.0%</td>"
+                      "<td>100.0%</td>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<td>LUT</td><td>137040</td><td>274080</td><td>433200</td><td>31.6%</td>"),
+            std::string::npos);
+  std::size_t table_iii = 0;
+  for (std::size_t at = html.find("Table III figure (Edx-Car)"); at != std::string::npos;
+       at = html.find("Table III figure (Edx-Car)", at + 1)) {
+    ++table_iii;
+  }
+  EXPECT_EQ(table_iii, 3u);
+  EXPECT_NE(html.find("is compared only for Edx-Car runs"), std::string::npos);
+}
+
+TEST(PaperCheck, AnEdxCarRunIsTheEdxCarPlatformOnTableIIIsDevice) {
+  TempDir dir;
+  const std::filesystem::path db = dir.path() / "r.db";
+  arch::write_results(db, arch::result_rows(platform_run("edx_car", "zu9eg", "t.db",
+                                                         "0000000000000001", {"slam"})));
+  arch::write_results(db, arch::result_rows(platform_run("car_single_core", "xc7v690t", "t.db",
+                                                         "0000000000000002", {"slam"})));
+  const ResultsData data = read_results(db);
+  ASSERT_EQ(data.runs.size(), 2u);
+  for (const RunData& r : data.runs) EXPECT_FALSE(is_edx_car_run(r)) << r.platform;
 }
 
 TEST(Report, AWorkloadSweepGetsItsFrameRateAndEnergyPerWorkloadPoint) {
