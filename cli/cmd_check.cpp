@@ -4,23 +4,18 @@
 // rows, figures of modes the run has no frames of, are listed and do not count).
 // Logic: reports/paper_check (docs/REPORTS.md).
 #include <fmt/core.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <string>
 
 #include "arch/platform/platform.hpp"
-#include "arch/results/results_db.hpp"
-#include "arch/system/result_rows.hpp"
-#include "arch/system/system_model.hpp"
 #include "cli/commands.hpp"
-#include "common/resources.hpp"
 #include "common/yaml_fields.hpp"
 #include "reports/characterization.hpp"
 #include "reports/metrics.hpp"
 #include "reports/paper_check.hpp"
 #include "reports/results_reader.hpp"
-#include "workloads/trace/reader.hpp"
+#include "reports/simulated_check.hpp"
 
 namespace edx::cli {
 namespace {
@@ -33,70 +28,57 @@ struct CheckArguments {
   std::string targets;
   std::string characterization;
   bool json = false;
+  SeedOptions seeds;
 };
+
+/// The characterization study's metrics (--characterization), or null.
+nlohmann::json characterization(const CheckArguments& args) {
+  if (args.characterization.empty()) return nullptr;
+  const std::string text = read_input_file(args.characterization, "characterization file");
+  nlohmann::json study;
+  try {
+    study = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception&) {
+    throw std::runtime_error(fmt::format(
+        "{}: expected JSON (edx characterize's characterization.json)", args.characterization));
+  }
+  return reports::characterization_metrics(study, args.characterization);
+}
 
 void run(const CheckArguments& args) {
   const std::filesystem::path targets_path =
       args.targets.empty() ? reports::default_targets_path() : std::filesystem::path(args.targets);
   const std::vector<reports::PaperTarget> targets = reports::load_targets(targets_path);
   const std::vector<reports::ComparedBaseline> baselines = reports::load_baselines(targets_path);
-  nlohmann::json metrics;
-  std::string run_id;
+  const nlohmann::json study = characterization(args);
+  std::vector<nlohmann::json> trees;
+  std::vector<std::string> run_ids;
+  const auto add = [&](nlohmann::json metrics, std::string run_id) {
+    if (!study.is_null()) metrics["characterization"] = study;
+    trees.push_back(std::move(metrics));
+    run_ids.push_back(std::move(run_id));
+  };
   if (!args.results.empty()) {
     const reports::ResultsData data = reports::read_results(args.results);
     const reports::RunData& r = reports::pick_run(data, args.run_id);
-    metrics = reports::run_metrics(r);
+    nlohmann::json metrics = reports::run_metrics(r);
     reports::add_baseline_metrics(metrics, data, r, baselines);
-    run_id = r.run_id;
+    add(std::move(metrics), r.run_id);
   } else {
-    // Simulate it and the compared baselines' platforms on the same trace, pass the runs through
-    // a scratch results database (one reading path), and add the frontend study, which the
-    // results database does not hold.
     const arch::Platform platform = arch::Platform::load(args.config);
-    const trace::TraceReader reader(args.trace);
-    const std::vector<trace::FrameTrace> frames = reader.read_all();
-    const arch::SystemResult result =
-        arch::simulate_system(platform, frames, reader.meta(), args.trace);
-    const std::filesystem::path scratch =
-        std::filesystem::temp_directory_path() / fmt::format("edx-check-{}.db", ::getpid());
-    std::filesystem::remove(scratch);
-    try {
-      const results::RunRows rows = arch::result_rows(result);
-      arch::write_results(scratch, rows);
-      for (const reports::ComparedBaseline& b : baselines) {
-        const arch::Platform other = arch::Platform::load(common::find_resource(b.config).string());
-        if (other.name == platform.name) continue;  // this run is that baseline's
-        arch::write_results(scratch, arch::result_rows(arch::simulate_system(
-                                         other, frames, reader.meta(), args.trace)));
+    if (args.seeds.given()) {
+      for (const arch::SeedTrace& s : args.seeds.traces()) {
+        reports::SimulatedRun run = reports::simulate_for_check(platform, s.trace, baselines);
+        add(std::move(run.metrics), fmt::format("{} (seed {})", run.run_id, s.seed));
       }
-      const reports::ResultsData data = reports::read_results(scratch);
-      const reports::RunData* r = data.find(rows.run.run_id);
-      if (r == nullptr)
-        throw std::logic_error("edx check: the simulated run is not in its database");
-      metrics = reports::run_metrics(*r);
-      reports::add_baseline_metrics(metrics, data, *r, baselines);
-      run_id = r->run_id;
-    } catch (...) {
-      std::filesystem::remove(scratch);
-      throw;
+    } else {
+      reports::SimulatedRun run = reports::simulate_for_check(platform, args.trace, baselines);
+      add(std::move(run.metrics), run.run_id);
     }
-    std::filesystem::remove(scratch);
-    metrics["frontend"] = result.frontend.to_json();
   }
-  if (!args.characterization.empty()) {
-    const std::string text = read_input_file(args.characterization, "characterization file");
-    nlohmann::json study;
-    try {
-      study = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::exception&) {
-      throw std::runtime_error(
-          fmt::format("{}: expected JSON (edx characterize's "
-                      "characterization.json)",
-                      args.characterization));
-    }
-    metrics["characterization"] = reports::characterization_metrics(study, args.characterization);
-  }
-  const reports::CheckResult check = reports::check_targets(targets, metrics, run_id);
+  const reports::CheckResult check =
+      trees.size() == 1 ? reports::check_targets(targets, trees.front(), run_ids.front())
+                        : reports::check_targets_over_runs(targets, trees, run_ids);
   if (args.json) {
     fmt::print("{}\n", check.to_json().dump(2));
   } else {
@@ -115,8 +97,8 @@ void add_check_command(CLI::App& app) {
       cmd->add_option("--results", args->results, "Results database written by edx simulate");
   auto* config = cmd->add_option("--config", args->config, "Platform description to simulate");
   auto* trace = cmd->add_option("--trace", args->trace, "Trace database to simulate");
-  results->excludes(config)->excludes(trace);
-  config->needs(trace);
+  add_seed_options(*cmd, args->seeds, trace);
+  results->excludes(config)->excludes(trace)->excludes("--workload");
   trace->needs(config);
   cmd->add_option("--run", args->run_id, "Run of the results database (default: its only run)")
       ->needs(results);
@@ -129,7 +111,11 @@ void add_check_command(CLI::App& app) {
   cmd->add_flag("--json", args->json, "Print the table as JSON");
   cmd->callback([args] {
     if (args->results.empty() && args->config.empty()) {
-      throw CLI::ValidationError("--results", "give --results or --config and --trace");
+      throw CLI::ValidationError("--results",
+                                 "give --results, or --config with --trace or --workload");
+    }
+    if (!args->config.empty() && args->trace.empty() && !args->seeds.given()) {
+      throw CLI::ValidationError("--config", "needs --trace, or --workload with --seeds");
     }
     run(*args);
   });

@@ -12,6 +12,7 @@
 #include "arch/system/result_rows.hpp"
 #include "arch/system/system_model.hpp"
 #include "cli/commands.hpp"
+#include "reports/metrics.hpp"
 #include "workloads/trace/reader.hpp"
 
 namespace edx::cli {
@@ -26,9 +27,47 @@ struct SimulateArguments {
   std::size_t timeline_frames = 10;
   std::string model = "des";
   bool json = false;
+  SeedOptions seeds;
 };
 
+/// --workload --seeds: the workload's trace of each seed simulated (each run added to --out);
+/// every figure of the runs' summaries as its mean and 95 % interval.
+void run_seeds(const SimulateArguments& args) {
+  const arch::Platform platform = arch::Platform::load(args.config);
+  arch::SystemSimOptions options;
+  options.model = arch::parse_system_model(args.model);
+  std::vector<nlohmann::json> trees;
+  nlohmann::json runs = nlohmann::json::array();
+  for (const arch::SeedTrace& s : args.seeds.traces()) {
+    const trace::TraceReader reader(s.trace.string());
+    const arch::SystemResult result = arch::simulate_system(
+        platform, reader.read_all(), reader.meta(), s.trace.string(), options);
+    if (!args.out.empty()) arch::write_results(args.out, arch::result_rows(result));
+    trees.push_back({{"system", result.to_json()}});
+    runs.push_back({{"seed", s.seed},
+                    {"trace", s.trace.string()},
+                    {"run_id", result.config_hash + "-" + result.trace_hash}});
+  }
+  const auto figures = reports::figures_over_runs(trees);
+  if (args.json) {
+    nlohmann::json out = {{"runs", runs}, {"figures", nlohmann::json::object()}};
+    for (const auto& [path, i] : figures) {
+      out["figures"][path] = {{"mean", i.mean}, {"low", i.low}, {"high", i.high}, {"n", i.n}};
+    }
+    fmt::print("{}\n", out.dump(2));
+    return;
+  }
+  for (const nlohmann::json& r : runs) {
+    fmt::print("seed {:<6} {} (run {})\n", r["seed"].get<std::uint64_t>(),
+               r["trace"].get<std::string>(), r["run_id"].get<std::string>());
+  }
+  fmt::print("\n{}", reports::format_figures_over_runs(figures, /*headline_only=*/true));
+  fmt::print("(--json: all {} figures)\n", figures.size());
+  if (!args.out.empty()) fmt::print("results    {} ({} runs)\n", args.out, runs.size());
+}
+
 void run(const SimulateArguments& args) {
+  if (args.seeds.given()) return run_seeds(args);
   const arch::Platform platform = arch::Platform::load(args.config);
   const trace::TraceReader reader(args.trace);
   const std::vector<trace::FrameTrace> frames = reader.read_all();
@@ -63,7 +102,8 @@ void add_simulate_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "simulate", "Run a trace through a platform model (configs/*.yaml) and print its figures");
   cmd->add_option("--config", args->config, "Platform description (YAML)")->required();
-  cmd->add_option("--trace", args->trace, "Trace database written by edx trace")->required();
+  auto* trace = cmd->add_option("--trace", args->trace, "Trace database written by edx trace");
+  add_seed_options(*cmd, args->seeds, trace);
   cmd->add_option("--out", args->out,
                   "Results database (SQLite) to add the run to; the same config and trace "
                   "replace their earlier run");
@@ -79,7 +119,15 @@ void add_simulate_command(CLI::App& app) {
       ->check(CLI::IsMember({"des", "analytical"}))
       ->capture_default_str();
   cmd->add_flag("--json", args->json, "Print the figures as JSON (only JSON on stdout)");
-  cmd->callback([args] { run(*args); });
+  cmd->callback([args] {
+    if (args->trace.empty() && !args->seeds.given()) {
+      throw CLI::RequiredError("--trace (or --workload with --seeds and --trace-store)");
+    }
+    if (args->seeds.given() && !args->timeline.empty()) {
+      throw CLI::ValidationError("--timeline", "is for one trace, not with --seeds");
+    }
+    run(*args);
+  });
 }
 
 }  // namespace edx::cli

@@ -29,18 +29,6 @@ struct SweepArguments {
   bool json = false;
 };
 
-/// Workload points are traced as `edx trace --mix` would (workloads/modes/sweep_workload.hpp).
-arch::WorkloadTracer mix_tracer() {
-  return {[](const nlohmann::json& workload) {
-            return modes::SweepWorkload::from_json(workload).to_json();
-          },
-          [](const nlohmann::json& resolved, const std::filesystem::path& out,
-             const std::filesystem::path& data_dir) {
-            modes::trace_sweep_workload(modes::SweepWorkload::from_json(resolved), out, data_dir);
-          },
-          kSourceRevision};
-}
-
 /// The sweep's outcome; nothing on ranks 1..N-1 of an MPI job (rank 0 reports).
 std::optional<arch::SweepOutcome> run_here_or_over_mpi(const arch::SweepSpec& spec,
                                                        arch::SweepOptions options) {

@@ -2,6 +2,10 @@
 // Subcommands of the `edx` command. Each adds itself to the app; its callback runs the library
 // call and throws CLI::RuntimeError(code) to exit with a non-zero status.
 #include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "arch/sweep/workload.hpp"
 
 namespace edx::cli {
 
@@ -25,6 +29,21 @@ void add_report_command(CLI::App& app);
 /// (--out, --db, --trace, --config, ...) must not be empty, a --seed must not be negative (a
 /// uint64 would take -1 as 2^64-1). Call after adding the subcommands.
 void check_common_options(CLI::App& app);
+/// How a sweep's workload points are traced: as `edx trace --mix` would
+/// (workloads/modes/sweep_workload.hpp).
+arch::WorkloadTracer mix_tracer();
+
+/// `--workload FILE --seeds LIST --trace-store DIR` of `edx simulate` and `edx check`: the
+/// workload of the file traced once per seed (arch/sweep/workload.hpp trace_seeds).
+struct SeedOptions {
+  std::string workload, seeds, store;
+  bool given() const { return !workload.empty(); }
+  /// Each seed's trace, traced into the store when missing.
+  std::vector<arch::SeedTrace> traces() const;
+};
+/// Adds the three options (each needing the others; --workload excludes `trace`).
+void add_seed_options(CLI::App& cmd, SeedOptions& seeds, CLI::Option* trace);
+
 /// Accepts a WxH resolution option (datasets::parse_resolution's rules and message).
 CLI::Validator resolution_validator();
 /// `edx host-speed`: the machine-speed reference suite's times on this machine.

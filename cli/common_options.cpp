@@ -4,7 +4,9 @@
 #include <string_view>
 
 #include "cli/commands.hpp"
+#include "edx_revision.hpp"
 #include "workloads/datasets/dataset.hpp"
+#include "workloads/modes/sweep_workload.hpp"
 
 namespace edx::cli {
 
@@ -46,6 +48,37 @@ CLI::Validator resolution_validator() {
         return std::string();
       },
       "WxH");
+}
+
+arch::WorkloadTracer mix_tracer() {
+  return {[](const nlohmann::json& workload) {
+            return modes::SweepWorkload::from_json(workload).to_json();
+          },
+          [](const nlohmann::json& resolved, const std::filesystem::path& out,
+             const std::filesystem::path& data_dir) {
+            modes::trace_sweep_workload(modes::SweepWorkload::from_json(resolved), out, data_dir);
+          },
+          kSourceRevision};
+}
+
+void add_seed_options(CLI::App& cmd, SeedOptions& seeds, CLI::Option* trace) {
+  auto* workload = cmd.add_option(
+      "--workload", seeds.workload,
+      "Instead of --trace: a workload file (YAML map of a sweep's workload parameters: mix, "
+      "frames, resolution, ...; docs/SWEEPS.md), traced once per seed into --trace-store");
+  auto* list = cmd.add_option("--seeds", seeds.seeds,
+                              "With --workload: the seeds, e.g. 1-5 or 1,3,7; every figure as "
+                              "its mean and 95 % interval (Student t)");
+  auto* store = cmd.add_option("--trace-store", seeds.store,
+                               "With --workload: the folder of the seeds' traces (reused)");
+  workload->needs(list)->needs(store)->excludes(trace);
+  list->needs(workload);
+  store->needs(workload);
+}
+
+std::vector<arch::SeedTrace> SeedOptions::traces() const {
+  return arch::trace_seeds(mix_tracer(), arch::load_workload_file(workload),
+                           arch::parse_seed_list(seeds), store);
 }
 
 }  // namespace edx::cli

@@ -1,7 +1,10 @@
 #include "reports/metrics.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "arch/kernels/kernels.hpp"
@@ -164,6 +167,75 @@ std::optional<double> metric_at(const nlohmann::json& tree, const std::string& p
   }
   if (!node->is_number()) return std::nullopt;
   return node->get<double>();
+}
+
+std::vector<std::pair<std::string, double>> numeric_figures(const nlohmann::json& tree) {
+  std::vector<std::pair<std::string, double>> out;
+  const auto walk = [&out](const auto& self, const nlohmann::json& node,
+                           const std::string& path) -> void {
+    if (node.is_number()) {
+      out.emplace_back(path, node.get<double>());
+    } else if (node.is_object()) {
+      for (const auto& [key, value] : node.items()) {
+        self(self, value, path.empty() ? key : path + "." + key);
+      }
+    }
+  };
+  walk(walk, tree, "");
+  return out;
+}
+
+std::vector<std::pair<std::string, Interval>> figures_over_runs(
+    const std::vector<nlohmann::json>& trees) {
+  std::vector<std::pair<std::string, Interval>> out;
+  if (trees.empty()) return out;
+  for (const auto& [path, first] : numeric_figures(trees.front())) {
+    std::vector<double> samples = {first};
+    for (std::size_t t = 1; t < trees.size(); ++t) {
+      const std::optional<double> v = metric_at(trees[t], path);
+      if (!v) break;
+      samples.push_back(*v);
+    }
+    if (samples.size() != trees.size()) continue;  // not every run has it
+    bool finite = true;
+    for (double v : samples) finite = finite && std::isfinite(v);
+    if (!finite) continue;
+    out.emplace_back(path, student_t_interval(samples, path));
+  }
+  return out;
+}
+
+bool is_headline_figure(const std::string& path) {
+  const std::vector<std::string> parts = [&] {
+    std::vector<std::string> p;
+    std::size_t begin = 0;
+    for (std::size_t dot = path.find('.'); dot != std::string::npos; dot = path.find('.', begin)) {
+      p.push_back(path.substr(begin, dot - begin));
+      begin = dot + 1;
+    }
+    p.push_back(path.substr(begin));
+    return p;
+  }();
+  if (parts.size() < 3 || parts[0] != "system") return false;
+  if (parts[1] == "comparison") return parts.size() == 4 && parts[3] == "e2e_speedup";
+  if (parts[1] != "baseline" && parts[1] != "accelerated") return false;
+  if (parts.size() == 3) {
+    return parts[2] == "fps_without_pipelining" || parts[2] == "fps_with_pipelining";
+  }
+  return parts.size() == 6 && parts[2] == "modes" && parts[5] == "mean" &&
+         (parts[4] == "e2e_ms" || parts[4] == "energy_j");
+}
+
+std::string format_figures_over_runs(const std::vector<std::pair<std::string, Interval>>& figures,
+                                     bool headline_only) {
+  std::string text = fmt::format("{:<52} {:>12}  {:<27} {:>3}\n", "figure", "mean",
+                                 "95 % interval (Student t)", "n");
+  for (const auto& [path, i] : figures) {
+    if (headline_only && !is_headline_figure(path)) continue;
+    text += fmt::format("{:<52} {:>12.4g}  [{:>11.4g}, {:>11.4g}] {:>3}\n", path, i.mean, i.low,
+                        i.high, i.n);
+  }
+  return text;
 }
 
 }  // namespace edx::reports

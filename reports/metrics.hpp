@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "reports/confidence.hpp"
 #include "reports/results_reader.hpp"
 
 namespace edx::reports {
@@ -41,6 +42,25 @@ std::vector<BackendBreakdown> backend_breakdown(const RunData& run);
 
 /// The metric tree of `run` (see above) without "frontend".
 nlohmann::json run_metrics(const RunData& run);
+
+/// Every number of `tree` by dotted path (objects only: arrays are left out), in key order.
+std::vector<std::pair<std::string, double>> numeric_figures(const nlohmann::json& tree);
+
+/// Over several runs' metric trees (seeds of one workload): each figure of numeric_figures that
+/// every tree holds, with its mean and 95 % Student-t interval (reports/confidence.hpp), in the
+/// first tree's order.
+std::vector<std::pair<std::string, Interval>> figures_over_runs(
+    const std::vector<nlohmann::json>& trees);
+
+/// The headline figures of a run's summary tree ({"system": ...}): per variant and mode the
+/// mean e2e latency and energy per frame, the FPS with and without pipelining, the e2e speedup
+/// per mode.
+bool is_headline_figure(const std::string& path);
+
+/// figures_over_runs as a table (`edx simulate --seeds`): figure, mean, [low, high], n;
+/// `headline_only`: is_headline_figure's.
+std::string format_figures_over_runs(const std::vector<std::pair<std::string, Interval>>& figures,
+                                     bool headline_only);
 
 /// The value at dotted `path` in `tree`, when it is there and a number.
 std::optional<double> metric_at(const nlohmann::json& tree, const std::string& path);

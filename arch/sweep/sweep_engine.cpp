@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -12,6 +13,8 @@
 #include <stdexcept>
 
 #include "arch/host/host_model.hpp"
+#include "common/input_error.hpp"
+#include "common/yaml_fields.hpp"
 #include "workloads/trace/reader.hpp"
 
 namespace edx::arch {
@@ -170,14 +173,114 @@ Platform SweepContext::platform(std::size_t point) const {
   return sweep_platform(spec, points.at(point), base);
 }
 
+}  // namespace sweep_engine
+
+std::filesystem::path traced_workload(const WorkloadTracer& tracer, const nlohmann::json& workload,
+                                      const std::filesystem::path& store) {
+  const nlohmann::json resolved = tracer.resolve(workload);
+  const std::string hash = workload_hash(resolved, tracer.version);
+  const std::filesystem::path trace = store / (hash + ".db");
+  if (std::filesystem::is_regular_file(trace)) return trace;
+  const std::string error = sweep_engine::trace_into_store(tracer, resolved, hash, store);
+  if (!error.empty()) {
+    throw std::runtime_error(fmt::format("workload {}: {}", workload.dump(), error));
+  }
+  return trace;
+}
+
+std::vector<SeedTrace> trace_seeds(const WorkloadTracer& tracer, const nlohmann::json& workload,
+                                   const std::vector<std::uint64_t>& seeds,
+                                   const std::filesystem::path& store) {
+  std::vector<SeedTrace> out;
+  for (std::uint64_t seed : seeds) {
+    nlohmann::json w = workload;
+    w["seed"] = std::to_string(seed);
+    out.push_back({seed, traced_workload(tracer, w, store)});
+  }
+  return out;
+}
+
+nlohmann::json load_workload_file(const std::filesystem::path& path) {
+  const std::string where = path.string();
+  const YAML::Node root =
+      load_yaml_map(read_input_file(path, "workload file"), where, "workload parameters");
+  YamlFields fields(root, where, "");
+  nlohmann::json workload = nlohmann::json::object();
+  for (const auto& item : root) {
+    const std::string key = item.first.Scalar();
+    if (key == "seed") fields.fail(key, "the seeds are given by --seeds, not in the workload");
+    if (!item.second.IsScalar()) fields.fail(key, "expected a scalar value");
+    workload[key] = item.second.Scalar();
+  }
+  return workload;
+}
+
+std::vector<std::uint64_t> parse_seed_list(const std::string& text) {
+  constexpr std::size_t kMaxSeeds = 1000;
+  const auto bad = [&](const std::string& why) {
+    return InputError::expected("--seeds", fmt::format("seeds as 1-5, 1,3,7 or 1-3,7 ({})", why),
+                                text);
+  };
+  const auto number = [&](const std::string& part) -> std::uint64_t {
+    if (part.empty() || part.size() > 18 ||
+        part.find_first_not_of("0123456789") != std::string::npos) {
+      throw bad("non-negative integers");
+    }
+    return std::stoull(part);
+  };
+  std::vector<std::uint64_t> seeds;
+  std::size_t begin = 0;
+  while (begin <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', begin), text.size());
+    const std::string part = text.substr(begin, comma - begin);
+    const std::size_t dash = part.find('-');
+    const std::uint64_t first = number(part.substr(0, dash));
+    const std::uint64_t last = dash == std::string::npos ? first : number(part.substr(dash + 1));
+    if (last < first) throw bad("a range's first seed at most its last");
+    if (last - first >= kMaxSeeds) throw bad("at most 1000 seeds");
+    for (std::uint64_t seed = first; seed <= last; ++seed) {
+      if (std::find(seeds.begin(), seeds.end(), seed) != seeds.end()) throw bad("each seed once");
+      seeds.push_back(seed);
+      if (seeds.size() > kMaxSeeds) throw bad("at most 1000 seeds");
+    }
+    begin = comma + 1;
+  }
+  return seeds;
+}
+
+namespace sweep_engine {
+
 std::string SweepContext::execute_trace(std::size_t w, const std::filesystem::path& out) const {
+  return trace_workload(options.tracer, workloads.at(w).resolved, out, store);
+}
+
+std::string trace_workload(const WorkloadTracer& tracer, const nlohmann::json& resolved,
+                           const std::filesystem::path& out, const std::filesystem::path& store) {
   try {
     std::filesystem::create_directories(out.parent_path());
-    options.tracer.trace(workloads.at(w).resolved, out, store / "data");
+    tracer.trace(resolved, out, store / "data");
     return {};
   } catch (const std::exception& e) {
     return e.what()[0] ? e.what() : "tracing failed";
   }
+}
+
+std::string trace_into_store(const WorkloadTracer& tracer, const nlohmann::json& resolved,
+                             const std::string& hash, const std::filesystem::path& store) {
+  const std::filesystem::path temporary = temporary_trace_path(store, hash);
+  const std::filesystem::path target = store / (hash + ".db");
+  std::string error = trace_workload(tracer, resolved, temporary, store);
+  if (error.empty()) {
+    std::error_code ec;
+    std::filesystem::rename(temporary, target, ec);
+    if (ec) {
+      error = fmt::format("{}: cannot move the trace into the store: {}", target.string(),
+                          ec.message());
+    }
+  }
+  std::error_code ignored;
+  std::filesystem::remove(temporary, ignored);
+  return error;
 }
 
 namespace {
@@ -244,17 +347,7 @@ SweepTaskResult SweepContext::execute_local(const SweepTask& task) {
     // Written beside the store's files and renamed into place: the store only ever holds
     // complete traces (a killed worker leaves a file in <store>/tmp, never a partial <hash>.db).
     const Workload& workload = workloads.at(task.workload);
-    const std::filesystem::path temporary = temporary_trace_path(store, workload.hash);
-    r.error = execute_trace(task.workload, temporary);
-    if (r.error.empty()) {
-      std::error_code ec;
-      std::filesystem::rename(temporary, workload.trace, ec);
-      if (ec)
-        r.error = fmt::format("{}: cannot move the trace into the store: {}",
-                              workload.trace.string(), ec.message());
-    }
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
+    r.error = trace_into_store(options.tracer, workload.resolved, workload.hash, store);
   } else {
     r.result =
         std::make_shared<const SystemResult>(execute_simulate(*task.platform, task.workload));

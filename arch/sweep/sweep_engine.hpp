@@ -156,6 +156,17 @@ class LocalExecutor : public SweepExecutor {
 /// The MPI executor of rank 0 (sweep_mpi.cpp; throws when edx was built without MPI).
 std::unique_ptr<SweepExecutor> make_mpi_executor(SweepContext& context);
 
+/// Traces a resolved workload into `out`, generating its data under <store>/data; "" or the
+/// error (the tracer's message).
+std::string trace_workload(const WorkloadTracer& tracer, const nlohmann::json& resolved,
+                           const std::filesystem::path& out, const std::filesystem::path& store);
+
+/// Traces a resolved workload of hash `hash` (workload_hash) into <store>/<hash>.db: written
+/// under <store>/tmp and renamed into place, so the store only ever holds complete traces. ""
+/// or the error.
+std::string trace_into_store(const WorkloadTracer& tracer, const nlohmann::json& resolved,
+                             const std::string& hash, const std::filesystem::path& store);
+
 /// A task's trace file name while it is written (unique per process and task).
 std::filesystem::path temporary_trace_path(const std::filesystem::path& store,
                                            const std::string& hash);

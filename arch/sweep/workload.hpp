@@ -5,10 +5,12 @@
 // resolved workload (every parameter, defaults filled in) and the tracing code's version, so the
 // same workload and code reuse the trace. Tracing is the pipeline's job (workloads/modes), which
 // arch does not link (DESIGN.md: data flows one way): the caller hands run_sweep a tracer.
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 namespace edx::arch {
 
@@ -29,6 +31,35 @@ struct WorkloadTracer {
 
 /// FNV-1a 64 of the resolved workload's JSON and the version, as 16 hex digits.
 std::string workload_hash(const nlohmann::json& resolved, const std::string& version);
+
+/// The trace of `workload` (its parameters; the tracer resolves them) in `store`:
+/// <store>/<workload_hash>.db, traced there first when it is missing (`edx simulate --seeds`,
+/// `edx check --seeds`: each seed a workload point traced once). Throws InputError for a bad
+/// workload (from the tracer's resolve), std::runtime_error naming the workload when tracing
+/// fails.
+std::filesystem::path traced_workload(const WorkloadTracer& tracer, const nlohmann::json& workload,
+                                      const std::filesystem::path& store);
+
+/// One seed's trace of a workload (trace_seeds).
+struct SeedTrace {
+  std::uint64_t seed = 0;
+  std::filesystem::path trace;
+};
+
+/// traced_workload of `workload` with each of `seeds` (its `seed` parameter), in order.
+std::vector<SeedTrace> trace_seeds(const WorkloadTracer& tracer, const nlohmann::json& workload,
+                                   const std::vector<std::uint64_t>& seeds,
+                                   const std::filesystem::path& store);
+
+/// A workload file (`--workload FILE`): a YAML map of workload parameters to scalars, as a
+/// sweep spec's `workload:` section (docs/SWEEPS.md "Workload parameters"), without `seed` (the
+/// seeds are given apart). The values as text (the tracer's resolve types them). Errors:
+/// InputError "file:line: key: what was expected".
+nlohmann::json load_workload_file(const std::filesystem::path& path);
+
+/// The seeds of `--seeds`: "1-5", "1,3,7" or both ("1-3,7"), at most 1000, distinct, in the
+/// order given. Throws InputError naming --seeds and what was expected.
+std::vector<std::uint64_t> parse_seed_list(const std::string& text);
 
 /// The default trace store of a results database: results.db -> results.traces (a folder beside
 /// it); traces are <store>/<hash>.db, generated worlds under <store>/data.

@@ -58,6 +58,9 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
   }
   EXPECT_THAT(result.out, HasSubstr("targets within tolerance"));
   EXPECT_THAT(result.out, HasSubstr("e2e speedup overall"));
+  // Over three seeds: each figure's mean and interval, each verdict's interval verdict.
+  EXPECT_THAT(result.out, HasSubstr("paper check over 3 runs"));
+  EXPECT_THAT(result.out, ::testing::ContainsRegex("(inside|across|outside)"));
   EXPECT_THAT(result.out, HasSubstr("speedup over single-core w/o ROS"));  // the baselines
   EXPECT_THAT(result.out, HasSubstr("ROS slowdown of the multi-core baseline"));
   // The characterization's targets are checked (its study given), not listed as not run.

@@ -304,3 +304,83 @@ TEST(RunRows, ExportedRowsImportToTheSameTables) {
 
 }  // namespace
 }  // namespace edx::arch
+
+namespace edx::arch {
+namespace {
+
+TEST(Seeds, ListsAndRangesInTheOrderGiven) {
+  EXPECT_EQ(parse_seed_list("1-5"), (std::vector<std::uint64_t>{1, 2, 3, 4, 5}));
+  EXPECT_EQ(parse_seed_list("7,3,1"), (std::vector<std::uint64_t>{7, 3, 1}));
+  EXPECT_EQ(parse_seed_list("1-3,9"), (std::vector<std::uint64_t>{1, 2, 3, 9}));
+  EXPECT_EQ(parse_seed_list("0"), (std::vector<std::uint64_t>{0}));
+  for (const char* bad :
+       {"", "1-", "-3", "5-1", "1,,2", "a", "1-3,2", "1.5", "0-1000", "99999999999999999999"}) {
+    try {
+      parse_seed_list(bad);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("--seeds")) << bad;
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+    }
+  }
+  EXPECT_EQ(parse_seed_list("0-999").size(), 1000u);
+}
+
+TEST(Seeds, AWorkloadFileIsAMapOfScalarsWithoutSeed) {
+  edx::testing::TempDir dir;
+  const std::filesystem::path file = dir.path() / "w.yaml";
+  std::ofstream(file) << "mix: paper\nframes: 48\nresolution: 320x240\n";
+  EXPECT_EQ(load_workload_file(file),
+            (nlohmann::json{{"mix", "paper"}, {"frames", "48"}, {"resolution", "320x240"}}));
+  std::ofstream(file) << "frames: 48\nseed: 3\n";
+  EXPECT_THROW(
+      {
+        try {
+          load_workload_file(file);
+        } catch (const InputError& e) {
+          EXPECT_THAT(e.what(), HasSubstr("w.yaml:2"));
+          EXPECT_THAT(e.what(), HasSubstr("--seeds"));
+          throw;
+        }
+      },
+      InputError);
+  std::ofstream(file) << "frames: [1, 2]\n";
+  EXPECT_THROW(load_workload_file(file), InputError);
+  EXPECT_THROW(load_workload_file(dir.path() / "missing.yaml"), std::runtime_error);
+}
+
+TEST(Seeds, EachSeedIsTracedOnceIntoTheStore) {
+  // A tracer that writes the fixture's frames, longer kernels for larger seeds.
+  edx::testing::TempDir dir;
+  std::atomic<int> traced{0};
+  const WorkloadTracer tracer{
+      [](const nlohmann::json& w) {
+        return nlohmann::json{{"seed", std::stoi(w.at("seed").get<std::string>())}};
+      },
+      [&traced](const nlohmann::json& resolved, const std::filesystem::path& out,
+                const std::filesystem::path&) {
+        ++traced;
+        trace::TraceWriter writer(out, sweep_trace_meta());
+        for (int i = 0; i < 4; ++i) {
+          writer.append(sweep_frame(i, 1000 * resolved.at("seed").get<int>() + 500 * i));
+        }
+        writer.finish();
+      },
+      "v1"};
+  const std::filesystem::path store = dir.path() / "store";
+  const std::vector<SeedTrace> first =
+      trace_seeds(tracer, nlohmann::json::object(), {1, 2, 3}, store);
+  ASSERT_EQ(first.size(), 3u);
+  EXPECT_EQ(traced, 3);
+  EXPECT_EQ(first[1].seed, 2u);
+  EXPECT_NE(first[0].trace, first[1].trace);
+  for (const SeedTrace& s : first) EXPECT_TRUE(std::filesystem::is_regular_file(s.trace));
+  EXPECT_EQ(first[0].trace, store / (workload_hash({{"seed", 1}}, "v1") + ".db"));
+  // Again, and with one more seed: only the new one is traced.
+  const std::vector<SeedTrace> again = trace_seeds(tracer, nlohmann::json::object(), {3, 4}, store);
+  EXPECT_EQ(traced, 4);
+  EXPECT_EQ(again[0].trace, first[2].trace);
+}
+
+}  // namespace
+}  // namespace edx::arch

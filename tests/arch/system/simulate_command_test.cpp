@@ -278,6 +278,59 @@ TEST(SimulateCommand, ExplainSplitsEveryFramesLatencyIntoCauses) {
   EXPECT_THAT(none.err, HasSubstr("has no critical-path attribution"));
 }
 
+TEST(SimulateCommand, OverSeedsEveryFigureHasItsInterval) {
+  // The paper mix, 16 frames at 320x240, seeds 1 and 2: each seed traced once into the store,
+  // every figure as the mean and 95 % interval of the two runs; a second call traces nothing.
+  testing::TempDir dir;
+  std::ofstream(dir.path() / "w.yaml") << "mix: paper\nframes: 16\nresolution: 320x240\n";
+  const std::string command = fmt::format(
+      "{} simulate --config {} --workload {} --seeds 1-2 --trace-store {} --out {} --json", kEdx,
+      kCarConfig.string(), (dir.path() / "w.yaml").string(), (dir.path() / "store").string(),
+      (dir.path() / "r.db").string());
+  const auto r = edx::testing::run_command(command);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["runs"].size(), 2u);
+  EXPECT_NE(j["runs"][0]["trace"], j["runs"][1]["trace"]);
+  const nlohmann::json& e2e = j["figures"]["system.accelerated.modes.all.e2e_ms.mean"];
+  EXPECT_EQ(e2e["n"], 2);
+  EXPECT_LE(e2e["low"].get<double>(), e2e["mean"].get<double>());
+  EXPECT_GE(e2e["high"].get<double>(), e2e["mean"].get<double>());
+  SQLite::Database db((dir.path() / "r.db").string());
+  EXPECT_EQ(db.execAndGet("SELECT COUNT(*) FROM runs").getInt(), 2);
+  // The mean is the two runs' mean.
+  const double a = db.execAndGet(
+                         "SELECT mean FROM latency WHERE variant = 'accelerated' AND mode = 'all' "
+                         "AND stage = 'e2e' ORDER BY run_id LIMIT 1")
+                       .getDouble();
+  const double b = db.execAndGet(
+                         "SELECT mean FROM latency WHERE variant = 'accelerated' AND mode = 'all' "
+                         "AND stage = 'e2e' ORDER BY run_id LIMIT 1 OFFSET 1")
+                       .getDouble();
+  EXPECT_NEAR(e2e["mean"].get<double>(), (a + b) / 2, 1e-9 * (a + b));
+  std::size_t traces = 0;
+  for (const auto& f : fs::directory_iterator(dir.path() / "store")) {
+    traces += f.path().extension() == ".db" ? 1 : 0;
+  }
+  EXPECT_EQ(traces, 2u);
+  const auto again = edx::testing::run_command(command);
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(nlohmann::json::parse(again.out)["figures"], j["figures"]);
+  // Bad input: the seed in the workload file, a bad list, --workload without its companions.
+  std::ofstream(dir.path() / "seeded.yaml") << "mix: paper\nseed: 4\n";
+  for (const std::string& args :
+       {fmt::format("--workload {} --seeds 1-2 --trace-store {}",
+                    (dir.path() / "seeded.yaml").string(), (dir.path() / "store").string()),
+        fmt::format("--workload {} --seeds 3-1 --trace-store {}", (dir.path() / "w.yaml").string(),
+                    (dir.path() / "store").string()),
+        fmt::format("--workload {}", (dir.path() / "w.yaml").string())}) {
+    const auto bad = edx::testing::run_command(
+        fmt::format("{} simulate --config {} {}", kEdx, kCarConfig.string(), args));
+    EXPECT_NE(bad.exit_code, 0) << args;
+    EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  }
+}
+
 TEST(SimulateCommand, KernelsBeyondThePapersThreeCanBeOffloaded) {
   const testing::TempDir dir;
   const fs::path golden = fs::path(EDX_SOURCE_DIR) / "tests" / "data" / "golden" / "golden_mix.db";
