@@ -38,11 +38,18 @@ void run_seeds(const SimulateArguments& args) {
   options.model = arch::parse_system_model(args.model);
   std::vector<nlohmann::json> trees;
   nlohmann::json runs = nlohmann::json::array();
+  const nlohmann::json workload = args.seeds.workload_json();
+  const std::string group = args.seeds.group();
   for (const arch::SeedTrace& s : args.seeds.traces()) {
     const trace::TraceReader reader(s.trace.string());
     const arch::SystemResult result = arch::simulate_system(
         platform, reader.read_all(), reader.meta(), s.trace.string(), options);
-    if (!args.out.empty()) arch::write_results(args.out, arch::result_rows(result));
+    if (!args.out.empty()) {
+      results::RunRows rows = arch::result_rows(result);
+      rows.seed_runs.push_back(
+          {rows.run.run_id, group, workload, static_cast<std::int64_t>(s.seed)});
+      arch::write_results(args.out, rows);
+    }
     trees.push_back({{"system", result.to_json()}});
     runs.push_back({{"seed", s.seed},
                     {"trace", s.trace.string()},

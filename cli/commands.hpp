@@ -40,6 +40,9 @@ struct SeedOptions {
   bool given() const { return !workload.empty(); }
   /// Each seed's trace, traced into the store when missing.
   std::vector<arch::SeedTrace> traces() const;
+  /// The workload file's parameters (without seed) and their group (arch::seed_group).
+  nlohmann::json workload_json() const;
+  std::string group() const;
 };
 /// Adds the three options (each needing the others; --workload excludes `trace`).
 void add_seed_options(CLI::App& cmd, SeedOptions& seeds, CLI::Option* trace);

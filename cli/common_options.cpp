@@ -76,6 +76,10 @@ void add_seed_options(CLI::App& cmd, SeedOptions& seeds, CLI::Option* trace) {
   store->needs(workload);
 }
 
+nlohmann::json SeedOptions::workload_json() const { return arch::load_workload_file(workload); }
+
+std::string SeedOptions::group() const { return arch::seed_group(mix_tracer(), workload_json()); }
+
 std::vector<arch::SeedTrace> SeedOptions::traces() const {
   return arch::trace_seeds(mix_tracer(), arch::load_workload_file(workload),
                            arch::parse_seed_list(seeds), store);

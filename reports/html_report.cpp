@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -18,6 +19,7 @@
 #include <tuple>
 
 #include "arch/memory/bram.hpp"
+#include "arch/results/causes.hpp"
 #include "arch/results/schema.hpp"
 #include "common/atomic_file.hpp"
 #include "common/yaml_fields.hpp"
@@ -195,6 +197,13 @@ class RunReport {
                    "(paper Fig. 6-8 style).");
     }
     h += latency_table();
+    h += section("Where each frame's latency went (critical-path attribution)", attribution_plot(),
+                 images,
+                 "Frames sorted by end-to-end latency (isolated run: a frame alone), its latency "
+                 "split into the resources on its critical path, running or waiting, stacked "
+                 "(docs/MODEL.md, \"Critical-path attribution\"; edx explain). Look for the "
+                 "tallest band: the bottleneck.");
+    h += cause_table();
     h += section("Backend kernel breakdown", breakdown_plot(), images,
                  "Mean backend time per frame split into the accelerable kernels and the rest "
                  "(host only), baseline (B) and accelerated (A) per mode.");
@@ -428,6 +437,131 @@ class RunReport {
           pct(get("backend_sd_reduction")), pct(get("energy_reduction")));
     }
     return h + "</table>\n";
+  }
+
+  /// Per variant, frames sorted by latency, each stacked by the resources of its causes (the
+  /// isolated run's frame_causes): the accelerated variant's six largest resources, the rest as
+  /// "other". Empty without per-frame attribution.
+  std::string attribution_plot() {
+    const auto summary = nlohmann::json::json_pointer("/accelerated/attribution/isolated/all");
+    if (run_.frame_causes.empty() || !run_.summary.contains(summary)) return "";
+    std::vector<std::string> shown;
+    for (const nlohmann::json& r : run_.summary[summary]["resources"]) {
+      if (shown.size() < 6) shown.push_back(r["name"].get<std::string>());
+    }
+    for (const char* variant : {"baseline", "accelerated"}) {  // the baseline's largest too
+      const auto p =
+          nlohmann::json::json_pointer(fmt::format("/{}/attribution/isolated/all", variant));
+      if (!run_.summary.contains(p) || run_.summary[p]["resources"].empty()) continue;
+      const std::string top = run_.summary[p]["resources"][0]["name"];
+      if (std::find(shown.begin(), shown.end(), top) == shown.end()) shown.push_back(top);
+    }
+    const std::size_t bands = shown.size() + 1;  // + other
+    std::string data;
+    double ymax = 0;
+    std::size_t n = 0;
+    for (const char* variant : {"baseline", "accelerated"}) {
+      struct Frame {
+        double latency;
+        std::vector<double> band;
+      };
+      std::vector<Frame> frames;
+      for (const results::FrameCausesRow& r : run_.frame_causes) {
+        if (r.variant != variant || r.run != "isolated" || r.dropped) continue;
+        Frame f{r.latency_ms, std::vector<double>(bands, 0.0)};
+        for (const auto& [cause, ms] : r.causes.items()) {
+          const auto at =
+              std::find(shown.begin(), shown.end(), std::string(results::cause_resource(cause)));
+          f.band[static_cast<std::size_t>(at - shown.begin())] += ms.get<double>();
+        }
+        frames.push_back(std::move(f));
+      }
+      std::stable_sort(frames.begin(), frames.end(),
+                       [](const Frame& a, const Frame& b) { return a.latency < b.latency; });
+      n = std::max(n, frames.size());
+      data += fmt::format("# {}: rank, cumulative ms of each band\n", variant);
+      for (std::size_t i = 0; i < frames.size(); ++i) {
+        data += fmt::format("{}", i + 1);
+        double sum = 0;
+        for (double ms : frames[i].band) data += fmt::format(" {:.6f}", sum += ms);
+        data += "\n";
+        ymax = std::max(ymax, sum);
+      }
+      data += "\n\n";
+    }
+    std::string script = fmt::format(
+        "set multiplot layout 1,2 title 'Critical-path attribution per frame (frames sorted by "
+        "latency)'\nset style fill solid 0.9 noborder\nset boxwidth 1.0 absolute\n"
+        "set grid ytics\nset yrange [0:{:.3f}]\nset xrange [0.5:{:.1f}]\n"
+        "set xlabel 'Frame rank'\nset ylabel 'Latency (ms)'\nset key left top font ',8'\n",
+        1.15 * ymax, double(n) + 0.5);
+    int block = 0;
+    for (const char* title : {"Baseline (CPU)", "Accelerated"}) {
+      script += fmt::format("set title '{}'\nplot", title);
+      // The tallest cumulative column first, so each band shows in front of the next.
+      for (std::size_t b = bands; b-- > 0;) {
+        script += fmt::format("{} datafile index {} using 1:{} with boxes lc rgb '{}' title {}",
+                              b + 1 == bands ? "" : ", \\\n    ", block, b + 2,
+                              b + 1 == bands ? "#BBBBBB" : kPalette[b % 8],
+                              gp_quote(b + 1 == bands ? std::string("other") : shown[b]));
+      }
+      script += "\n";
+      ++block;
+    }
+    script += "unset multiplot\n";
+    return plot("attribution", data, script, "critical-path attribution");
+  }
+
+  /// The per-mode cause table of the run summary's attribution: per variant and run, each
+  /// cause's mean ms (share of the mode's latency) by mode, and each mode's bottleneck.
+  std::string cause_table() const {
+    std::string h;
+    for (const char* variant : {"accelerated", "baseline"}) {
+      for (const char* run : {"isolated", "streamed"}) {
+        const auto p =
+            nlohmann::json::json_pointer(fmt::format("/{}/attribution/{}", variant, run));
+        if (!run_.summary.contains(p) || !run_.summary[p].contains("all")) continue;
+        const nlohmann::json& modes = run_.summary[p];
+        std::vector<std::string> names;
+        for (const auto& [mode, m] : modes.items()) {
+          if (mode != "all") names.push_back(mode);
+        }
+        names.push_back("all");
+        h += fmt::format(
+            "<h3>Causes, {} variant, {} run</h3>\n<p class=\"cap\">Mean ms per frame of each "
+            "cause (share of the mode's mean latency); {}.</p>\n<table><tr><th>cause</th>",
+            variant, run,
+            std::string(run) == "isolated"
+                ? "a frame alone: the paper's latency"
+                : "frames at the sensor rate or back to back: queueing included");
+        for (const std::string& m : names) h += "<th>" + html_escape(m) + "</th>";
+        h += "</tr>\n<tr><td>latency</td>";
+        for (const std::string& m : names)
+          h += "<td>" + num(modes[m]["latency_ms"].get<double>(), 3) + "</td>";
+        h += "</tr>\n";
+        for (const nlohmann::json& c : modes["all"]["causes"]) {
+          const std::string cause = c["name"];
+          h += "<tr><td>" + html_escape(cause) + "</td>";
+          for (const std::string& m : names) {
+            std::string cell = "–";
+            for (const nlohmann::json& x : modes[m]["causes"]) {
+              if (x["name"] == cause) {
+                cell = fmt::format("{} ({})", num(x["mean_ms"].get<double>(), 3),
+                                   pct(x["share"].get<double>()));
+              }
+            }
+            h += "<td>" + cell + "</td>";
+          }
+          h += "</tr>\n";
+        }
+        h += "<tr><td><b>bottleneck</b></td>";
+        for (const std::string& m : names) {
+          h += "<td><b>" + html_escape(modes[m]["bottleneck"].get<std::string>()) + "</b></td>";
+        }
+        h += "</tr>\n</table>\n";
+      }
+    }
+    return h;
   }
 
   std::string latency_table() const {
@@ -821,28 +955,52 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
     h += fmt::format(
         "<h3>Sweep {} ({})</h3>\n<p class=\"cap\">{} points, {} meet the "
         "constraints, {} on the Pareto front of the objectives (as stored by edx "
-        "sweep). Grey: infeasible; blue: feasible; orange, joined: Pareto front.</p>\n",
+        "sweep). Grey: infeasible; coloured: feasible, by the bottleneck of the point's "
+        "accelerated latency (the resource holding its largest share, docs/MODEL.md "
+        "\"Critical-path attribution\"); joined, larger: the Pareto front.</p>\n",
         html_escape(sweep.sweep_id), html_escape(sweep.spec), sweep.points.size(), feasible,
         pareto);
     for (std::size_t j = metrics.size() > 1 ? 1 : 0;
          plot && j < std::max<std::size_t>(metrics.size(), 1); ++j) {
       if (metrics.empty()) break;
       const bool single = metrics.size() == 1;
-      // Blocks: 0 infeasible, 1 feasible, 2 Pareto (sorted by x).
-      std::string blocks[3];
+      // Blocks: 0 infeasible, 1 the Pareto front (sorted by x), then the feasible points of
+      // each bottleneck ("" : not recorded).
+      std::vector<std::string> bottlenecks;
+      for (const SweepPoint& p : sweep.points) {
+        if (p.feasible &&
+            std::find(bottlenecks.begin(), bottlenecks.end(), p.bottleneck) == bottlenecks.end()) {
+          bottlenecks.push_back(p.bottleneck);
+        }
+      }
+      std::sort(bottlenecks.begin(), bottlenecks.end());
+      std::vector<std::string> blocks(2 + bottlenecks.size());
       std::vector<std::pair<double, double>> front;
       for (const SweepPoint& p : sweep.points) {
         const auto x = single ? std::optional<double>(double(p.point)) : sweep_value(p, metrics[0]);
         const auto y = sweep_value(p, metrics[single ? 0 : j]);
         if (!x || !y) continue;
-        blocks[p.feasible ? 1 : 0] += fmt::format("{:.9g} {:.9g}\n", *x, *y);
+        const std::size_t block =
+            p.feasible ? 2 + static_cast<std::size_t>(
+                                 std::find(bottlenecks.begin(), bottlenecks.end(), p.bottleneck) -
+                                 bottlenecks.begin())
+                       : 0;
+        blocks[block] += fmt::format("{:.9g} {:.9g}\n", *x, *y);
         if (p.pareto) front.emplace_back(*x, *y);
       }
       std::sort(front.begin(), front.end());
-      for (const auto& [x, y] : front) blocks[2] += fmt::format("{:.9g} {:.9g}\n", x, y);
+      for (const auto& [x, y] : front) blocks[1] += fmt::format("{:.9g} {:.9g}\n", x, y);
       std::string dat;
       for (const std::string& b : blocks)
         dat += "# block\n" + (b.empty() ? "nan nan\n" : b) + "\n\n";
+      std::string feasible_plots;
+      for (std::size_t b = 0; b < bottlenecks.size(); ++b) {
+        feasible_plots += fmt::format(
+            ", \\\n     '' index {} using 1:2 with points pt 7 ps 1 lc rgb '{}' title {}", 2 + b,
+            kPalette[b % 8],
+            gp_quote("bottleneck " +
+                     (bottlenecks[b].empty() ? std::string("not recorded") : bottlenecks[b])));
+      }
       const std::string stem = fmt::format("sweep{}_{}", index, j);
       const std::string png = stem + kPlotExtension;
       std::ofstream(dir / (stem + ".dat")) << dat;
@@ -856,9 +1014,9 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
           << "\nset grid\nset key outside right top\n"
           << "plot " << gp_quote((dir / (stem + ".dat")).string())
           << " index 0 using 1:2 with points pt 7 ps 1 lc rgb '#BBBBBB' title 'infeasible', "
-             "'' index 1 using 1:2 with points pt 7 ps 1 lc rgb '#0072B2' title 'feasible', "
-             "'' index 2 using 1:2 with linespoints pt 7 ps 1.5 lw 2 lc rgb '#D55E00' title "
-             "'Pareto front'\n";
+             "'' index 1 using 1:2 with linespoints pt 6 ps 2 lw 1 lc rgb '#000000' title "
+             "'Pareto front'"
+          << feasible_plots << "\n";
       run_gnuplot(gnuplot, dir / (stem + ".gp"), "sweep " + sweep.sweep_id + " plot");
       images.push_back(png);
       h += fmt::format("<img src=\"{}\" alt=\"Pareto front\">\n", png);
@@ -909,38 +1067,112 @@ double summary_number(const RunData& r, const std::string& path) {
              : NAN;
 }
 
-/// One row of headline figures per run that has a section: speedup per mode, SD reduction,
-/// FPS without / with pipelining, energy, resources and fit.
-std::string summary_html(const ResultsData& data, const std::vector<std::size_t>& sections) {
+/// A platform's runs of one workload over two or more seeds (table seed_runs, `edx simulate
+/// --seeds --out`): each figure's samples.
+struct SeedGroup {
+  std::vector<std::size_t> runs;  ///< indices of data.runs, by seed
+  std::vector<std::int64_t> seeds;
+  nlohmann::json workload;
+};
+
+std::vector<SeedGroup> seed_groups(const ResultsData& data) {
+  std::map<std::pair<std::string, std::string>, SeedGroup> groups;  // (config, workload)
+  for (std::size_t i = 0; i < data.runs.size(); ++i) {
+    const RunData& r = data.runs[i];
+    if (r.seed_runs.empty()) continue;
+    SeedGroup& g = groups[{r.config_hash, r.seed_runs.front().workload}];
+    g.runs.push_back(i);
+    g.seeds.push_back(r.seed_runs.front().seed);
+    g.workload = r.seed_runs.front().workload_json;
+  }
+  std::vector<SeedGroup> out;
+  for (auto& [key, g] : groups) {
+    if (g.runs.size() < 2) continue;
+    std::vector<std::size_t> order(g.runs.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return g.seeds[a] < g.seeds[b]; });
+    SeedGroup sorted{{}, {}, g.workload};
+    for (std::size_t k : order) {
+      sorted.runs.push_back(g.runs[k]);
+      sorted.seeds.push_back(g.seeds[k]);
+    }
+    out.push_back(std::move(sorted));
+  }
+  return out;
+}
+
+/// "edx_car × mix paper 1280x720, 400 frames (seeds 1, 2, 3)".
+std::string group_title(const ResultsData& data, const SeedGroup& g) {
+  std::string workload;
+  for (const auto& [key, value] : g.workload.items()) {
+    workload += fmt::format("{}{} {}", workload.empty() ? "" : ", ", key,
+                            value.is_string() ? value.get<std::string>() : value.dump());
+  }
+  std::string seeds;
+  for (std::int64_t seed : g.seeds) seeds += fmt::format("{}{}", seeds.empty() ? "" : ", ", seed);
+  return fmt::format("{} × {} (seeds {})", data.runs[g.runs.front()].platform, workload, seeds);
+}
+
+/// One row of headline figures per run that has a section, then one per seed group with each
+/// figure's mean and 95 % interval over its seeds: speedup per mode, SD reduction, FPS without /
+/// with pipelining, energy, resources and fit.
+std::string summary_html(const ResultsData& data, const std::vector<std::size_t>& sections,
+                         const std::vector<SeedGroup>& groups) {
   std::string h =
       "<h2 id=\"summary\">Summary</h2>\n<p class=\"cap\">One row per platform run: accelerated "
-      "against its CPU-only baseline. Look for the e2e speedup per mode and whether the design "
-      "fits its device.</p>\n<table><tr><th>run</th><th>e2e speedup per mode</th>"
+      "against its CPU-only baseline; a run over seeds: each figure's mean [95 % interval, "
+      "Student t]. Look for the e2e speedup per mode and whether the design fits its "
+      "device.</p>\n<table><tr><th>run</th><th>e2e speedup per mode</th>"
       "<th>e2e SD reduction</th><th>FPS (baseline → accel.)</th><th>FPS pipelined (accel.)</th>"
       "<th>energy / frame (baseline → accel.)</th><th>LUT / DSP</th><th>fits</th></tr>\n";
-  for (std::size_t i : sections) {
-    const RunData& r = data.runs[i];
+  // A figure of one run (the summary's JSON pointer), or over a group's runs.
+  using Figure = std::function<std::string(const std::string& pointer, int digits)>;
+  const auto row = [&](const std::string& title, const RunData& r, const Figure& figure) {
     std::string speedups;
     if (r.summary.contains("comparison") && r.summary["comparison"].is_object()) {
       for (const auto& [mode, c] : r.summary["comparison"].items()) {
         speedups += fmt::format("{}{} {}×", speedups.empty() ? "" : "<br>", html_escape(mode),
-                                num(c.value("e2e_speedup", NAN)));
+                                figure("/comparison/" + mode + "/e2e_speedup", 2));
       }
     }
     const auto fits = nlohmann::json::json_pointer("/resources/fits");
-    h += fmt::format(
-        "<tr><td><a href=\"#run{}_\">{}</a> <small>{}</small></td><td>{}</td><td>{}</td>"
-        "<td>{} → {}</td><td>{}</td><td>{} → {} J</td><td>{} / {}</td><td>{}</td></tr>\n",
-        i + 1, html_escape(run_title(r)), html_escape(r.run_id), speedups,
-        pct(summary_number(r, "/comparison/all/e2e_sd_reduction")),
-        num(summary_number(r, "/baseline/fps_without_pipelining"), 1),
-        num(summary_number(r, "/accelerated/fps_without_pipelining"), 1),
-        num(summary_number(r, "/accelerated/fps_with_pipelining"), 1),
-        num(summary_number(r, "/baseline/modes/all/energy_j/mean"), 3),
-        num(summary_number(r, "/accelerated/modes/all/energy_j/mean"), 3),
-        num(summary_number(r, "/resources/total/lut"), 0),
-        num(summary_number(r, "/resources/total/dsp"), 0),
+    return fmt::format(
+        "<tr><td>{}</td><td>{}</td><td>{}</td><td>{} → {}</td><td>{}</td><td>{} → {} J</td>"
+        "<td>{} / {}</td><td>{}</td></tr>\n",
+        title, speedups, figure("/comparison/all/e2e_sd_reduction", -1),
+        figure("/baseline/fps_without_pipelining", 1),
+        figure("/accelerated/fps_without_pipelining", 1),
+        figure("/accelerated/fps_with_pipelining", 1),
+        figure("/baseline/modes/all/energy_j/mean", 3),
+        figure("/accelerated/modes/all/energy_j/mean", 3), figure("/resources/total/lut", 0),
+        figure("/resources/total/dsp", 0),
         r.summary.contains(fits) ? (r.summary[fits].get<bool>() ? "yes" : "<b>no</b>") : "–");
+  };
+  const auto format = [](double v, int digits) { return digits < 0 ? pct(v) : num(v, digits); };
+  for (std::size_t i : sections) {
+    const RunData& r = data.runs[i];
+    h += row(fmt::format("<a href=\"#run{}_\">{}</a> <small>{}</small>", i + 1,
+                         html_escape(run_title(r)), html_escape(r.run_id)),
+             r, [&](const std::string& pointer, int digits) {
+               return format(summary_number(r, pointer), digits);
+             });
+  }
+  for (const SeedGroup& g : groups) {
+    std::vector<nlohmann::json> trees;
+    for (std::size_t i : g.runs) trees.push_back({{"system", data.runs[i].summary}});
+    std::map<std::string, Interval> figures;
+    for (auto& [path, interval] : figures_over_runs(trees)) figures.emplace(path, interval);
+    h += row(html_escape(group_title(data, g)), data.runs[g.runs.front()],
+             [&](const std::string& pointer, int digits) {
+               std::string path = "system" + pointer;
+               std::replace(path.begin(), path.end(), '/', '.');
+               const auto it = figures.find(path);
+               if (it == figures.end()) return std::string("–");
+               const Interval& i = it->second;
+               return fmt::format("{} <small>[{}, {}]</small>", format(i.mean, digits),
+                                  format(i.low, digits), format(i.high, digits));
+             });
   }
   return h + "</table>\n";
 }
@@ -1127,97 +1359,158 @@ std::vector<std::size_t> paper_check_runs(const ResultsData& data,
   return order;
 }
 
-/// The paper check (reports/paper_targets.yaml, as `edx check`) of each Edx-Car run with a
-/// section (in paper_check_runs' order): a table and a plot of simulated / paper per target with
-/// the tolerance band; n/a rows (modes the run has no frames of) are listed, not plotted.
-std::string paper_check_html(const ResultsData& data, const std::vector<std::size_t>& sections,
-                             const fs::path& dir, const std::string& gnuplot, bool plot,
-                             std::vector<std::string>& images) {
-  const std::vector<PaperTarget> targets = load_targets(default_targets_path());
-  const std::vector<ComparedBaseline> baselines = load_baselines(default_targets_path());
+/// One paper check's section: a table and a plot of simulated / paper per target with the
+/// tolerance band; over seeds, each figure's mean with its 95 % interval (error bars) and where
+/// the interval lies against the band; n/a rows (modes the runs have no frames of) are listed,
+/// not plotted. `id`: the section's anchor and plot stem; `command`: how to get it by hand.
+std::string check_section(const CheckResult& check, const std::string& id, const std::string& title,
+                          const std::string& command, const fs::path& dir,
+                          const std::string& gnuplot, bool plot, std::vector<std::string>& images) {
   // Misses are explained in docs/MODEL.md: each target's own paragraph (its `explained`
   // anchor), else the section of all misses.
   const std::string model_file =
       "file://" +
       (default_targets_path().parent_path().parent_path() / "docs" / "MODEL.md").string();
   const std::string model_doc = model_file + "#what-is-not-reachable-honestly-and-why";
-  std::string h;
-  for (std::size_t i : paper_check_runs(data, sections)) {
-    const RunData& r = data.runs[i];
+  const bool over_runs = check.runs > 1;
+  const std::size_t not_applicable = check.count(Verdict::kNotApplicable);
+  std::string h = fmt::format(
+      "<h2 id=\"{0}\">Paper check: {1}</h2>\n<p class=\"cap\">{2} of {3} of the paper's Edx-Car "
+      "figures within tolerance{4} (as <code>{5}</code>){6}. Why targets miss: <a "
+      "href=\"{7}\">docs/MODEL.md</a>.</p>\n",
+      id, title, check.passed(), check.counted(),
+      over_runs ? fmt::format(" by their mean over {} seeds; each interval (95 %, Student t) "
+                              "inside, across or outside the band",
+                              check.runs)
+                : "",
+      html_escape(command),
+      not_applicable == 0
+          ? ""
+          : fmt::format("; {} n/a: figures of modes without frames here", not_applicable),
+      html_escape(model_doc));
+  std::string dat = "# index ratio(simulated/paper) tolerance low high label\n";
+  std::string rows = fmt::format(
+      "<table><tr><th>target</th><th>paper</th><th>simulated{}</th><th>error</th>"
+      "<th>tolerance</th><th>verdict</th>{}<th>source</th></tr>\n",
+      over_runs ? " (mean [95 % interval])" : "", over_runs ? "<th>interval</th>" : "");
+  int index = 0;
+  for (const CheckRow& row : check.rows) {
+    if (row.verdict == Verdict::kNotRun) continue;  // the characterization's: not in a DB
+    const std::string verdict = to_string(row.verdict);
+    const std::string unit = row.target.unit.empty() ? "" : " " + row.target.unit;
+    const bool counted = row.verdict != Verdict::kNotApplicable;
+    std::string simulated = "–";
+    if (row.simulated) {
+      simulated = row.interval
+                      ? fmt::format("{:.4g} [{:.4g}, {:.4g}]{}", row.interval->mean,
+                                    row.interval->low, row.interval->high, html_escape(unit))
+                      : fmt::format("{:.4g}{}", *row.simulated, html_escape(unit));
+    }
+    rows += fmt::format(
+        "<tr{}><td>{}</td><td>{:.4g}{}</td><td>{}</td><td>{}</td><td>±{:.0f}%</td><td>{}</td>{}"
+        "<td>{}</td></tr>\n",
+        row.verdict == Verdict::kPass || !counted ? "" : " class=\"miss\"",
+        html_escape(row.target.name), row.target.paper, html_escape(unit), simulated,
+        row.simulated ? fmt::format("{:+.1f}%", 100 * row.error) : "–", 100 * row.target.tolerance,
+        row.verdict == Verdict::kPass ? verdict
+        : !counted                    ? fmt::format("<span title=\"no {} frames here\">{}</span>",
+                                                    html_escape(row.absent_mode), verdict)
+                                      : fmt::format("<a href=\"{}\">{}</a>",
+                                                    html_escape(row.target.explained.empty()
+                                                                    ? model_doc
+                                                                    : model_file + "#" + row.target.explained),
+                                                    verdict),
+        over_runs
+            ? "<td>" + std::string(row.interval_verdict ? to_string(*row.interval_verdict) : "–") +
+                  "</td>"
+            : "",
+        html_escape(row.target.source));
+    if (!counted) continue;  // listed, not plotted
+    if (row.simulated) {
+      std::string label = row.target.name;
+      std::erase(label, '"');
+      const double paper = row.target.paper;
+      const double low = row.interval ? row.interval->low : *row.simulated;
+      const double high = row.interval ? row.interval->high : *row.simulated;
+      dat += fmt::format("{} {:.6g} {:.6g} {:.6g} {:.6g} \"{}\"\n", index, *row.simulated / paper,
+                         row.target.tolerance, std::min(low, high) / paper,
+                         std::max(low, high) / paper, label);
+    }
+    ++index;
+  }
+  if (plot && index > 0) {
+    const std::string image = id + kPlotExtension;
+    std::ofstream(dir / (id + ".dat")) << dat;
+    std::ofstream(dir / (id + ".gp"))
+        << svg_terminal(960, 200 + 18 * index) << "set output " << gp_quote((dir / image).string())
+        << "\n"
+        << "datafile = " << gp_quote((dir / (id + ".dat")).string()) << "\n"
+        << "set title 'Simulated / paper per target (grey band: tolerance"
+        << (over_runs ? "; bars: 95 % interval over the seeds" : "") << ")'\n"
+        << "set xlabel 'simulated / paper'\nset logscale x\nset xrange [0.1:10]\n"
+        << "set yrange [" << index << ":-1]\nset grid xtics\nset lmargin 38\nunset key\n"
+        << "set ytics scale 0\n"
+        << "clamp(x) = x < 0.1 ? 0.1 : (x > 10 ? 10 : x)\n"
+        << "plot datafile using (1-$3):1:(1-$3):(1+$3):($1-0.4):($1+0.4):ytic(6) "
+           "with boxxyerror fs solid 0.3 noborder lc rgb '#BBBBBB', \\\n"
+        << (over_runs ? "     '' using (clamp($2)):1:(clamp($4)):(clamp($5)) with xerrorbars "
+                        "pt -1 lc rgb '#555555', \\\n"
+                      : "")
+        << "     '' using (clamp($2)):1:(abs($2-1) <= $3 ? 0x009E73 : 0xD55E00) with points pt 7 "
+           "ps 1.2 lc rgb variable\n";
+    run_gnuplot(gnuplot, dir / (id + ".gp"), "paper check plot");
+    images.push_back(image);
+    h += fmt::format(
+        "<p class=\"cap\">Green: within tolerance; orange: a miss (clamped to 0.1–10 on the "
+        "log axis). Look for dots outside the grey band.</p>\n<img src=\"{}\" alt=\"paper "
+        "check\">\n",
+        image);
+  }
+  return h + rows + "</table>\n";
+}
+
+/// The paper checks (reports/paper_targets.yaml, as `edx check`): first each Edx-Car seed group
+/// over its seeds (a paper-mix workload first), then each Edx-Car run with a section in
+/// paper_check_runs' order.
+std::string paper_check_html(const ResultsData& data, const std::vector<std::size_t>& sections,
+                             const std::vector<SeedGroup>& groups, const fs::path& dir,
+                             const std::string& gnuplot, bool plot,
+                             std::vector<std::string>& images) {
+  const std::vector<PaperTarget> targets = load_targets(default_targets_path());
+  const std::vector<ComparedBaseline> baselines = load_baselines(default_targets_path());
+  const auto metrics_of = [&](const RunData& r) {
     nlohmann::json metrics = run_metrics(r);
     add_baseline_metrics(metrics, data, r, baselines);  // the runs of the compared platforms
-    const CheckResult check = check_targets(targets, metrics, r.run_id);
-    const std::size_t not_applicable = check.count(Verdict::kNotApplicable);
-    h += fmt::format(
-        "<h2 id=\"check{0}\">Paper check: {1} <small>{2}</small></h2>\n<p class=\"cap\">{3} of "
-        "{4} of the paper's Edx-Car figures within tolerance (as <code>edx check --results DB "
-        "--run {2}</code>){6}. Why targets miss: <a href=\"{5}\">docs/MODEL.md</a>.</p>\n",
-        i + 1, html_escape(run_title(r)), html_escape(r.run_id), check.passed(), check.counted(),
-        html_escape(model_doc),
-        not_applicable == 0
-            ? ""
-            : fmt::format("; {} n/a: figures of modes this run has no frames of", not_applicable));
-    std::string dat = "# index ratio(simulated/paper) tolerance label\n";
-    std::string rows =
-        "<table><tr><th>target</th><th>paper</th><th>simulated</th><th>error</th>"
-        "<th>tolerance</th><th>verdict</th><th>source</th></tr>\n";
-    int index = 0;
-    for (const CheckRow& row : check.rows) {
-      if (row.verdict == Verdict::kNotRun) continue;  // the characterization's: not in a DB
-      const std::string verdict = to_string(row.verdict);
-      const std::string unit = row.target.unit.empty() ? "" : " " + row.target.unit;
-      const bool counted = row.verdict != Verdict::kNotApplicable;
-      rows += fmt::format(
-          "<tr{}><td>{}</td><td>{:.4g}{}</td><td>{}</td><td>{}</td><td>±{:.0f}%</td><td>{}</td>"
-          "<td>{}</td></tr>\n",
-          row.verdict == Verdict::kPass || !counted ? "" : " class=\"miss\"",
-          html_escape(row.target.name), row.target.paper, html_escape(unit),
-          row.simulated ? fmt::format("{:.4g}{}", *row.simulated, html_escape(unit)) : "–",
-          row.simulated ? fmt::format("{:+.1f}%", 100 * row.error) : "–",
-          100 * row.target.tolerance,
-          row.verdict == Verdict::kPass ? verdict
-          : !counted ? fmt::format("<span title=\"no {} frames in this run\">{}</span>",
-                                   html_escape(row.absent_mode), verdict)
-                     : fmt::format("<a href=\"{}\">{}</a>",
-                                   html_escape(row.target.explained.empty()
-                                                   ? model_doc
-                                                   : model_file + "#" + row.target.explained),
-                                   verdict),
-          html_escape(row.target.source));
-      if (!counted) continue;  // listed, not plotted
-      if (row.simulated) {
-        std::string label = row.target.name;
-        std::erase(label, '"');
-        dat += fmt::format("{} {:.6g} {:.6g} \"{}\"\n", index, *row.simulated / row.target.paper,
-                           row.target.tolerance, label);
-      }
-      ++index;
+    return metrics;
+  };
+  std::vector<const SeedGroup*> car_groups;
+  for (const SeedGroup& g : groups) {
+    if (is_edx_car_run(data.runs[g.runs.front()])) car_groups.push_back(&g);
+  }
+  std::stable_partition(car_groups.begin(), car_groups.end(), [](const SeedGroup* g) {
+    return g->workload.value("mix", std::string()) == "paper";
+  });
+  std::string h;
+  for (std::size_t k = 0; k < car_groups.size(); ++k) {
+    const SeedGroup& g = *car_groups[k];
+    std::vector<nlohmann::json> trees;
+    std::vector<std::string> ids;
+    for (std::size_t i : g.runs) {
+      trees.push_back(metrics_of(data.runs[i]));
+      ids.push_back(data.runs[i].run_id);
     }
-    if (plot && index > 0) {
-      const std::string stem = fmt::format("check{}", i + 1);
-      const std::string image = stem + kPlotExtension;
-      std::ofstream(dir / (stem + ".dat")) << dat;
-      std::ofstream(dir / (stem + ".gp"))
-          << svg_terminal(960, 200 + 18 * index) << "set output "
-          << gp_quote((dir / image).string()) << "\n"
-          << "datafile = " << gp_quote((dir / (stem + ".dat")).string()) << "\n"
-          << "set title 'Simulated / paper per target (grey band: tolerance)'\n"
-          << "set xlabel 'simulated / paper'\nset logscale x\nset xrange [0.1:10]\n"
-          << "set yrange [" << index << ":-1]\nset grid xtics\nset lmargin 38\nunset key\n"
-          << "set ytics scale 0\n"
-          << "plot datafile using (1-$3):1:(1-$3):(1+$3):($1-0.4):($1+0.4):ytic(4) "
-             "with boxxyerror fs solid 0.3 noborder lc rgb '#BBBBBB', \\\n"
-          << "     '' using ($2 < 0.1 ? 0.1 : ($2 > 10 ? 10 : $2)):1:(abs($2-1) <= $3 ? 0x009E73 "
-             ": 0xD55E00) with points pt 7 ps 1.2 lc rgb variable\n";
-      run_gnuplot(gnuplot, dir / (stem + ".gp"), "paper check plot");
-      images.push_back(image);
-      h += fmt::format(
-          "<p class=\"cap\">Green: within tolerance; orange: a miss (clamped to 0.1–10 on the "
-          "log axis). Look for dots outside the grey band.</p>\n<img src=\"{}\" alt=\"paper "
-          "check\">\n",
-          image);
-    }
-    h += rows + "</table>\n";
+    h += check_section(check_targets_over_runs(targets, trees, ids),
+                       fmt::format("check_seeds{}", k + 1), html_escape(group_title(data, g)),
+                       "edx check --config CONFIG --workload W --seeds S --trace-store DIR", dir,
+                       gnuplot, plot, images);
+  }
+  for (std::size_t i : paper_check_runs(data, sections)) {
+    const RunData& r = data.runs[i];
+    const CheckResult check = check_targets(targets, metrics_of(r), r.run_id);
+    h += check_section(
+        check, fmt::format("check{}", i + 1),
+        fmt::format("{} <small>{}</small>", html_escape(run_title(r)), html_escape(r.run_id)),
+        "edx check --results DB --run " + r.run_id, dir, gnuplot, plot, images);
     if (plot) h += baselines_chart_html(check, dir, i + 1, gnuplot, images);
   }
   return h;
@@ -1359,15 +1652,22 @@ ReportResult write_report(const ResultsData& data, const ReportOptions& options)
     for (const SweepData& sweep : data.sweeps) {
       for (const SweepPoint& p : sweep.points) sweep_of_run.emplace(p.run_id, sweep.sweep_id);
     }
+    // A run of a seed group is a sample of the group's figures (the summary's and the check's
+    // intervals), not a section of its own.
+    const std::vector<SeedGroup> groups = seed_groups(data);
+    std::set<std::size_t> grouped;
+    for (const SeedGroup& g : groups) grouped.insert(g.runs.begin(), g.runs.end());
     const auto has_section = [&](const RunData& r) {
-      return !r.frame_rows.empty() || !sweep_of_run.contains(r.run_id);
+      return !grouped.contains(static_cast<std::size_t>(&r - data.runs.data())) &&
+             (!r.frame_rows.empty() || !sweep_of_run.contains(r.run_id));
     };
     std::vector<std::size_t> sections;
     for (std::size_t i = 0; i < data.runs.size(); ++i) {
       if (has_section(data.runs[i])) sections.push_back(i);
     }
-    body += summary_html(data, sections);
-    body += paper_check_html(data, sections, stage, options.gnuplot, result.plotted, result.images);
+    body += summary_html(data, sections, groups);
+    body += paper_check_html(data, sections, groups, stage, options.gnuplot, result.plotted,
+                             result.images);
     body += runs_table_html(data, sections, sweep_of_run);
     if (!options.trace.empty()) body += trace_meta_html(options.trace);
     if (!options.characterization.empty()) {

@@ -40,6 +40,7 @@ void read_run(SQLite::Database& db, RunData& r) {
   r.timelines = of_run(results::timelines_table(), "rowid");
   // Databases before version 5 have no frame_causes table: no rows.
   r.frame_causes = of_run(results::frame_causes_table(), "variant, run, frame_id");
+  r.seed_runs = of_run(results::seed_runs_table(), "seed");
 }
 
 SweepData read_sweep(SQLite::Database& db, const results::SweepRow& row) {

@@ -249,6 +249,25 @@ const Table<FrameCausesRow>& frame_causes_table() {
   return table;
 }
 
+const Table<SeedRunRow>& seed_runs_table() {
+  using R = SeedRunRow;
+  static const Table<R> table(
+      spec("seed_runs", kRun,
+           "A run of one seed of a workload simulated over seeds (`edx simulate --workload W "
+           "--seeds S --out`): the runs of one platform and workload are one figure's samples "
+           "(the report's intervals).",
+           {"run_id"}, 5),
+      {run_id_column(&R::run_id),
+       column("workload", &R::workload, "",
+              "FNV-1a 64 of the resolved workload without its seed and the tracing code's version "
+              "(the group of seeds)")
+           .not_null(),
+       column("workload_json", &R::workload_json, "", "the workload's parameters, without the seed")
+           .not_null(),
+       column("seed", &R::seed, "", "the seed of its worlds").not_null()});
+  return table;
+}
+
 const Table<SweepRow>& sweeps_table() {
   using R = SweepRow;
   static const Table<R> table(
@@ -350,13 +369,11 @@ const Table<SweepWorkloadRow>& sweep_workloads_table() {
 
 const std::vector<const TableSpec*>& all_tables() {
   static const std::vector<const TableSpec*> tables{
-      &runs_table().spec,           &frames_table().spec,
-      &latency_table().spec,        &throughput_table().spec,
-      &energy_table().spec,         &offload_table().spec,
-      &schedule_table().spec,       &resources_table().spec,
-      &timelines_table().spec,      &frame_causes_table().spec,
-      &sweeps_table().spec,         &sweep_points_table().spec,
-      &sweep_locks_table().spec,    &sweep_generations_table().spec,
+      &runs_table().spec,           &frames_table().spec,      &latency_table().spec,
+      &throughput_table().spec,     &energy_table().spec,      &offload_table().spec,
+      &schedule_table().spec,       &resources_table().spec,   &timelines_table().spec,
+      &frame_causes_table().spec,   &seed_runs_table().spec,   &sweeps_table().spec,
+      &sweep_points_table().spec,   &sweep_locks_table().spec, &sweep_generations_table().spec,
       &sweep_workloads_table().spec};
   return tables;
 }
@@ -397,7 +414,8 @@ std::vector<TableValues> run_values(const RunRows& rows) {
           values_of(schedule_table(), rows.schedule),
           values_of(resources_table(), rows.resources),
           values_of(timelines_table(), rows.timelines),
-          values_of(frame_causes_table(), rows.frame_causes)};
+          values_of(frame_causes_table(), rows.frame_causes),
+          values_of(seed_runs_table(), rows.seed_runs)};
 }
 
 std::string results_reference_markdown() {

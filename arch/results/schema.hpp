@@ -20,7 +20,8 @@ namespace edx::results {
 // timelines); 1 (2026-11-26): the timelines table; 2 (2026-11-26): sweep_generations (a
 // search's convergence); 3 (2026-11-26): sweep_points.workload and .error, sweep_workloads
 // (sweeps that trace their workload); 4 (2026-11-28): offload.spill_ms and .spill_bytes; 5
-// (2026-11-28): frame_causes (critical-path attribution), sweep_points.bottleneck. A writer
+// (2026-11-28): frame_causes (critical-path attribution), sweep_points.bottleneck, seed_runs
+// (runs of one workload over seeds). A writer
 // brings an older database to this version (missing tables created, missing columns added);
 // readers read every older version and refuse newer ones.
 inline constexpr int kSchemaVersion = 5;
@@ -60,6 +61,15 @@ struct FrameCausesRow {
   bool dropped = false;
   double latency_ms = 0;
   nlohmann::json causes;  ///< {cause: ms} of the causes that took time; they add up to latency_ms
+};
+
+/// A run of one seed of a workload simulated over seeds (`edx simulate --seeds --out`; table
+/// seed_runs): the runs of one platform whose workload is the same are one figure's samples.
+struct SeedRunRow {
+  std::string run_id;
+  std::string workload;          ///< hash of the workload without its seed (the group)
+  nlohmann::json workload_json;  ///< the workload file's parameters, without the seed
+  std::int64_t seed = 0;
 };
 
 /// A latency distribution of one variant, mode and stage (table latency).
@@ -174,6 +184,7 @@ const Table<ScheduleRow>& schedule_table();
 const Table<ResourceRow>& resources_table();
 const Table<TimelineRow>& timelines_table();
 const Table<FrameCausesRow>& frame_causes_table();
+const Table<SeedRunRow>& seed_runs_table();
 const Table<SweepRow>& sweeps_table();
 const Table<SweepPointRow>& sweep_points_table();
 const Table<SweepLockRow>& sweep_locks_table();
@@ -198,6 +209,7 @@ struct RunTableRows {
   std::vector<ResourceRow> resources;
   std::vector<TimelineRow> timelines;  ///< none, or the run's one timeline
   std::vector<FrameCausesRow> frame_causes;
+  std::vector<SeedRunRow> seed_runs;  ///< none, or the run's seed (edx simulate --seeds)
 };
 
 /// Every row of one run.

@@ -200,6 +200,12 @@ std::vector<SeedTrace> trace_seeds(const WorkloadTracer& tracer, const nlohmann:
   return out;
 }
 
+std::string seed_group(const WorkloadTracer& tracer, const nlohmann::json& workload) {
+  nlohmann::json resolved = tracer.resolve(workload);
+  resolved.erase("seed");
+  return workload_hash(resolved, tracer.version);
+}
+
 nlohmann::json load_workload_file(const std::filesystem::path& path) {
   const std::string where = path.string();
   const YAML::Node root =

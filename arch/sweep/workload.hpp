@@ -51,6 +51,9 @@ std::vector<SeedTrace> trace_seeds(const WorkloadTracer& tracer, const nlohmann:
                                    const std::vector<std::uint64_t>& seeds,
                                    const std::filesystem::path& store);
 
+/// The group of a workload's seeds: workload_hash of its resolved parameters without `seed`.
+std::string seed_group(const WorkloadTracer& tracer, const nlohmann::json& workload);
+
 /// A workload file (`--workload FILE`): a YAML map of workload parameters to scalars, as a
 /// sweep spec's `workload:` section (docs/SWEEPS.md "Workload parameters"), without `seed` (the
 /// seeds are given apart). The values as text (the tracer's resolve types them). Errors:

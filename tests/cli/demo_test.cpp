@@ -123,7 +123,9 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
   }
   EXPECT_EQ(cdfs, 4 + baselines);
   // The report's paper check compares Edx-Car with the single-core run of the same trace.
-  EXPECT_EQ(query_integer(results, "SELECT COUNT(*) FROM runs WHERE platform = 'car_single_core'"),
+  EXPECT_EQ(query_integer(results,
+                          "SELECT COUNT(*) FROM runs WHERE platform = 'car_single_core' AND "
+                          "run_id NOT IN (SELECT run_id FROM seed_runs)"),
             1);
   std::size_t sweep_rows = 0;
   for (std::size_t at = page.find("(point of sweep"); at != std::string::npos;
@@ -140,7 +142,7 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
   const std::size_t kitti_check = page.find("Paper check: edx_car × kitti_slam.db");
   if (kitti_check != std::string::npos) {
     EXPECT_LT(page.find("Paper check: edx_car × car_mix.db"), kitti_check);
-    EXPECT_THAT(page, HasSubstr("<span title=\"no vio frames in this run\">n/a</span>"));
+    EXPECT_THAT(page, HasSubstr("<span title=\"no vio frames here\">n/a</span>"));
   }
   EXPECT_THAT(page, HasSubstr("The design against its own device, ZU9CG"));
   EXPECT_THAT(page, HasSubstr("is compared only for Edx-Car runs"));
@@ -169,6 +171,28 @@ TEST(Demo, ReducedDemoRunsTheWholeChain) {
     EXPECT_THAT(page, HasSubstr("<a href=\"" + name + "\">")) << name;
   }
   EXPECT_EQ(timelines, cdfs);
+
+  // Edx-Car and its compared baselines over the car mix's seeds 1-3: one group each, no
+  // sections of their own; the group's paper check comes first, each figure with its interval
+  // and interval verdict, and the summary gives each figure's interval.
+  EXPECT_EQ(query_integer(results, "SELECT COUNT(*) FROM seed_runs"), 3 * (1 + baselines));
+  const std::size_t seeds_check = page.find("Paper check: edx_car × frames");
+  ASSERT_NE(seeds_check, std::string::npos);
+  EXPECT_THAT(page.substr(seeds_check, 200), HasSubstr("(seeds 1, 2, 3)"));
+  EXPECT_LT(seeds_check, page.find("Paper check: edx_car × car_mix.db"));
+  EXPECT_THAT(page, HasSubstr("<th>interval</th>"));
+  EXPECT_THAT(page, ::testing::ContainsRegex("<td>(inside|across|outside)</td>"));
+  EXPECT_THAT(page.substr(0, page.find("Paper check")), HasSubstr("<small>["));
+  // Each run section: its frames' critical-path attribution and the cause tables.
+  int attributions = 0;
+  for (const auto& entry : fs::directory_iterator(out / "report")) {
+    if (entry.path().filename().string().ends_with("_attribution.svg")) ++attributions;
+  }
+  EXPECT_EQ(attributions, cdfs);
+  EXPECT_THAT(page, HasSubstr("Causes, accelerated variant, isolated run"));
+  EXPECT_THAT(page, HasSubstr("<td><b>bottleneck</b></td>"));
+  // The sweep's front by bottleneck.
+  EXPECT_THAT(page, HasSubstr("by the bottleneck of the point"));
 }
 
 // The demo's report in a real browser (headless Chromium at 1280 px): the page's test-only
