@@ -1086,16 +1086,16 @@ std::vector<SeedGroup> seed_groups(const ResultsData& data) {
     g.workload = r.seed_runs.front().workload_json;
   }
   std::vector<SeedGroup> out;
-  for (auto& [key, g] : groups) {
+  for (const auto& entry : groups) {
+    const SeedGroup& g = entry.second;
     if (g.runs.size() < 2) continue;
-    std::vector<std::size_t> order(g.runs.size());
-    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-    std::sort(order.begin(), order.end(),
-              [&](std::size_t a, std::size_t b) { return g.seeds[a] < g.seeds[b]; });
+    std::vector<std::pair<std::int64_t, std::size_t>> by_seed;  // (seed, run)
+    for (std::size_t k = 0; k < g.runs.size(); ++k) by_seed.emplace_back(g.seeds[k], g.runs[k]);
+    std::sort(by_seed.begin(), by_seed.end());
     SeedGroup sorted{{}, {}, g.workload};
-    for (std::size_t k : order) {
-      sorted.runs.push_back(g.runs[k]);
-      sorted.seeds.push_back(g.seeds[k]);
+    for (const auto& [seed, run] : by_seed) {
+      sorted.runs.push_back(run);
+      sorted.seeds.push_back(seed);
     }
     out.push_back(std::move(sorted));
   }
