@@ -1,4 +1,7 @@
-// Checks shared by every subcommand's options of one kind (commands.hpp).
+// Options and helpers shared by several subcommands (commands.hpp): the common checks of path and
+// seed options, the workload tracer of sweeps, the --workload/--seeds/--trace-store options.
+#include <fmt/core.h>
+
 #include <array>
 #include <string>
 #include <string_view>
@@ -82,7 +85,10 @@ std::string SeedOptions::group() const { return arch::seed_group(mix_tracer(), w
 
 std::vector<arch::SeedTrace> SeedOptions::traces() const {
   return arch::trace_seeds(mix_tracer(), arch::load_workload_file(workload),
-                           arch::parse_seed_list(seeds), store);
+                           arch::parse_seed_list(seeds), store, [this](std::uint64_t seed) {
+                             fmt::print(stderr, "edx: seed {}: tracing {} into {}\n", seed,
+                                        workload, store);
+                           });
 }
 
 }  // namespace edx::cli

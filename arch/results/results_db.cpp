@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <stdexcept>
 #include <system_error>
 #include <vector>
@@ -166,35 +167,63 @@ void write_results(SQLite::Database& db, const results::RunRows& rows) {
   write_run(db, rows.run.run_id, results::run_values(rows));
 }
 
-void write_results(const std::filesystem::path& path, const results::RunRows& rows) {
-  if (path.empty()) throw std::runtime_error("results: expected a results database path");
-  common::require_regular_output(path, "results database");
-  // A new database is written beside the target and renamed into place when complete, so no
-  // failure or kill leaves a partial file under the target name; an existing one is written in
-  // one transaction (rolled back on any error).
-  const bool existed = std::filesystem::exists(path);
-  std::filesystem::path target = path;
-  if (!existed) target += fmt::format(".tmp-{}", ::getpid());
+bool create_results_database(const std::filesystem::path& path,
+                             const std::function<void(SQLite::Database&)>& init) {
+  if (std::filesystem::exists(path)) return false;
+  static std::atomic<unsigned> counter{0};
+  const std::filesystem::path temporary =
+      path.string() + fmt::format(".tmp-{}-{}", ::getpid(), counter.fetch_add(1));
   const auto remove_temporary = [&] {
-    if (existed) return;
     std::error_code ignored;
     for (const char* suffix : {"", "-journal", "-wal", "-shm"}) {
-      std::filesystem::remove(target.string() + suffix, ignored);
+      std::filesystem::remove(temporary.string() + suffix, ignored);
     }
   };
   try {
     {
-      SQLite::Database db(target.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
-      db.exec("PRAGMA busy_timeout = 5000");
-      require_results_database(db, path.string());
+      SQLite::Database db(temporary.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
       SQLite::Transaction transaction(db);  // rolled back by its destructor on an exception
-      create_results_tables(db);
-      write_results(db, rows);
+      init(db);
       transaction.commit();
     }
-    if (!existed) std::filesystem::rename(target, path);
+    // link() fails with EEXIST instead of replacing: a database another process created since
+    // the check above is kept, and this one discarded.
+    std::error_code ec;
+    std::filesystem::create_hard_link(temporary, path, ec);
+    remove_temporary();
+    if (ec == std::errc::file_exists) return false;
+    if (ec) {
+      throw std::runtime_error(fmt::format("cannot create it: {}", ec.message()));
+    }
+    return true;
   } catch (const std::exception& e) {
     remove_temporary();
+    const std::string message = e.what();
+    if (message.starts_with(path.string() + ": ")) throw std::runtime_error(message);
+    throw std::runtime_error(fmt::format("{}: {}", path.string(), message));
+  }
+}
+
+void write_results(const std::filesystem::path& path, const results::RunRows& rows) {
+  if (path.empty()) throw std::runtime_error("results: expected a results database path");
+  common::require_regular_output(path, "results database");
+  // A new database is written beside the target and linked into place when complete
+  // (create_results_database): no failure or kill leaves a partial file under the target name,
+  // and two processes creating it at once both keep their run. An existing one is written in one
+  // transaction (rolled back on any error).
+  const auto fill = [&](SQLite::Database& db) {
+    create_results_tables(db);
+    write_results(db, rows);
+  };
+  try {
+    if (create_results_database(path, fill)) return;
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE);
+    db.exec("PRAGMA busy_timeout = 5000");
+    require_results_database(db, path.string());
+    SQLite::Transaction transaction(db);  // rolled back by its destructor on an exception
+    fill(db);
+    transaction.commit();
+  } catch (const std::exception& e) {
     const std::string message = e.what();
     if (message.starts_with(path.string() + ": ")) throw std::runtime_error(message);
     throw std::runtime_error(

@@ -10,6 +10,7 @@
 // Tables and columns: arch/results/schema.hpp (docs/RESULTS.md). A simulated run's rows:
 // arch/system/result_rows.hpp.
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -45,6 +46,15 @@ nlohmann::json export_run_rows(const results::RunRows& rows);
 void import_run_rows(SQLite::Database& db, const nlohmann::json& rows);
 
 using results::run_id_of;
+
+/// Creates the results database `path` when it does not exist yet, atomically (issue 45): `init`
+/// fills a new database beside it (`<path>.tmp-<pid>`, in one transaction), which is then
+/// hard-linked into place, so `path` appears only complete and never replaces a database another
+/// process created meanwhile (the new one is then discarded). Returns true when this call created
+/// `path`; false when it existed (`init` not run, or its work discarded). Errors:
+/// std::runtime_error naming the file; nothing is left behind.
+bool create_results_database(const std::filesystem::path& path,
+                             const std::function<void(SQLite::Database&)>& init);
 
 /// Writes (or replaces) the run of `rows` in `path`, creating the file and tables when needed.
 /// Errors: std::runtime_error naming the file.

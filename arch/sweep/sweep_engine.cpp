@@ -190,11 +190,16 @@ std::filesystem::path traced_workload(const WorkloadTracer& tracer, const nlohma
 
 std::vector<SeedTrace> trace_seeds(const WorkloadTracer& tracer, const nlohmann::json& workload,
                                    const std::vector<std::uint64_t>& seeds,
-                                   const std::filesystem::path& store) {
+                                   const std::filesystem::path& store,
+                                   const std::function<void(std::uint64_t seed)>& tracing) {
   std::vector<SeedTrace> out;
   for (std::uint64_t seed : seeds) {
     nlohmann::json w = workload;
     w["seed"] = std::to_string(seed);
+    if (tracing) {
+      const std::string hash = workload_hash(tracer.resolve(w), tracer.version);
+      if (!std::filesystem::is_regular_file(store / (hash + ".db"))) tracing(seed);
+    }
     out.push_back({seed, traced_workload(tracer, w, store)});
   }
   return out;

@@ -211,13 +211,11 @@ std::unique_ptr<SQLite::Database> open_results_database(const std::filesystem::p
   return db;
 }
 
-/// In one IMMEDIATE transaction (two processes starting at once are serialized here: the second
-/// waits for the first's lock row, then sees it): the tables (an older database brought to the
-/// current schema), the sweep's lock, its row, and the removal of points of an earlier version
-/// of the spec under this name.
-void register_sweep(SQLite::Database& db, const SweepSpec& spec, const SweepOptions& options,
-                    const std::string& trace, std::size_t points) {
-  SQLite::Transaction t(db, SQLite::TransactionBehavior::IMMEDIATE);
+/// The tables (an older database brought to the current schema), the sweep's lock, its row, and
+/// the removal of points of an earlier version of the spec under this name, in the caller's
+/// transaction.
+void register_sweep_rows(SQLite::Database& db, const SweepSpec& spec, const SweepOptions& options,
+                         const std::string& trace, std::size_t points) {
   create_results_tables(db, results::TableGroup::kRun);
   create_results_tables(db, results::TableGroup::kSweep);
   take_sweep_lock(db, options.db.string(), spec.name);
@@ -229,6 +227,14 @@ void register_sweep(SQLite::Database& db, const SweepSpec& spec, const SweepOpti
   stale.bind(1, spec.name);
   stale.bind(2, static_cast<std::int64_t>(points));
   stale.exec();
+}
+
+/// register_sweep_rows in one IMMEDIATE transaction: two processes starting at once are
+/// serialized here (the second waits for the first's lock row, then sees it).
+void register_sweep(SQLite::Database& db, const SweepSpec& spec, const SweepOptions& options,
+                    const std::string& trace, std::size_t points) {
+  SQLite::Transaction t(db, SQLite::TransactionBehavior::IMMEDIATE);
+  register_sweep_rows(db, spec, options, trace, points);
   t.commit();
 }
 
@@ -616,9 +622,16 @@ SweepOutcome run_sweep_impl(const SweepSpec& spec, const SweepOptions& options,
   out.total = spec.nsga2 ? std::min(points, spec.population * (spec.generations + 1)) : points;
 
   common::require_regular_output(options.db, "results database");
-  RemoveNewDatabase new_database{options.db, std::filesystem::exists(options.db)};
+  const std::string trace = given ? given->name : context.store.string();
+  // A new database appears complete, with this sweep's lock already in it, and never replaces
+  // one another process created meanwhile (create_results_database): a sweep refused by that
+  // lock never created the file, so it never removes it.
+  const bool created = create_results_database(options.db, [&](SQLite::Database& db) {
+    register_sweep_rows(db, spec, options, trace, points);
+  });
+  RemoveNewDatabase new_database{options.db, !created};
   const std::unique_ptr<SQLite::Database> db = open_results_database(options.db);
-  register_sweep(*db, spec, options, given ? given->name : context.store.string(), points);
+  register_sweep(*db, spec, options, trace, points);
   const ReleaseLock release_lock{*db, out.sweep_id};
   // WAL with synchronous = NORMAL: a commit is not fsynced, but survives the process being
   // killed (only a power cut can lose the last points; the file stays consistent). Set once the

@@ -46,10 +46,12 @@ struct SeedTrace {
   std::filesystem::path trace;
 };
 
-/// traced_workload of `workload` with each of `seeds` (its `seed` parameter), in order.
+/// traced_workload of `workload` with each of `seeds` (its `seed` parameter), in order;
+/// `tracing` (optional) is told of each seed about to be traced (not found in the store).
 std::vector<SeedTrace> trace_seeds(const WorkloadTracer& tracer, const nlohmann::json& workload,
                                    const std::vector<std::uint64_t>& seeds,
-                                   const std::filesystem::path& store);
+                                   const std::filesystem::path& store,
+                                   const std::function<void(std::uint64_t seed)>& tracing = {});
 
 /// The group of a workload's seeds: workload_hash of its resolved parameters without `seed`.
 std::string seed_group(const WorkloadTracer& tracer, const nlohmann::json& workload);

@@ -4,6 +4,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -50,6 +51,56 @@ TEST(SweepCommand, LimitResumeJsonAndCsv) {
   EXPECT_THAT(
       edx::testing::read_file(dir.path() / "p.csv"),
       StartsWith("point,run_id,backend.units.gemm.block,dsp,e2e_latency_mean,feasible,pareto\n"));
+}
+
+TEST(SweepCommand, ConcurrentStartsOnANewDatabaseLoseNothing) {
+  // Two sweeps of one spec started at once on a database that does not exist yet, ten times:
+  // the database is created once, complete (create_results_database), the process refused by
+  // the other's lock never removes it, and every point is stored; no temporary file remains.
+  // Two simulate --out of different platforms at once both keep their run.
+  edx::testing::TempDir dir;
+  write_sweep_trace(dir.path() / "t.db");
+  std::ofstream(dir.path() / "base.yaml")
+      << "name: cmd\nbackend: {clock_mhz: 100, spm_bytes: 67108864, units: {gemm: {block: 2}}}\n"
+         "scheduler: {policy: always, training_fraction: 0}\n";
+  std::ofstream(dir.path() / "other.yaml") << "extends: base.yaml\nname: other\n";
+  std::ofstream(dir.path() / "s.yaml")
+      << "base: base.yaml\ntrace: t.db\nparameters:\n  backend.units.gemm.block: {values: [1, 2, "
+         "4]}\nobjectives: [{minimize: e2e_latency_mean}]\n";
+  const std::string d = dir.path().string();
+  for (int attempt = 0; attempt < 10; ++attempt) {
+    const std::string db = fmt::format("{}/r{}.db", d, attempt);
+    const std::string one = fmt::format("{} sweep {}/s.yaml --db {} -j 1", kEdx, d, db);
+    const auto r = edx::testing::run_command(fmt::format(
+        "sh -c '({0} >/dev/null 2>&1; echo $? >{1}/a.rc) & ({0} >/dev/null 2>&1; echo $? "
+        ">{1}/b.rc) & wait'",
+        one, d));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string a = edx::testing::read_file(dir.path() / "a.rc");
+    const std::string b = edx::testing::read_file(dir.path() / "b.rc");
+    EXPECT_TRUE(a == "0\n" || b == "0\n") << attempt << ": " << a << b;
+    ASSERT_TRUE(std::filesystem::exists(db)) << attempt;
+    // The winner (or both, one after the other) stored every point.
+    const auto count = edx::testing::run_command(
+        fmt::format("{} export {} --sweep s --out {}/p{}.csv", kEdx, db, d, attempt));
+    ASSERT_EQ(count.exit_code, 0) << count.err;
+    EXPECT_THAT(count.out, HasSubstr("exported   3 rows")) << attempt;
+
+    const std::string runs = fmt::format("{}/s{}.db", d, attempt);
+    const std::string simulate = "{} simulate --config {}/{}.yaml --trace {}/t.db --out {}";
+    const auto s2 = edx::testing::run_command(
+        fmt::format("sh -c '({} >/dev/null 2>&1) & ({} >/dev/null 2>&1) & wait'",
+                    fmt::format(fmt::runtime(simulate), kEdx, d, "base", d, runs),
+                    fmt::format(fmt::runtime(simulate), kEdx, d, "other", d, runs)));
+    ASSERT_EQ(s2.exit_code, 0);
+    const auto exported = edx::testing::run_command(
+        fmt::format("{} export {} --table runs --out {}/runs{}.csv", kEdx, runs, d, attempt));
+    ASSERT_EQ(exported.exit_code, 0) << exported.err;
+    EXPECT_THAT(exported.out, HasSubstr("exported   2 rows")) << attempt;
+  }
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+  }
 }
 
 TEST(SweepCommand, BadInputIsOneLine) {
