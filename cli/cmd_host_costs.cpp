@@ -45,6 +45,16 @@ std::vector<LoadedTrace> load(const std::vector<std::string>& paths) {
 }
 
 void fit(const HostCostsArguments& args) {
+  // Refused before any work: the table would overwrite its own input.
+  for (const std::string& trace : args.traces) {
+    std::error_code ec;
+    if (std::filesystem::equivalent(trace, args.out, ec)) {
+      throw std::runtime_error(fmt::format(
+          "{}: --out is a --trace of this fit; writing the table would overwrite its input "
+          "(give another --out)",
+          args.out));
+    }
+  }
   const std::vector<LoadedTrace> traces = load(args.traces);
   std::vector<arch::CostFitInput> inputs;
   std::string sources;

@@ -98,7 +98,16 @@ void add_sweep_command(CLI::App& app) {
                   "one task at a time: start one rank per core)")
       ->check(CLI::Range(1, 256));
   cmd->add_option("--limit", args->limit,
-                  "Stop after simulating this many points (a later run resumes)");
+                  "Stop after simulating this many points, at least 1 (a later run resumes; omit "
+                  "it for no limit)")
+      ->check(CLI::Validator(
+          [](const std::string& value) {
+            return value.find_first_not_of('0') == std::string::npos
+                       ? std::string("expected a number of points >= 1 (omit --limit for no "
+                                     "limit)")
+                       : std::string();
+          },
+          "POINTS >= 1"));
   cmd->add_flag("--per-frame", args->per_frame,
                 "Also store every point's frames and offload rows (large)");
   cmd->add_flag("--json", args->json, "Print the points and front as JSON (only JSON on stdout)");

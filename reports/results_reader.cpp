@@ -103,13 +103,8 @@ ResultsData read_results(const std::filesystem::path& path) {
                         t->name));
       }
     }
-    const int version = db.execAndGet("PRAGMA user_version").getInt();
-    if (version > results::kSchemaVersion) {
-      throw std::runtime_error(
-          fmt::format("results schema version {} is newer than this edx reads ({}); use a newer "
-                      "edx",
-                      version, results::kSchemaVersion));
-    }
+    results::check_schema_version(db.execAndGet("PRAGMA user_version").getInt(),
+                                  path.string());
     for (results::RunRow& row :
          results::select_rows(db, results::runs_table(), {"", {}, "run_id"})) {
       RunData& r = out.runs.emplace_back();
@@ -129,6 +124,7 @@ ResultsData read_results(const std::filesystem::path& path) {
     throw std::runtime_error(
         fmt::format("{}: not a readable edx results database: {}", path.string(), e.what()));
   } catch (const std::runtime_error& e) {
+    if (std::string(e.what()).starts_with(path.string() + ": ")) throw;
     throw std::runtime_error(fmt::format("{}: {}", path.string(), e.what()));
   }
   return out;

@@ -140,12 +140,7 @@ void require_results_database(SQLite::Database& db, const std::string& path) {
   };
   if (tables.empty()) return;
   if (has("runs")) {
-    const int version = db.execAndGet("PRAGMA user_version").getInt();
-    if (version > results::kSchemaVersion) {
-      throw std::runtime_error(fmt::format(
-          "{}: results schema version {} is newer than this edx writes ({}); use a newer edx", path,
-          version, results::kSchemaVersion));
-    }
+    results::check_schema_version(db.execAndGet("PRAGMA user_version").getInt(), path);
     return;
   }
   if (has("meta") && has("frames") && has("kernels")) {

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include <stdexcept>
+
 namespace edx::results {
 namespace {
 
@@ -39,6 +41,19 @@ TableSpec spec(std::string name, TableGroup group, std::string doc,
 }
 
 }  // namespace
+
+void check_schema_version(int version, const std::string& path) {
+  if (version > kSchemaVersion) {
+    throw std::runtime_error(fmt::format(
+        "{}: results schema version {} is newer than this edx reads ({}); use a newer edx", path,
+        version, kSchemaVersion));
+  }
+  if (version < 0) {
+    throw std::runtime_error(fmt::format(
+        "{}: results schema version {} (user_version) is not one edx writes (0 to {})", path,
+        version, kSchemaVersion));
+  }
+}
 
 std::string run_id_of(const std::string& config_hash, const std::string& trace_hash) {
   return config_hash + "-" + trace_hash;

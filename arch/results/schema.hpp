@@ -26,6 +26,11 @@ namespace edx::results {
 // readers read every older version and refuse newer ones.
 inline constexpr int kSchemaVersion = 5;
 
+/// Throws std::runtime_error "<path>: results schema version N is newer than this edx reads
+/// (kSchemaVersion); use a newer edx" for a version above kSchemaVersion, and names a negative
+/// one as not an edx results database's: what every command that opens one checks first.
+void check_schema_version(int version, const std::string& path);
+
 /// "<config_hash>-<trace_hash>": the key of a run.
 std::string run_id_of(const std::string& config_hash, const std::string& trace_hash);
 

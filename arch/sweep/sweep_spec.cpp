@@ -427,6 +427,11 @@ void read_constraints(YamlFields& top, SweepSpec& s) {
     constraint.line = yaml_line(c);
     constraint.min = entry.min.value_or(constraint.min);
     constraint.max = entry.max.value_or(constraint.max);
+    if (entry.min && entry.max && *entry.min > *entry.max) {
+      YamlFields(c, s.file, key)
+          .fail("min", fmt::format("min {} is above max {}: no value can meet it", *entry.min,
+                                   *entry.max));
+    }
     constraint.max_relative = entry.max_relative;
     if (constraint.relative() || c["reference"]) {
       read_reference(s, key, c, constraint);

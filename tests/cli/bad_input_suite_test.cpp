@@ -141,7 +141,31 @@ std::vector<BadInputCase> cases() {
        "'{edx}' export '{dir}/t.db' --table runs --out '{dir}/x.csv'", 1,
        "edx: error: {dir}/t.db: --table: no table 'runs' (tables: frames, kernels, meta, ops, "
        "tasks)"},
+      // A results database of a version this edx does not write: refused by every reader.
+      {"c3_export_of_a_negative_schema_version",
+       [](const fs::path& d) {
+         results_db(d, "r.db");
+         SQLite::Database((d / "r.db").string(), SQLite::OPEN_READWRITE)
+             .exec("PRAGMA user_version = -3");
+       },
+       "'{edx}' export '{dir}/r.db' --table runs --out '{dir}/x.csv'", 1,
+       "edx: error: {dir}/r.db: results schema version -3 (user_version) is not one edx writes "
+       "(0 to 5)"},
+      {"c3_export_of_a_newer_schema_version",
+       [](const fs::path& d) {
+         results_db(d, "r.db");
+         SQLite::Database((d / "r.db").string(), SQLite::OPEN_READWRITE)
+             .exec("PRAGMA user_version = 99");
+       },
+       "'{edx}' export '{dir}/r.db' --table runs --out '{dir}/x.csv'", 1,
+       "edx: error: {dir}/r.db: results schema version 99 is newer than this edx reads (5); use a "
+       "newer edx"},
       // 4. A failing command leaves nothing behind.
+      {"c4_host_cost_fit_onto_its_own_trace",
+       [](const fs::path& d) { fs::copy_file(kGolden, d / "t.db"); },
+       "'{edx}' host-costs fit --trace '{dir}/t.db' --out '{dir}/t.db'", 1,
+       "edx: error: {dir}/t.db: --out is a --trace of this fit; writing the table would "
+       "overwrite its input (give another --out)"},
       {"c4_sweep_objective_names_no_metric",
        [](const fs::path& d) { write(d, "s.yaml", sweep_spec("{golden}", "happiness")); },
        "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
@@ -214,6 +238,17 @@ std::vector<BadInputCase> cases() {
        "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}' --out '{dir}/r.db'", 1,
        "edx: error: {dir}/p.yaml:3: backend.clock_mhz: expected a number in (0, 1000], got "
        "'1e400'"},
+      {"c6_sweep_limit_of_zero", [](const fs::path& d) { write(d, "s.yaml", sweep_spec()); },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db' --limit 0", 2,
+       "edx: --limit: expected a number of points >= 1 (omit --limit for no limit) (see edx "
+       "--help)"},
+      {"c6_constraint_with_min_above_max",
+       [](const fs::path& d) {
+         write(d, "s.yaml", sweep_spec() + "constraints: [{metric: dsp, min: 5, max: 1}]\n");
+       },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
+       "edx: error: {dir}/s.yaml:6: constraints[0].min: min 5 is above max 1: no value can meet "
+       "it"},
       {"c6_empty_output_path", none,
        "'{edx}' simulate --config '{car}' --trace '{golden}' --out ''", 2,
        "edx: --out: expected a path, got '' (see edx --help)"},
