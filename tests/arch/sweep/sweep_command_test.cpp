@@ -21,16 +21,22 @@ using ::testing::StartsWith;
 
 const std::string kEdx = edx::testing::built_binary("edx");
 
-TEST(SweepCommand, LimitResumeJsonAndCsv) {
-  edx::testing::TempDir dir;
-  write_sweep_trace(dir.path() / "t.db");
-  std::ofstream(dir.path() / "base.yaml")
+/// In `dir`: the fixture's trace t.db, a platform base.yaml and a spec s.yaml over three GEMM
+/// blocks minimizing `objectives` (YAML list items).
+void write_block_sweep(const std::filesystem::path& dir, const std::string& objectives) {
+  write_sweep_trace(dir / "t.db");
+  std::ofstream(dir / "base.yaml")
       << "name: cmd\nbackend: {clock_mhz: 100, spm_bytes: 67108864, units: {gemm: {block: 2}}}\n"
          "scheduler: {policy: always, training_fraction: 0}\n";
-  std::ofstream(dir.path() / "s.yaml")
+  std::ofstream(dir / "s.yaml")
       << "base: base.yaml\ntrace: t.db\nparameters:\n  backend.units.gemm.block: {values: [1, 2, "
-         "4]}\n"
-         "objectives: [{minimize: e2e_latency_mean}, {minimize: dsp}]\n";
+         "4]}\nobjectives: ["
+      << objectives << "]\n";
+}
+
+TEST(SweepCommand, LimitResumeJsonAndCsv) {
+  edx::testing::TempDir dir;
+  write_block_sweep(dir.path(), "{minimize: e2e_latency_mean}, {minimize: dsp}");
   const std::string db = (dir.path() / "r.db").string();
   const std::string spec = (dir.path() / "s.yaml").string();
   auto r =
@@ -59,14 +65,8 @@ TEST(SweepCommand, ConcurrentStartsOnANewDatabaseLoseNothing) {
   // the other's lock never removes it, and every point is stored; no temporary file remains.
   // Two simulate --out of different platforms at once both keep their run.
   edx::testing::TempDir dir;
-  write_sweep_trace(dir.path() / "t.db");
-  std::ofstream(dir.path() / "base.yaml")
-      << "name: cmd\nbackend: {clock_mhz: 100, spm_bytes: 67108864, units: {gemm: {block: 2}}}\n"
-         "scheduler: {policy: always, training_fraction: 0}\n";
+  write_block_sweep(dir.path(), "{minimize: e2e_latency_mean}");
   std::ofstream(dir.path() / "other.yaml") << "extends: base.yaml\nname: other\n";
-  std::ofstream(dir.path() / "s.yaml")
-      << "base: base.yaml\ntrace: t.db\nparameters:\n  backend.units.gemm.block: {values: [1, 2, "
-         "4]}\nobjectives: [{minimize: e2e_latency_mean}]\n";
   const std::string d = dir.path().string();
   for (int attempt = 0; attempt < 10; ++attempt) {
     const std::string db = fmt::format("{}/r{}.db", d, attempt);

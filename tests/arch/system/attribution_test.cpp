@@ -14,26 +14,11 @@
 #include "arch/system/system_des.hpp"
 #include "arch/system/system_model.hpp"
 #include "tests/arch/system/hand_tasks.hpp"
+#include "tests/arch/system/host_frames.hpp"
 #include "workloads/trace/reader.hpp"
 
 namespace edx::arch {
 namespace {
-
-std::vector<SystemFrameWork> host_frames(std::size_t n, double fe_ms, double be_ms) {
-  std::vector<SystemFrameWork> work(n);
-  for (std::size_t f = 0; f < n; ++f) {
-    work[f].frame_id = static_cast<std::int64_t>(f);
-    work[f].frontend_host_ms = fe_ms;
-    work[f].backend_host_ms = be_ms;
-  }
-  return work;
-}
-
-SystemRun run_baseline(const std::vector<SystemFrameWork>& work, const SystemConfig& system,
-                       int cores) {
-  return run_system(work, FrontendConfig{}, *fpga_matrix_units(), *Platform{}.link, cores, system,
-                    /*accelerated=*/false, /*isolated=*/false);
-}
 
 /// Frame f's cause `name` in ms (0 when the run has no such cause).
 double cause_ms(const SystemRun& r, std::size_t f, const std::string& name) {

@@ -12,27 +12,11 @@
 
 #include "arch/host/frontend_graph.hpp"
 #include "arch/system/system_model.hpp"
+#include "tests/arch/system/host_frames.hpp"
 #include "workloads/trace/reader.hpp"
 
 namespace edx::arch {
 namespace {
-
-/// n baseline frames: the frontend thread works `fe_ms`, the backend thread `be_ms`.
-std::vector<SystemFrameWork> host_frames(std::size_t n, double fe_ms, double be_ms) {
-  std::vector<SystemFrameWork> work(n);
-  for (std::size_t f = 0; f < n; ++f) {
-    work[f].frame_id = static_cast<std::int64_t>(f);
-    work[f].frontend_host_ms = fe_ms;
-    work[f].backend_host_ms = be_ms;
-  }
-  return work;
-}
-
-SystemRun run_baseline(const std::vector<SystemFrameWork>& work, const SystemConfig& system,
-                       int cores, bool isolated = false) {
-  return run_system(work, FrontendConfig{}, *fpga_matrix_units(), *Platform{}.link, cores, system,
-                    /*accelerated=*/false, isolated);
-}
 
 double ms(sim::Time t) { return sim::to_ms(t); }
 
