@@ -92,7 +92,8 @@ ResultsData read_results(const std::filesystem::path& path) {
   ResultsData out;
   out.path = path;
   try {
-    SQLite::Database db(path.string(), SQLite::OPEN_READONLY);
+    const std::unique_ptr<SQLite::Database> opened = results::open_for_reading(path);
+    SQLite::Database& db = *opened;
     const std::set<std::string> tables = tables_of(db);
     // Every run table but those added after version 0 (timelines).
     for (const results::TableSpec* t : results::tables_of(results::TableGroup::kRun)) {
@@ -103,8 +104,7 @@ ResultsData read_results(const std::filesystem::path& path) {
                         t->name));
       }
     }
-    results::check_schema_version(db.execAndGet("PRAGMA user_version").getInt(),
-                                  path.string());
+    results::check_schema_version(db.execAndGet("PRAGMA user_version").getInt(), path.string());
     for (results::RunRow& row :
          results::select_rows(db, results::runs_table(), {"", {}, "run_id"})) {
       RunData& r = out.runs.emplace_back();

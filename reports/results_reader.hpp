@@ -2,7 +2,8 @@
 // Reads a results database written by `edx simulate --out` (arch/results/results_db.hpp; the
 // tables and columns: arch/results/schema.hpp, docs/RESULTS.md) for `edx report` and
 // `edx check`, of any schema version up to this edx's (a column a database lacks reads as NULL).
-// Read-only: the database is opened with SQLITE_OPEN_READONLY and never changed.
+// Read-only: the database is never changed (results::open_for_reading: opened read-write when
+// writable only so that its -wal/-shm files go at close).
 //
 // Sweep tables are optional (written by `edx sweep`, docs/SWEEPS.md): when sweeps and
 // sweep_points are there the report draws each sweep's points and Pareto front (docs/REPORTS.md).

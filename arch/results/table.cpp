@@ -3,6 +3,7 @@
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <iterator>
@@ -274,6 +275,15 @@ std::string table_reference(const TableSpec& table) {
     md += fmt::format("| `{}` | {} | {} | {} |\n", c.name, type, c.unit, doc);
   }
   return md;
+}
+
+std::unique_ptr<SQLite::Database> open_for_reading(const std::filesystem::path& path) {
+  const std::filesystem::path folder =
+      path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  const bool writable =
+      ::access(path.c_str(), W_OK) == 0 && ::access(folder.c_str(), W_OK | X_OK) == 0;
+  return std::make_unique<SQLite::Database>(
+      path.string(), writable ? SQLite::OPEN_READWRITE : SQLite::OPEN_READONLY);
 }
 
 }  // namespace edx::results

@@ -13,7 +13,9 @@
 // A column a database lacks (written before that column existed) reads as NULL.
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -191,6 +193,12 @@ std::vector<std::string> existing_columns(SQLite::Database& db, std::string_view
 /// Creates the table when missing and adds the declared columns it lacks (ALTER TABLE ADD
 /// COLUMN: an added column is nullable or has a default).
 void create_or_upgrade(SQLite::Database& db, const TableSpec& table);
+
+/// Opens a database to read it without leaving anything beside it (issue 45): read-write but
+/// never creating it when the file and its folder are writable, so that the last connection's
+/// close checkpoints a WAL database and removes its -wal and -shm files, which a read-only
+/// connection would leave behind; read-only otherwise. Nothing is written by reading.
+std::unique_ptr<SQLite::Database> open_for_reading(const std::filesystem::path& path);
 /// Inserts rows of values (each in the table's column order); `replace`: INSERT OR REPLACE.
 void insert_values(SQLite::Database& db, const TableSpec& table, const std::vector<ValueRow>& rows,
                    bool replace = false);

@@ -814,10 +814,10 @@ std::string table_csv(SQLite::Database& db, const std::string& db_name, const st
 
 std::size_t export_csv_from(const std::filesystem::path& db_path, const std::string& table,
                             const std::string& sweep, const std::filesystem::path& out) {
-  SQLite::Database db(db_path.string(), SQLite::OPEN_READONLY);
+  const std::unique_ptr<SQLite::Database> opened = results::open_for_reading(db_path);
+  SQLite::Database& db = *opened;
   if (db.tableExists("runs")) {  // a results database (a trace's tables are exported as they are)
-    results::check_schema_version(db.execAndGet("PRAGMA user_version").getInt(),
-                                  db_path.string());
+    results::check_schema_version(db.execAndGet("PRAGMA user_version").getInt(), db_path.string());
   }
   std::size_t rows = 0;
   const std::string csv = sweep.empty() ? table_csv(db, db_path.string(), table, rows)
