@@ -103,8 +103,9 @@ void add_sweep_command(CLI::App& app) {
       ->check(CLI::Validator(
           [](const std::string& value) {
             return value.find_first_not_of('0') == std::string::npos
-                       ? std::string("expected a number of points >= 1 (omit --limit for no "
-                                     "limit)")
+                       ? std::string(
+                             "expected a number of points >= 1 (omit --limit for no "
+                             "limit)")
                        : std::string();
           },
           "POINTS >= 1"));

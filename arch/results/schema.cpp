@@ -49,9 +49,9 @@ void check_schema_version(int version, const std::string& path) {
         version, kSchemaVersion));
   }
   if (version < 0) {
-    throw std::runtime_error(fmt::format(
-        "{}: results schema version {} (user_version) is not one edx writes (0 to {})", path,
-        version, kSchemaVersion));
+    throw std::runtime_error(
+        fmt::format("{}: results schema version {} (user_version) is not one edx writes (0 to {})",
+                    path, version, kSchemaVersion));
   }
 }
 
