@@ -53,7 +53,7 @@ void run_seeds(const SimulateArguments& args) {
     trees.push_back({{"system", result.to_json()}});
     runs.push_back({{"seed", s.seed},
                     {"trace", s.trace.string()},
-                    {"run_id", result.config_hash + "-" + result.trace_hash}});
+                    {"run_id", results::run_id_of(result.config_hash, result.trace_hash)}});
   }
   const auto figures = reports::figures_over_runs(trees);
   if (args.json) {

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "arch/results/causes.hpp"
+
 namespace edx::reports {
 
 nlohmann::json explain_run(const ResultsData& data, const ExplainRequest& request) {
@@ -30,10 +32,21 @@ nlohmann::json explain_run(const ResultsData& data, const ExplainRequest& reques
   for (const results::FrameRow& f : run.frame_rows) {
     if (f.frame_id == id) frame["mode"] = f.mode;
   }
+  std::vector<results::FrameCausesRow> rows;  // the frame's, each checked by cause_table_of
   for (const results::FrameCausesRow& r : run.frame_causes) {
-    if (r.frame_id != id) continue;
+    if (r.frame_id == id) rows.push_back(r);
+  }
+  for (const results::FrameCausesRow& r : rows) {
+    results::CauseTable table;
+    try {
+      table = results::cause_table_of(rows, {}, r.variant, r.run);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(fmt::format("{}: {}", data.path.string(), e.what()));
+    }
+    nlohmann::json causes = nlohmann::json::object();
+    for (std::size_t c = 0; c < table.causes.size(); ++c) causes[table.causes[c]] = table.at(0, c);
     frame["variants"][r.variant][r.run] = {
-        {"latency_ms", r.latency_ms}, {"dropped", r.dropped}, {"causes", r.causes}};
+        {"latency_ms", r.latency_ms}, {"dropped", r.dropped}, {"causes", std::move(causes)}};
   }
   if (frame["variants"].empty()) {
     throw std::runtime_error(

@@ -465,14 +465,20 @@ class RunReport {
         double latency;
         std::vector<double> band;
       };
+      const results::CauseTable table =
+          results::cause_table_of(run_.frame_causes, run_.frame_rows, variant, "isolated");
+      std::vector<std::size_t> band_of_cause;  // each column's band ("other": shown.size())
+      for (const std::string& cause : table.causes) {
+        const auto at =
+            std::find(shown.begin(), shown.end(), std::string(results::cause_resource(cause)));
+        band_of_cause.push_back(static_cast<std::size_t>(at - shown.begin()));
+      }
       std::vector<Frame> frames;
-      for (const results::FrameCausesRow& r : run_.frame_causes) {
-        if (r.variant != variant || r.run != "isolated" || r.dropped) continue;
-        Frame f{r.latency_ms, std::vector<double>(bands, 0.0)};
-        for (const auto& [cause, ms] : r.causes.items()) {
-          const auto at =
-              std::find(shown.begin(), shown.end(), std::string(results::cause_resource(cause)));
-          f.band[static_cast<std::size_t>(at - shown.begin())] += ms.get<double>();
+      for (std::size_t row = 0; row < table.frames.size(); ++row) {
+        if (table.frames[row].dropped) continue;
+        Frame f{table.frames[row].latency_ms, std::vector<double>(bands, 0.0)};
+        for (std::size_t c = 0; c < table.causes.size(); ++c) {
+          f.band[band_of_cause[c]] += table.at(row, c);
         }
         frames.push_back(std::move(f));
       }

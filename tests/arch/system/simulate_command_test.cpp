@@ -276,6 +276,21 @@ TEST(SimulateCommand, ExplainSplitsEveryFramesLatencyIntoCauses) {
       edx::testing::run_command(fmt::format("{} explain {}", kEdx, analytical.string()));
   EXPECT_EQ(none.exit_code, 1);
   EXPECT_THAT(none.err, HasSubstr("has no critical-path attribution"));
+  // A corrupted cause cell (text where a number of ms belongs): one line naming the table,
+  // the frame and the cause, exit 1.
+  {
+    SQLite::Database sql(db.string(), SQLite::OPEN_READWRITE);
+    sql.exec(fmt::format(
+        "UPDATE frame_causes SET causes_json = '{{\"host.run\": \"x\"}}' WHERE frame_id = {}",
+        first_frame));
+  }
+  const auto corrupt = edx::testing::run_command(
+      fmt::format("{} explain {} --frame {}", kEdx, db.string(), first_frame));
+  EXPECT_EQ(corrupt.exit_code, 1);
+  EXPECT_THAT(corrupt.err, HasSubstr(fmt::format("frame_causes: run")));
+  EXPECT_THAT(corrupt.err, HasSubstr(fmt::format("frame {}: cause host.run is not a finite number",
+                                                 first_frame)));
+  EXPECT_EQ(std::count(corrupt.err.begin(), corrupt.err.end(), '\n'), 1) << corrupt.err;
 }
 
 TEST(SimulateCommand, OverSeedsEveryFigureHasItsInterval) {
@@ -323,7 +338,10 @@ TEST(SimulateCommand, OverSeedsEveryFigureHasItsInterval) {
                     (dir.path() / "seeded.yaml").string(), (dir.path() / "store").string()),
         fmt::format("--workload {} --seeds 3-1 --trace-store {}", (dir.path() / "w.yaml").string(),
                     (dir.path() / "store").string()),
-        fmt::format("--workload {}", (dir.path() / "w.yaml").string())}) {
+        fmt::format("--workload {}", (dir.path() / "w.yaml").string()),
+        fmt::format("--workload {} --seeds 1-2 --trace-store {} --timeline {}",
+                    (dir.path() / "w.yaml").string(), (dir.path() / "store").string(),
+                    (dir.path() / "t.json").string())}) {
     const auto bad = edx::testing::run_command(
         fmt::format("{} simulate --config {} {}", kEdx, kCarConfig.string(), args));
     EXPECT_NE(bad.exit_code, 0) << args;
