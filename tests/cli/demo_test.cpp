@@ -7,6 +7,7 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -29,6 +30,33 @@ std::string demo_command(const fs::path& out) {
          " --shared " EDX_SHARED_DATA_DIR " --out " + out.string();
 }
 
+/// The reduced demo's run: its output folder, exit status, stdout and stderr. Under CTest the
+/// fixture tests/cli/demo_fixture.sh ran it once for every test here (EDX_DEMO_RUN names its
+/// folder); otherwise it runs once per process, into a temporary folder.
+struct DemoRun {
+  fs::path out;
+  edx::testing::CommandResult result;
+};
+
+const DemoRun& demo_run() {
+  static const TempDir scratch;
+  static const DemoRun run = [] {
+    const char* fixture = std::getenv("EDX_DEMO_RUN");
+    if (fixture == nullptr || *fixture == '\0') {
+      const fs::path out = scratch.path() / "demo";
+      return DemoRun{out, run_command(demo_command(out))};
+    }
+    const fs::path dir(fixture);
+    DemoRun r{dir / "out", {}};
+    const std::string status = read_file(dir / "exit_code");
+    r.result.exit_code = status.empty() ? -1 : std::stoi(status);
+    r.result.out = read_file(dir / "stdout");
+    r.result.err = read_file(dir / "stderr");
+    return r;
+  }();
+  return run;
+}
+
 /// The single integer a query returns (-1 on any error).
 long long query_integer(const fs::path& db, const std::string& sql) {
   sqlite3* handle = nullptr;
@@ -46,9 +74,8 @@ long long query_integer(const fs::path& db, const std::string& sql) {
 }
 
 TEST(Demo, ReducedDemoRunsTheWholeChain) {
-  const TempDir dir;
-  const fs::path out = dir.path() / "demo";
-  const auto result = run_command(demo_command(out));
+  const fs::path& out = demo_run().out;
+  const edx::testing::CommandResult& result = demo_run().result;
   ASSERT_EQ(result.exit_code, 0) << result.err.substr(
       result.err.size() > 4000 ? result.err.size() - 4000 : 0);
 
@@ -202,11 +229,10 @@ TEST(Demo, ReportRendersInABrowserAt1280Pixels) {
   if (!edx::testing::chromium_available()) {
     GTEST_SKIP() << "chromium not installed (./edx test installs it): browser check skipped";
   }
+  ASSERT_EQ(demo_run().result.exit_code, 0) << demo_run().result.err;
   const TempDir dir;
-  const fs::path out = dir.path() / "demo";
-  ASSERT_EQ(run_command(demo_command(out)).exit_code, 0);
-  const auto check_or =
-      edx::testing::browser_check(out / "report" / "index.html", dir.path() / "chromium");
+  const auto check_or = edx::testing::browser_check(demo_run().out / "report" / "index.html",
+                                                    dir.path() / "chromium");
   ASSERT_TRUE(check_or);
   const nlohmann::json& check = *check_or;
   EXPECT_GE(check.at("images").get<int>(), 5) << check.dump();
