@@ -35,6 +35,32 @@ void refuse_duplicate_keys(const YAML::Node& node, const std::string& where,
   }
 }
 
+/// Walks `node` as its readers will, aliases expanded, counting the nodes it stands for into
+/// `nodes`; stops at the first node past kMaxYamlNodes or kMaxYamlDepth, so the walk itself
+/// costs at most kMaxYamlNodes visits whatever the document.
+void check_yaml_limits(const YAML::Node& node, std::size_t depth, std::size_t& nodes,
+                       const std::string& where) {
+  if (++nodes > kMaxYamlNodes) {
+    throw InputError({where, yaml_line(node)}, "",
+                     fmt::format("more than {} YAML nodes with its aliases expanded (nested "
+                                 "anchors? edx reads documents of at most {} nodes)",
+                                 kMaxYamlNodes, kMaxYamlNodes));
+  }
+  if (!node.IsMap() && !node.IsSequence()) return;
+  if (depth >= kMaxYamlDepth) {
+    throw InputError({where, yaml_line(node)}, "",
+                     fmt::format("nested deeper than {} maps and lists", kMaxYamlDepth));
+  }
+  for (const auto& item : node) {
+    if (node.IsMap()) {
+      check_yaml_limits(item.first, depth + 1, nodes, where);
+      check_yaml_limits(item.second, depth + 1, nodes, where);
+    } else {
+      check_yaml_limits(item, depth + 1, nodes, where);
+    }
+  }
+}
+
 }  // namespace
 
 int yaml_line(const YAML::Node& node) {
@@ -79,6 +105,8 @@ YAML::Node load_yaml_map(const std::string& text, const std::string& where,
   } catch (const YAML::Exception& e) {
     throw InputError({where, e.mark.line + 1}, "", "not valid YAML: " + e.msg);
   }
+  std::size_t nodes = 0;
+  check_yaml_limits(root, 0, nodes, where);
   if (!root.IsMap()) throw InputError({where}, "", "expected a map of " + what);
   refuse_duplicate_keys(root, where, "");
   return root;

@@ -5,6 +5,7 @@
 // taken).
 #include <yaml-cpp/yaml.h>
 
+#include <cstddef>
 #include <filesystem>
 #include <initializer_list>
 #include <map>
@@ -21,9 +22,18 @@ namespace edx {
 /// be read.
 std::string read_input_file(const std::filesystem::path& path, const std::string& what);
 
-/// Parses `text` (read from `where`) and checks that its top level is a map. Errors:
-/// "where:line: not valid YAML: ...", "where: expected a map of <what>" and "where:line: key:
-/// written twice (also on line N)".
+/// Input limits of every YAML document edx reads (docs/RELIABILITY.md, "Input limits"). An
+/// alias stands for its anchored node wherever it is written, so nested anchors ("a YAML alias
+/// bomb") make a few lines stand for 10^9 nodes; every reader walks the expanded document.
+/// Real inputs are far below: the largest platform has about 400 nodes, a sweep spec under 10^4.
+inline constexpr std::size_t kMaxYamlNodes = 100'000;  ///< nodes, aliases expanded
+inline constexpr std::size_t kMaxYamlDepth = 64;       ///< maps and lists within each other
+
+/// Parses `text` (read from `where`) and checks that its top level is a map, before any other
+/// reading, that it keeps the limits above. Errors: "where:line: not valid YAML: ...",
+/// "where:line: more than 100000 YAML nodes with its aliases expanded (...)", "where:line:
+/// nested deeper than 64 maps and lists", "where: expected a map of <what>" and "where:line:
+/// key: written twice (also on line N)".
 YAML::Node load_yaml_map(const std::string& text, const std::string& where,
                          const std::string& what);
 

@@ -79,6 +79,17 @@ std::string sweep_spec(const std::string& trace = "{golden}",
          objective + "}]\n";
 }
 
+/// Nine levels of anchors, each a list of ten aliases of the one before: 10^9 nodes expanded.
+std::string alias_bomb() {
+  std::string text = "l0: &l0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int level = 1; level < 9; ++level) {
+    text += fmt::format("l{}: &l{} [", level, level);
+    for (int i = 0; i < 10; ++i) text += fmt::format("{}*l{}", i == 0 ? "" : ", ", level - 1);
+    text += "]\n";
+  }
+  return text;
+}
+
 /// What is in a folder: each entry's type and, for regular files, their size and a hash of
 /// their bytes.
 std::map<std::string, std::string> snapshot(const fs::path& dir) {
@@ -120,6 +131,17 @@ std::vector<BadInputCase> cases() {
        "'{edx}' sweep '{dir}/big.yaml' --db '{dir}/r.db' --limit 2", 1,
        "edx: error: {dir}/big.yaml:4: parameters: the grid has 1e+09 points (more than 10^6); "
        "use random sampling or a search"},
+      // ... and a YAML alias bomb (nine levels of ten aliases: 10^9 nodes in ten lines) in a
+      // platform and in a sweep spec, at once, after at most 10^5 nodes walked.
+      {"c1_platform_alias_bomb", [](const fs::path& d) { write(d, "bomb.yaml", alias_bomb()); },
+       "'{edx}' simulate --config '{dir}/bomb.yaml' --trace '{golden}'", 1,
+       "edx: error: {dir}/bomb.yaml:1: more than 100000 YAML nodes with its aliases expanded "
+       "(nested anchors? edx reads documents of at most 100000 nodes)"},
+      {"c1_sweep_spec_alias_bomb",
+       [](const fs::path& d) { write(d, "s.yaml", sweep_spec() + alias_bomb()); },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
+       "edx: error: {dir}/s.yaml:6: more than 100000 YAML nodes with its aliases expanded "
+       "(nested anchors? edx reads documents of at most 100000 nodes)"},
       // 2. Special files: a database output that is a FIFO is refused, not replaced.
       {"c2_results_database_onto_a_fifo",
        [](const fs::path& d) { ASSERT_EQ(::mkfifo((d / "ff").c_str(), 0600), 0); },

@@ -2,10 +2,14 @@
 // those four against hand-written expectations on a small struct.
 #include "common/config_fields.hpp"
 
+#include <fmt/format.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 #include <string>
+
+#include "common/yaml_fields.hpp"
 
 namespace edx {
 namespace {
@@ -321,6 +325,53 @@ TEST(ConfigFields, ValidateAtPlacesTheRuleOfAKeyBelowTheMap) {
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(), "p.yaml:1: backend.a: expected more, got '1'");
   }
+}
+
+}  // namespace
+}  // namespace edx
+
+namespace edx {
+namespace {
+
+/// load_yaml_map's error on `text` ("" when it is read).
+std::string load_error(const std::string& text) {
+  try {
+    load_yaml_map(text, "in.yaml", "keys");
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(YamlLimits, NodesAndDepthAreCountedWithAliasesExpanded) {
+  // Nodes: the root map, its key, the list and N scalars = N + 3; at most 100 000 are read.
+  const auto flat_list = [](std::size_t n) {
+    std::string text = "a: [";
+    for (std::size_t i = 0; i < n; ++i) text += i == 0 ? "0" : ",0";
+    return text + "]\n";
+  };
+  EXPECT_EQ(load_error(flat_list(kMaxYamlNodes - 3)), "");
+  EXPECT_EQ(load_error(flat_list(kMaxYamlNodes - 2)),
+            "in.yaml:1: more than 100000 YAML nodes with its aliases expanded (nested anchors? "
+            "edx reads documents of at most 100000 nodes)");
+  // Nine levels of ten aliases each stand for 10^9 nodes: refused, after at most 10^5 visits.
+  std::string bomb = "l0: &l0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int level = 1; level < 9; ++level) {
+    bomb += fmt::format("l{}: &l{} [", level, level);
+    for (int i = 0; i < 10; ++i) bomb += fmt::format("{}*l{}", i == 0 ? "" : ", ", level - 1);
+    bomb += "]\n";
+  }
+  EXPECT_THAT(load_error(bomb), ::testing::StartsWith("in.yaml:"));
+  EXPECT_THAT(load_error(bomb), ::testing::HasSubstr("more than 100000 YAML nodes"));
+  // An alias used as meant (one list written twice) is read, each use a copy of the anchor's.
+  const YAML::Node root = load_yaml_map("a: &l [1, 2]\nb: *l\n", "in.yaml", "keys");
+  EXPECT_EQ(root["b"][1].as<int>(), 2);
+  // Depth: the root map and 63 lists within each other are 64 levels; one more is refused.
+  const auto nested = [](std::size_t lists) {
+    return "a: " + std::string(lists, '[') + std::string(lists, ']') + "\n";
+  };
+  EXPECT_EQ(load_error(nested(kMaxYamlDepth - 1)), "");
+  EXPECT_EQ(load_error(nested(kMaxYamlDepth)), "in.yaml:1: nested deeper than 64 maps and lists");
 }
 
 }  // namespace
