@@ -62,6 +62,12 @@ struct SortKey {
   std::string text;  ///< as shown in messages, e.g. "timestamp 1.5 s"
 };
 
+/// The largest position coordinate read (m). Positions are differenced, squared and summed in
+/// double: at 10^9 m a coordinate still resolves 2·10^-7 m, and sums of squares stay far from
+/// overflow (beyond about 10^154 m they are inf: an ATE of inf, or of a plausible-looking 84 m
+/// from what rounding leaves). GPS's Earth-centred coordinates are below 7·10^6 m.
+constexpr double kMaxCoordinateM = 1e9;
+
 /// One line of a file being parsed: its tokens and where it came from.
 struct Row {
   const std::string& source;
@@ -86,6 +92,17 @@ struct Row {
     if (!std::isfinite(value)) {
       fail_at(source, line,
               fmt::format("non-finite value '{}' (column {})", tokens[column], column + 1));
+    }
+    return value;
+  }
+
+  /// A position coordinate in token `column`: a number of at most kMaxCoordinateM in magnitude.
+  double coordinate(std::size_t column) const {
+    const double value = number(column);
+    if (!(std::abs(value) <= kMaxCoordinateM)) {
+      fail_at(source, line,
+              fmt::format("position {} m is beyond the {:g} m edx evaluates (column {})",
+                          tokens[column], kMaxCoordinateM, column + 1));
     }
     return value;
   }
@@ -159,7 +176,7 @@ StampedPose parse_kitti_row(const Row& row, std::optional<std::size_t>& columns_
   Eigen::Vector3d position;
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) rotation(r, c) = row.number(offset + 4 * r + c);
-    position(r) = row.number(offset + 4 * r + 3);
+    position(r) = row.coordinate(offset + 4 * r + 3);
   }
   check_rotation(row, rotation, tolerance);
   stamped.pose = make_pose(rotation, position);
@@ -173,7 +190,7 @@ StampedPose parse_tum_row(const Row& row, std::size_t ordinal, double tolerance)
             fmt::format("expected 8 numbers (t x y z qx qy qz qw), got {}", row.tokens.size()));
   }
   double v[8];
-  for (std::size_t i = 0; i < 8; ++i) v[i] = row.number(i);
+  for (std::size_t i = 0; i < 8; ++i) v[i] = i >= 1 && i <= 3 ? row.coordinate(i) : row.number(i);
   StampedPose stamped;
   stamped.line = row.line;
   stamped.frame_index = static_cast<std::int64_t>(ordinal);
@@ -199,7 +216,7 @@ StampedPose parse_euroc_row(const Row& row, std::size_t ordinal, SortKey& key, d
             fmt::format("timestamp '{}' is not a non-negative integer in ns (column 1)", stamp));
   }
   double v[8];
-  for (std::size_t i = 1; i < 8; ++i) v[i] = row.number(i);
+  for (std::size_t i = 1; i < 8; ++i) v[i] = i <= 3 ? row.coordinate(i) : row.number(i);
   StampedPose stamped;
   stamped.line = row.line;
   stamped.frame_index = static_cast<std::int64_t>(ordinal);

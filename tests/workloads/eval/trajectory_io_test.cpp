@@ -128,6 +128,22 @@ TEST(TrajectoryIoErrors, NanAndInf) {
       ":2: non-finite value 'inf' (column 2)");
 }
 
+TEST(TrajectoryIoErrors, PositionsBeyondABillionMetresAreRefused) {
+  // 1e9 m is read, anything beyond is refused in each format at its column (before: 1e155 gave
+  // an ATE of inf).
+  ScratchDir dir("io");
+  EXPECT_EQ(read_trajectory(dir.write("edge.txt", "1 0 0 1e9 0 1 0 -1e9 0 0 1 0\n"),
+                            TrajectoryFormat::kKitti)
+                .poses.size(),
+            1u);
+  EXPECT_EQ(read_error("est.txt", "1 0 0 0 0 1 0 1.5e155 0 0 1 0\n", TrajectoryFormat::kKitti),
+            ":1: position 1.5e155 m is beyond the 1e+09 m edx evaluates (column 8)");
+  EXPECT_EQ(read_error("est.tum", "0.1 1 2 -1000000001 0 0 0 1\n", TrajectoryFormat::kTum),
+            ":1: position -1000000001 m is beyond the 1e+09 m edx evaluates (column 4)");
+  EXPECT_EQ(read_error("est.csv", "100,2e9,0,0,1,0,0,0\n", TrajectoryFormat::kEuroc),
+            ":1: position 2e9 m is beyond the 1e+09 m edx evaluates (column 2)");
+}
+
 TEST(TrajectoryIoErrors, FrameIndexMustBeANonNegativeInteger) {
   EXPECT_EQ(read_error("est.txt", "2.5 " + kIdentityRow, TrajectoryFormat::kKitti),
             ":1: frame index '2.5' is not a non-negative integer");
