@@ -7,6 +7,8 @@
 #include <string>
 #include <system_error>
 
+#include "common/temporary_files.hpp"
+
 namespace edx::common {
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view contents) {
@@ -26,6 +28,7 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
   }
   std::filesystem::path temporary = path;
   temporary += ".tmp." + std::to_string(::getpid());
+  const TemporaryFileGuard guard(temporary);
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out) {

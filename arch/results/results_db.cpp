@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/atomic_file.hpp"
+#include "common/temporary_files.hpp"
 
 namespace edx::arch {
 namespace {
@@ -168,6 +169,7 @@ bool create_results_database(const std::filesystem::path& path,
   static std::atomic<unsigned> counter{0};
   const std::filesystem::path temporary =
       path.string() + fmt::format(".tmp-{}-{}", ::getpid(), counter.fetch_add(1));
+  const common::TemporaryFileGuard guard(temporary);
   const auto remove_temporary = [&] {
     std::error_code ignored;
     for (const char* suffix : {"", "-journal", "-wal", "-shm"}) {

@@ -7,8 +7,15 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
+#include <charconv>
 #include <chrono>
+#include <csignal>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <stdexcept>
 
@@ -192,6 +199,7 @@ std::vector<SeedTrace> trace_seeds(const WorkloadTracer& tracer, const nlohmann:
                                    const std::vector<std::uint64_t>& seeds,
                                    const std::filesystem::path& store,
                                    const std::function<void(std::uint64_t seed)>& tracing) {
+  sweep_engine::open_trace_store(store);
   std::vector<SeedTrace> out;
   for (std::uint64_t seed : seeds) {
     nlohmann::json w = workload;
@@ -274,6 +282,66 @@ std::string trace_workload(const WorkloadTracer& tracer, const nlohmann::json& r
   } catch (const std::exception& e) {
     return e.what()[0] ? e.what() : "tracing failed";
   }
+}
+
+bool process_running(pid_t pid) {
+  if (::kill(pid, 0) != 0 && errno != EPERM) return false;
+  std::ifstream stat(fmt::format("/proc/{}/stat", pid));
+  std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+  const std::size_t paren = text.rfind(')');  // the command name may hold spaces and parentheses
+  return paren == std::string::npos || paren + 2 >= text.size() || text[paren + 2] != 'Z';
+}
+
+std::size_t open_trace_store(const std::filesystem::path& store) {
+  namespace fs = std::filesystem;
+  const std::string name = store.string();
+  std::error_code ec;
+  if (fs::exists(store, ec) && !fs::is_directory(store, ec)) {
+    throw std::runtime_error(fmt::format(
+        "{}: trace store: exists and is not a folder (give --trace-store a folder)", name));
+  }
+  const fs::path tmp = store / "tmp";
+  if (fs::create_directories(tmp, ec); ec) {
+    throw std::runtime_error(
+        fmt::format("{}: trace store: cannot create it: {}", name, ec.message()));
+  }
+  // Writable: a probe file created and removed (permissions alone do not say it: root, a
+  // read-only mount).
+  const fs::path probe = tmp / fmt::format(".probe-{}-{}", this_host(), ::getpid());
+  if (std::FILE* f = std::fopen(probe.c_str(), "w"); f != nullptr) {
+    std::fclose(f);
+    fs::remove(probe, ec);
+  } else {
+    throw std::runtime_error(
+        fmt::format("{}: trace store: cannot write into it: {}", name, std::strerror(errno)));
+  }
+  // temporary_trace_path's names: <hash>-<host>-<pid>-<n>.db (the host may hold '-').
+  const std::string host = this_host();
+  std::size_t removed = 0;
+  for (const fs::directory_entry& entry : fs::directory_iterator(tmp, ec)) {
+    const std::string file = entry.path().filename().string();
+    if (!file.ends_with(".db")) continue;
+    const std::string stem = file.substr(0, file.size() - 3);
+    const std::size_t last = stem.rfind('-');
+    const std::size_t before = last == std::string::npos ? last : stem.rfind('-', last - 1);
+    const std::size_t first = stem.find('-');
+    if (before == std::string::npos || first >= before) continue;
+    if (stem.substr(first + 1, before - first - 1) != host) continue;
+    long long pid = 0;
+    const std::string pid_text = stem.substr(before + 1, last - before - 1);
+    const auto [end, error] =
+        std::from_chars(pid_text.data(), pid_text.data() + pid_text.size(), pid);
+    if (error != std::errc() || end != pid_text.data() + pid_text.size() || pid <= 0) continue;
+    if (static_cast<pid_t>(pid) == ::getpid() || process_running(static_cast<pid_t>(pid))) {
+      continue;
+    }
+    std::error_code ignored;
+    removed += fs::remove(entry.path(), ignored) ? 1 : 0;
+    for (const char* suffix : {"-journal", "-wal", "-shm"}) {
+      fs::remove(entry.path().string() + suffix, ignored);
+    }
+  }
+  return removed;
 }
 
 std::string trace_into_store(const WorkloadTracer& tracer, const nlohmann::json& resolved,

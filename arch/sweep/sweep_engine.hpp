@@ -4,6 +4,8 @@
 // points into tasks, workload traces first, then the design points whose trace is ready; workers
 // execute them: threads of this process (LocalExecutor), and under MPI also the other ranks
 // (sweep_mpi.cpp), which run the same SweepContext::execute_* code on their own copy of the spec.
+#include <sys/types.h>
+
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -166,6 +168,18 @@ std::string trace_workload(const WorkloadTracer& tracer, const nlohmann::json& r
 /// or the error.
 std::string trace_into_store(const WorkloadTracer& tracer, const nlohmann::json& resolved,
                              const std::string& hash, const std::filesystem::path& store);
+
+/// Whether process `pid` of this host is running: it exists (kill(pid, 0)) and is not a zombie
+/// (a killed process whose parent has not reaped it, as under an init that never reaps, e.g. in
+/// containers; /proc/<pid>/stat's state 'Z').
+bool process_running(pid_t pid);
+
+/// Makes `store` ready for traces before any work: a folder (created with its tmp/) that this
+/// process can write into, and removes from its tmp/ the traces left by writers that are gone
+/// (killed sweeps, MPI ranks, seeds; only files of this host whose process is not running).
+/// Throws one line naming the store otherwise ("exists and is not a folder", "cannot create
+/// it: ...", "cannot write into it: ..."). Returns the number of files removed.
+std::size_t open_trace_store(const std::filesystem::path& store);
 
 /// A task's trace file name while it is written (unique per process and task).
 std::filesystem::path temporary_trace_path(const std::filesystem::path& store,

@@ -36,17 +36,6 @@
 namespace edx::arch {
 namespace {
 
-/// Whether process `pid` of this host is running: it exists (kill(pid, 0)) and is not a zombie
-/// (a killed process whose parent has not reaped it, as under an init that never reaps, e.g. in
-/// containers; /proc/<pid>/stat's state 'Z').
-bool process_running(pid_t pid) {
-  if (::kill(pid, 0) != 0 && errno != EPERM) return false;
-  std::ifstream stat(fmt::format("/proc/{}/stat", pid));
-  std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
-  const std::size_t paren = text.rfind(')');  // the command name may hold spaces and parentheses
-  return paren == std::string::npos || paren + 2 >= text.size() || text[paren + 2] != 'Z';
-}
-
 /// Takes the sweep's lock row (inside the caller's write transaction): one process runs a sweep
 /// on a database at a time. A lock held by a live process is refused with a line naming it; a
 /// lock left by a process of this host that is gone (killed) is taken over.
@@ -56,7 +45,7 @@ void take_sweep_lock(SQLite::Database& db, const std::string& db_name,
   for (const results::SweepLockRow& lock :
        results::select_rows(db, results::sweep_locks_table(), {"sweep_id = ?1", {sweep_id}, ""})) {
     const auto pid = static_cast<pid_t>(lock.pid);
-    const bool alive = lock.host != host || process_running(pid);
+    const bool alive = lock.host != host || sweep_engine::process_running(pid);
     if (alive && !(lock.host == host && pid == ::getpid())) {
       throw std::runtime_error(fmt::format(
           "{}: sweep '{}' is being run by process {} on {} since {} (wait for it, or delete its "
@@ -171,12 +160,7 @@ struct WorkloadState {
 /// a folder, and a given trace has host times on the base platform (a measured host needs the
 /// trace's host speed, a modeled one costs for every row). Makes the given trace the context's.
 void prepare_context(SweepContext& context, const std::shared_ptr<const LoadedTrace>& given) {
-  if (context.spec.traces_workload() && std::filesystem::exists(context.store) &&
-      !std::filesystem::is_directory(context.store)) {
-    throw std::runtime_error(
-        fmt::format("{}: trace store: exists and is not a folder (give --trace-store a folder)",
-                    context.store.string()));
-  }
+  if (context.spec.traces_workload()) sweep_engine::open_trace_store(context.store);
   if (!given) return;
   Platform::parse(context.base).host->host_times(given->frames, given->meta, given->name);
   context.workloads[0].trace = given->name;

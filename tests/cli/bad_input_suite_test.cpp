@@ -385,6 +385,14 @@ std::vector<BadInputCase> cases() {
        "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db' --trace-store '{dir}/store'", 1,
        "edx: error: {dir}/store: trace store: exists and is not a folder (give --trace-store a "
        "folder)"},
+      {"c7_trace_store_under_a_file",
+       [](const fs::path& d) {
+         write(d, "f", "a file, not a folder\n");
+         write(d, "w.yaml", "mix: paper\nframes: 16\nresolution: 320x240\n");
+       },
+       "'{edx}' simulate --config '{car}' --workload '{dir}/w.yaml' --seeds 1-2 --trace-store "
+       "'{dir}/f/store'",
+       1, "edx: error: {dir}/f/store: trace store: cannot create it: Not a directory"},
       {"c7_host_cost_table_of_other_features",
        [](const fs::path& d) {
          write(d, "costs.yaml",

@@ -61,6 +61,7 @@ TraceWriter::TraceWriter(std::filesystem::path path, TraceMeta meta, TraceWriter
   }
   temp_path_ = path_;
   temp_path_ += fmt::format(".tmp-{}", ::getpid());
+  temp_guard_ = std::make_unique<common::TemporaryFileGuard>(temp_path_);
   fs::remove(temp_path_);
   db_ = std::make_unique<SQLite::Database>(temp_path_.string(),
                                            SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);

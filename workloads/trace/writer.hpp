@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "common/temporary_files.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::trace {
@@ -43,6 +44,8 @@ class TraceWriter {
 
   std::filesystem::path path_;
   std::filesystem::path temp_path_;
+  /// Removes temp_path_ if a signal stops the process before finish() renames it.
+  std::unique_ptr<common::TemporaryFileGuard> temp_guard_;
   TraceWriterOptions options_;
   std::unique_ptr<SQLite::Database> db_;
   std::unique_ptr<SQLite::Statement> insert_frame_, insert_task_, insert_kernel_, insert_op_;

@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <fstream>
@@ -13,6 +15,7 @@
 
 #include "arch/results/results_db.hpp"
 #include "arch/sweep/sweep.hpp"
+#include "arch/sweep/sweep_engine.hpp"
 #include "arch/sweep/workload.hpp"
 #include "tests/arch/sweep/sweep_fixture.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -20,6 +23,7 @@
 namespace edx::arch {
 namespace {
 
+namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
 /// A stand-in for the pipeline: workload {features: N} traces the fixture's four frames with
@@ -275,6 +279,41 @@ TEST(WorkloadStore, HashCoversParametersAndVersion) {
   EXPECT_EQ(workload_hash(a, "r1").size(), 16u);
   EXPECT_EQ(default_trace_store("/x/results.db"), "/x/results.traces");
   EXPECT_EQ(default_trace_store("out"), "out.traces");
+}
+
+TEST(WorkloadStore, OpeningSweepsTmpOfWritersThatAreGoneAndRefusesWhatCannotBeAStore) {
+  testing::TempDir dir;
+  const fs::path store = dir.path() / "store";
+  EXPECT_EQ(sweep_engine::open_trace_store(store), 0u);  // created, with its tmp/
+  ASSERT_TRUE(fs::is_directory(store / "tmp"));
+  // A child that exits at once: its pid is then of no running process (reaped below).
+  const pid_t gone = ::fork();
+  if (gone == 0) ::_exit(0);
+  ASSERT_GT(gone, 0);
+  ::waitpid(gone, nullptr, 0);
+  const std::string host = sweep_engine::this_host();
+  const auto tmp_file = [&](const std::string& name) {
+    std::ofstream(store / "tmp" / name) << "partial";
+    return store / "tmp" / name;
+  };
+  const fs::path dead = tmp_file(fmt::format("abc123-{}-{}-0.db", host, gone));
+  const fs::path live = tmp_file(fmt::format("abc123-{}-{}-1.db", host, ::getppid()));
+  const fs::path own = tmp_file(fmt::format("abc123-{}-{}-2.db", host, ::getpid()));
+  const fs::path other_host = tmp_file(fmt::format("abc123-{}x-{}-3.db", host, gone));
+  const fs::path not_a_trace = tmp_file("notes.txt");
+  EXPECT_EQ(sweep_engine::open_trace_store(store), 1u);
+  EXPECT_FALSE(fs::exists(dead));
+  for (const fs::path& kept : {live, own, other_host, not_a_trace}) {
+    EXPECT_TRUE(fs::exists(kept)) << kept;
+  }
+  // A file, and a folder under a file: one line naming the store.
+  std::ofstream(dir.path() / "file") << "x";
+  EXPECT_THAT([&] { sweep_engine::open_trace_store(dir.path() / "file"); },
+              ::testing::ThrowsMessage<std::runtime_error>(::testing::HasSubstr(
+                  (dir.path() / "file").string() + ": trace store: exists and is not a folder")));
+  EXPECT_THAT([&] { sweep_engine::open_trace_store(dir.path() / "file" / "store"); },
+              ::testing::ThrowsMessage<std::runtime_error>(::testing::HasSubstr(
+                  (dir.path() / "file" / "store").string() + ": trace store: cannot create it")));
 }
 
 TEST(RunRows, ExportedRowsImportToTheSameTables) {

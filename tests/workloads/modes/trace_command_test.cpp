@@ -2,8 +2,11 @@
 // lines (exit 2) and bad input (exit 1, one line, nothing written).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -65,6 +68,41 @@ TEST(TraceCommand, TextSummaryAndForce) {
 
   const auto forced = run_command(trace_command(args + " --force"));
   EXPECT_EQ(forced.exit_code, 0) << forced.err;
+}
+
+TEST(TraceCommand, AnInterruptedTraceLeavesNothingAndARerunCompletes) {
+  // SIGINT (Ctrl-C) and SIGTERM while the trace is written under its temporary name: the process
+  // ends by the signal, nothing is left beside the target, and the same command then completes.
+  for (const int signal : {SIGINT, SIGTERM}) {
+    const testing::TempDir dir;
+    const fs::path out = dir.path() / "t.db";
+    const std::string command =
+        trace_command("--dataset " + kEuroc + " --format euroc --out " + out.string());
+    const pid_t child = ::fork();
+    if (child == 0) {
+      ::execl("/bin/sh", "sh", "-c", ("exec " + command + " >/dev/null 2>&1").c_str(), nullptr);
+      ::_exit(127);
+    }
+    ASSERT_GT(child, 0);
+    bool writing = false;  // the temporary trace exists
+    for (int i = 0; i < 6000 && !writing; ++i) {
+      for (const auto& entry : fs::directory_iterator(dir.path())) {
+        writing = writing || entry.path().filename().string().starts_with("t.db.tmp-");
+      }
+      if (!writing) ::usleep(10'000);
+    }
+    ASSERT_TRUE(writing) << "the trace never started";
+    ::kill(child, signal);
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status)) << signal;
+    EXPECT_EQ(WTERMSIG(status), signal);
+    EXPECT_TRUE(testing::entries(dir.path()).empty())
+        << signal << ": left " << ::testing::PrintToString(testing::entries(dir.path()));
+    const auto rerun = run_command(built_binary("edx") + " trace --dataset " + kEuroc +
+                                   " --format euroc --frames 3 --out " + out.string());
+    EXPECT_EQ(rerun.exit_code, 0) << rerun.err;
+  }
 }
 
 TEST(TraceCommand, BadCommandLinesExitTwo) {
