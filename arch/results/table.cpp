@@ -3,9 +3,11 @@
 #include <SQLiteCpp/SQLiteCpp.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <sqlite3.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <limits>
 
@@ -113,14 +115,38 @@ void bind_value(SQLite::Statement& s, int index, const Value& value, const Colum
       value);
 }
 
-Value read(const SQLite::Column& c, ColumnType type) {
-  if (c.isNull()) return {};
-  switch (type) {
+/// A stored cell as a Value of its column's type. A cell of another kind than any writer stores
+/// (text or a blob in a number column, a fraction in an integer one, a non-finite real: writers
+/// store those as NULL) is a corrupted database: an error naming table, column and row.
+Value read(const SQLite::Column& c, const ColumnSpec& column, const std::string& table,
+           std::int64_t rowid) {
+  const int kind = c.getType();
+  if (kind == SQLITE_NULL) return {};
+  const auto refuse = [&](const char* expected) {
+    std::string got;
+    if (kind == SQLITE_TEXT) {
+      const std::string text = c.getString();
+      got = fmt::format("text '{}'", text.size() > 40 ? text.substr(0, 40) + "..." : text);
+    } else if (kind == SQLITE_BLOB) {
+      got = fmt::format("a blob of {} bytes", c.getBytes());
+    } else {
+      got = fmt::format("{}", kind == SQLITE_INTEGER ? double(c.getInt64()) : c.getDouble());
+    }
+    return std::runtime_error(
+        fmt::format("table {}, column {}, row {}: expected {}, got {} (a "
+                    "corrupted results database)",
+                    table, column.name, rowid, expected, got));
+  };
+  switch (column.type) {
     case ColumnType::kInteger:
+      if (kind != SQLITE_INTEGER) throw refuse("an integer");
       return c.getInt64();
     case ColumnType::kReal:
+      if (kind == SQLITE_INTEGER) return static_cast<double>(c.getInt64());
+      if (kind != SQLITE_FLOAT || !std::isfinite(c.getDouble())) throw refuse("a finite number");
       return c.getDouble();
     case ColumnType::kText:
+      if (kind == SQLITE_BLOB) throw refuse("text");
       return c.getString();
   }
   return {};
@@ -180,16 +206,19 @@ std::vector<ValueRow> select_values(SQLite::Database& db, const TableSpec& table
   std::vector<ValueRow> rows;
   if (selected.empty()) return rows;
   SQLite::Statement q(
-      db, fmt::format("SELECT {} FROM {}{}{} ORDER BY {}", fmt::join(selected, ", "), table.name,
-                      query.where.empty() ? "" : " WHERE ", query.where,
+      db, fmt::format("SELECT {}, rowid FROM {}{}{} ORDER BY {}", fmt::join(selected, ", "),
+                      table.name, query.where.empty() ? "" : " WHERE ", query.where,
                       query.order_by.empty() ? "rowid" : query.order_by));
   for (std::size_t i = 0; i < query.binds.size(); ++i) {
     bind_value(q, static_cast<int>(i) + 1, query.binds[i], nullptr);
   }
   while (q.executeStep()) {
     ValueRow row(table.columns.size());
+    const std::int64_t rowid = q.getColumn(static_cast<int>(selected.size())).getInt64();
     for (std::size_t i = 0; i < table.columns.size(); ++i) {
-      if (position[i] >= 0) row[i] = read(q.getColumn(position[i]), table.columns[i].type);
+      if (position[i] >= 0) {
+        row[i] = read(q.getColumn(position[i]), table.columns[i], table.name, rowid);
+      }
     }
     rows.push_back(std::move(row));
   }

@@ -164,6 +164,15 @@ std::vector<BadInputCase> cases() {
        "edx: error: {dir}/t.db: --table: no table 'runs' (tables: frames, kernels, meta, ops, "
        "tasks)"},
       // A results database of a version this edx does not write: refused by every reader.
+      {"c3_report_of_a_corrupted_cell",
+       [](const fs::path& d) {
+         results_db(d, "r.db");
+         SQLite::Database((d / "r.db").string(), SQLite::OPEN_READWRITE)
+             .exec("UPDATE latency SET mean = 'fast' WHERE rowid = 1");
+       },
+       "'{edx}' report '{dir}/r.db' --out '{dir}/report'", 1,
+       "edx: error: {dir}/r.db: table latency, column mean, row 1: expected a finite number, got "
+       "text 'fast' (a corrupted results database)"},
       {"c3_export_of_a_negative_schema_version",
        [](const fs::path& d) {
          results_db(d, "r.db");

@@ -118,6 +118,41 @@ TEST(ResultsTable, BadJsonIsAnErrorNamingTheColumn) {
   }
 }
 
+TEST(ResultsTable, ACorruptedCellIsAnErrorNamingTableColumnAndRow) {
+  // Cells no writer stores (each in its own row after a good one): text or a blob in a number
+  // column, a fraction in an integer column, inf (writers store a non-finite value as NULL).
+  const auto error_of = [](const std::string& values) {
+    SQLite::Database db = memory();
+    create_or_upgrade(db, sample_table().spec);
+    db.exec("INSERT INTO samples (id, count, ms) VALUES ('good', 1, 2.5)");
+    db.exec("INSERT INTO samples (id, count, ms) VALUES " + values);
+    try {
+      select_rows(db, sample_table());
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error_of("('x', 1, 'fast')"),
+            "table samples, column ms, row 2: expected a finite number, got text 'fast' (a "
+            "corrupted results database)");
+  EXPECT_EQ(error_of("('x', 1, 9e999)"),
+            "table samples, column ms, row 2: expected a finite number, got inf (a corrupted "
+            "results database)");
+  EXPECT_EQ(error_of("('x', 1, x'00ff')"),
+            "table samples, column ms, row 2: expected a finite number, got a blob of 2 bytes (a "
+            "corrupted results database)");
+  EXPECT_EQ(error_of("('x', 2.5, 1)"),
+            "table samples, column count, row 2: expected an integer, got 2.5 (a corrupted "
+            "results database)");
+  EXPECT_EQ(error_of("(x'00', 1, 1)"),
+            "table samples, column id, row 2: expected text, got a blob of 1 bytes (a corrupted "
+            "results database)");
+  // What writers store reads: an integer in a real column, NULL anywhere nullable.
+  EXPECT_EQ(error_of("('x', 1, 3)"), "no error");
+  EXPECT_EQ(error_of("('x', 1, NULL)"), "no error");
+}
+
 TEST(ResultsTable, CsvHasTheDeclaredHeaderAndQuotes) {
   const std::vector<ValueRow> rows{{std::string("a,b"), std::int64_t{2}, 0.25, std::int64_t{1},
                                     std::string("say \"hi\""), std::monostate{}},
