@@ -287,16 +287,23 @@ class DmaModel final : public LinkModel {
     sim::Time last_arrival = begin;
     const std::int64_t chunk_size = params_.dma.chunk_bytes;
     std::vector<sim::Time>& slots = *l.slot_free;
+    // The transfer's time t: now, or a grant it went on to without an event because nothing
+    // else could happen before it (Simulator::quiet_until: a long transfer alone on the link
+    // books its chunks in one event instead of one per slot it waits for).
+    sim::Time t = begin;
+    sim::Time wire_done = 0;  // wire(offset): chunk j's wire time is wire(o + b) - wire(o)
     for (std::int64_t offset = 0; offset < bytes; offset += chunk_size) {
       // Ask for a slot now: the earliest free one (earlier requests took the earlier ones, as a
       // FIFO queue would hand them out); granted at G = max(now, its free time).
       std::pop_heap(slots.begin(), slots.end(), later);
-      const sim::Time grant = std::max(sim_->now(), slots.back());
+      const sim::Time grant = std::max(t, slots.back());
       // Setup, then the wire in grant order (W = max(G + s, wire free)), then the flight; the
       // slot is held until the chunk has arrived.
       const std::int64_t chunk_bytes = std::min(chunk_size, bytes - offset);
       const sim::Time wire_start = std::max(grant + setup_, l.wire->free_at);
-      const sim::Time on_wire = params_.chunk_wire_time(offset, chunk_bytes);
+      const sim::Time wire_end = params_.wire_time(offset + chunk_bytes);
+      const sim::Time on_wire = wire_end - wire_done;  // chunk_wire_time(offset, chunk_bytes)
+      wire_done = wire_end;
       l.wire->free_at = wire_start + on_wire;
       l.wire->busy.add(on_wire);
       const sim::Time arrival = l.wire->free_at + latency_;
@@ -305,9 +312,14 @@ class DmaModel final : public LinkModel {
       l.chunks.add();
       last_arrival = std::max(last_arrival, arrival);
       // The next chunk's slot is asked for once this one is granted.
-      if (grant > sim_->now()) co_await sim_->delay_until(grant);
+      if (grant > t) {
+        if (!sim_->quiet_until(grant)) co_await sim_->delay_until(grant);
+        t = grant;
+      }
     }
-    if (last_arrival > sim_->now()) co_await sim_->delay_until(last_arrival);
+    // At the last arrival, or at t when the transfer went on past now without waiting.
+    const sim::Time end = std::max(last_arrival, t);
+    if (end > sim_->now()) co_await sim_->delay_until(end);
     l.bytes.add(static_cast<std::uint64_t>(bytes));
     l.transfers.add();
     l.latency_us.add(sim::to_us(sim_->now() - begin));
