@@ -4,6 +4,7 @@
 // Determinism: pending events are ordered by (time, priority, insertion sequence) and nothing
 // else (no addresses, no hashing), so the same model run twice processes the same events in the
 // same order; enable_event_log() records that order for comparison.
+#include <algorithm>
 #include <concepts>
 #include <coroutine>
 #include <cstdint>
@@ -193,6 +194,13 @@ class Simulator {
   /// outcome is the same (the event it skips is neither counted nor logged). False outside a run.
   bool quiet_until(Time t) {
     return running_ && !tracing_ && !stop_requested_ && t <= run_limit_ && queue_.next_time() > t;
+  }
+  /// The latest time t with quiet_until(t) true, now() when there is none (nothing queued
+  /// changes while the running process goes on without an event).
+  Time quiet_horizon() {
+    if (!running_ || tracing_ || stop_requested_) return now_;
+    const Time next = queue_.next_time();  // >= now_
+    return next <= now_ ? now_ : std::min(run_limit_, next - 1);
   }
   /// Makes the current run()/run_until() return after the event being processed.
   void stop() noexcept {
