@@ -186,6 +186,15 @@ class EventQueue {
     place(entry);
   }
 
+  /// The earliest entry's time; kTimeMax when the queue is empty.
+  Time next_time() {
+    if (near_.empty()) {
+      if (size_ == 0) return kTimeMax;
+      refill();
+    }
+    return near_.top().time;
+  }
+
   /// Removes the earliest entry into `out` and returns true, unless the queue is empty or that
   /// entry's time is after `limit` (then returns false and changes nothing).
   bool pop_not_after(Time limit, QueueEntry& out) {

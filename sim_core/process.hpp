@@ -10,6 +10,7 @@
 //     exception it throws is rethrown at the co_await.
 // An exception escaping a spawned process is rethrown by Simulator::run() / run_until().
 #include <coroutine>
+#include <cstddef>
 #include <cstdint>
 #include <exception>
 #include <optional>
@@ -37,6 +38,14 @@ struct ProcessRecord {
 void finish_process(ProcessRecord* record, std::exception_ptr error,
                     std::coroutine_handle<> frame) noexcept;
 
+/// Coroutine frames (defined in simulator.cpp): a DES run starts and ends a frame per task,
+/// transfer and op, so freed frames wait on a free list of this thread per size class
+/// (⌈bytes / 64⌉, up to 2 KiB; larger ones go to operator new) for the next frame of their
+/// class. A frame may be freed on another thread than the one that made it (it joins that
+/// thread's list); the lists are freed when their thread ends.
+void* allocate_frame(std::size_t bytes);
+void free_frame(void* frame, std::size_t bytes) noexcept;
+
 /// State shared by every edx coroutine promise.
 struct PromiseBase {
   std::coroutine_handle<> continuation;  ///< awaiting parent, when run as a subroutine
@@ -46,6 +55,10 @@ struct PromiseBase {
 
   std::suspend_always initial_suspend() noexcept { return {}; }
   void unhandled_exception() noexcept { exception = std::current_exception(); }
+
+  /// The coroutine's frame, from the thread's free lists (allocate_frame).
+  static void* operator new(std::size_t bytes) { return allocate_frame(bytes); }
+  static void operator delete(void* frame, std::size_t bytes) noexcept { free_frame(frame, bytes); }
 };
 
 /// The process a suspending coroutine belongs to (nullptr for foreign coroutine types).

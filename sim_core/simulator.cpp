@@ -8,6 +8,53 @@
 namespace edx::sim {
 
 namespace detail {
+namespace {
+
+constexpr std::size_t kFrameGrain = 64;    ///< bytes of a size class
+constexpr std::size_t kFrameClasses = 33;  ///< classes 1..32: frames up to 2 KiB
+
+/// This thread's free frames: heads of intrusive singly linked lists, one per size class.
+/// Trivially destructible, so a frame freed while the thread ends still finds them.
+thread_local void* free_frames[kFrameClasses] = {};
+thread_local bool frames_closed = false;  ///< the lists are gone: free directly
+
+/// Frees the thread's lists when it ends.
+struct FrameLists {
+  ~FrameLists() {
+    frames_closed = true;
+    for (void*& head : free_frames) {
+      while (head != nullptr) {
+        void* next = *static_cast<void**>(head);
+        ::operator delete(head);
+        head = next;
+      }
+    }
+  }
+};
+thread_local FrameLists frame_lists;
+
+}  // namespace
+
+void* allocate_frame(std::size_t bytes) {
+  const std::size_t c = (bytes + kFrameGrain - 1) / kFrameGrain;
+  if (c >= kFrameClasses || frames_closed) return ::operator new(bytes);
+  if (void* frame = free_frames[c]) {
+    free_frames[c] = *static_cast<void**>(frame);
+    return frame;
+  }
+  return ::operator new(c* kFrameGrain);
+}
+
+void free_frame(void* frame, std::size_t bytes) noexcept {
+  const std::size_t c = (bytes + kFrameGrain - 1) / kFrameGrain;
+  if (c >= kFrameClasses || frames_closed) {
+    ::operator delete(frame);
+    return;
+  }
+  (void)&frame_lists;  // its first use registers its destructor: the lists are freed at exit
+  *static_cast<void**>(frame) = free_frames[c];
+  free_frames[c] = frame;
+}
 
 void finish_process(ProcessRecord* record, std::exception_ptr error,
                     std::coroutine_handle<> frame) noexcept {
@@ -120,6 +167,7 @@ void Simulator::run_loop(Time limit) {
   } guard(*this);
   stop_requested_ = false;
   after_dispatch_ = false;
+  run_limit_ = limit;
   QueueEntry entry;
   while (queue_.pop_not_after(limit, entry)) {
     now_ = entry.time;

@@ -4,6 +4,7 @@
 // Determinism: pending events are ordered by (time, priority, insertion sequence) and nothing
 // else (no addresses, no hashing), so the same model run twice processes the same events in the
 // same order; enable_event_log() records that order for comparison.
+#include <algorithm>
 #include <concepts>
 #include <coroutine>
 #include <cstdint>
@@ -186,6 +187,21 @@ class Simulator {
   /// Runs every event with time <= `until`, then sets now() to `until` (unless stopped or an
   /// exception escaped). Throws std::invalid_argument if `until` < now().
   void run_until(Time until);
+  /// True when nothing else can happen before time `t` (>= now()) in the current run: the
+  /// earliest queued event is after t, t is within the run's limit, no stop() is pending and no
+  /// event log or hook is on. The running process may then go on as if it had waited until t
+  /// (`co_await delay_until(t)`) without that event: no other process runs in between, so every
+  /// outcome is the same (the event it skips is neither counted nor logged). False outside a run.
+  bool quiet_until(Time t) {
+    return running_ && !tracing_ && !stop_requested_ && t <= run_limit_ && queue_.next_time() > t;
+  }
+  /// The latest time t with quiet_until(t) true, now() when there is none (nothing queued
+  /// changes while the running process goes on without an event).
+  Time quiet_horizon() {
+    if (!running_ || tracing_ || stop_requested_) return now_;
+    const Time next = queue_.next_time();  // >= now_
+    return next <= now_ ? now_ : std::min(run_limit_, next - 1);
+  }
   /// Makes the current run()/run_until() return after the event being processed.
   void stop() noexcept {
     stop_requested_ = true;
@@ -249,6 +265,7 @@ class Simulator {
   [[noreturn]] void throw_schedule_error(Time when);
 
   Time now_ = 0;
+  Time run_limit_ = 0;  ///< the current run's last time (run_until's; kTimeMax for run())
   std::uint64_t events_processed_ = 0;
   std::uint64_t next_sequence_ = 0;
   EventQueue queue_;

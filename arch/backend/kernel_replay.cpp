@@ -9,8 +9,18 @@
 
 namespace edx::arch {
 
-KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
-                                    const BackendConfig& config) {
+namespace {
+
+/// OpCost computed (no memo).
+OpCost op_cost(const trace::OpRecord& op, const MatrixUnitInstance& unit,
+               const BackendConfig& config) {
+  return {op_cycles(op, unit.count, config), op_spm_bytes(op, config),
+          op_spill_traffic(op, config)};
+}
+
+/// The replay; `memo` optional.
+KernelAccelResult replay(const trace::KernelRecord& kernel, const BackendConfig& config,
+                         OpTimingMemo* memo) {
   KernelAccelResult r;
   r.kernel = kernel.kernel;
   r.derived_ops = kernel.ops.empty();
@@ -36,13 +46,11 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
   for (std::size_t i = 0; i < ops.size(); ++i) {
     const trace::OpRecord& op = ops[i];
     const MatrixUnitInstance& unit = *unit_of[i];
-    OpTiming t{op,
-               static_cast<std::size_t>(&unit - config.units.data()),
-               unit.count,
-               r.cycles,
-               op_cycles(op, unit.count, config),
-               op_spm_bytes(op, config),
-               op_spill_traffic(op, config)};
+    const OpCost cost = memo != nullptr ? memo->cost(op, unit, config) : op_cost(op, unit, config);
+    OpTiming t{op,          static_cast<std::size_t>(&unit - config.units.data()),
+               unit.count,  r.cycles,
+               cost.cycles, cost.spm_bytes,
+               cost.spill};
     r.cycles += t.cycles;  // each op waits for the previous one
     const double clock = config.clock_of(unit);
     auto at = std::find_if(cycles_at_clock.begin(), cycles_at_clock.end(),
@@ -94,6 +102,38 @@ KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
         r.spilled_ops, r.spill.read_bytes, r.spill.write_bytes);
   }
   return r;
+}
+
+}  // namespace
+
+KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel,
+                                    const BackendConfig& config) {
+  return replay(kernel, config, nullptr);
+}
+
+KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel, const BackendConfig& config,
+                                    OpTimingMemo& memo) {
+  return replay(kernel, config, &memo);
+}
+
+std::size_t OpTimingMemo::KeyHash::operator()(const Key& key) const {
+  // FNV-1a over the fields (a hash only: the map compares whole keys).
+  std::uint64_t h = 1469598103934665603ull;
+  const auto mix = [&h](std::uint64_t v) { h = (h ^ v) * 1099511628211ull; };
+  mix(static_cast<std::uint64_t>(key.op));
+  mix(static_cast<std::uint64_t>(key.m));
+  mix(static_cast<std::uint64_t>(key.n));
+  mix(static_cast<std::uint64_t>(key.k));
+  mix(key.flags);
+  mix(static_cast<std::uint64_t>(key.batch));
+  return static_cast<std::size_t>(h);
+}
+
+const OpCost& OpTimingMemo::cost(const trace::OpRecord& op, const MatrixUnitInstance& unit,
+                                 const BackendConfig& config) {
+  const Key key{op.op, op.m, op.n, op.k, op.flags, op.batch};
+  if (const auto it = costs_.find(key); it != costs_.end()) return it->second;
+  return costs_.emplace(key, op_cost(op, unit, config)).first->second;
 }
 
 double spill_seconds(const OffloadPlan& plan, const Link& link) {

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "arch/backend/backend_config.hpp"
@@ -54,6 +55,43 @@ struct KernelAccelResult final : OffloadPlan {
 /// the spill; a kernel with an op no unit serves with runnable = false and a message naming the
 /// op.
 KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel, const BackendConfig& config);
+
+/// An op's cost on its instance: op_cycles (on all the instance's copies), op_spm_bytes and
+/// op_spill_traffic.
+struct OpCost {
+  std::int64_t cycles = 0;
+  std::int64_t spm_bytes = 0;
+  SpillTraffic spill;
+};
+
+/// Exact memo of OpCost for one BackendConfig (one run's planner): the three functions read only
+/// the op's kind, m, n, k, flags and batch (never host_ns) and the config, so the ops of one shape
+/// share an entry: a trace repeats few shapes (the block rows of a blocked substitution, the same
+/// kernel every frame). Key = (op, m, n, k, flags, batch); an op that throws is not stored. Not
+/// thread-safe; use it with the config it was first used with only.
+class OpTimingMemo {
+ public:
+  /// The cost of `op` on `unit` of `config` (the instance serving op.op).
+  const OpCost& cost(const trace::OpRecord& op, const MatrixUnitInstance& unit,
+                     const BackendConfig& config);
+
+ private:
+  struct Key {
+    trace::Op op;
+    std::int64_t m, n, k;
+    std::uint32_t flags;
+    std::int64_t batch;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& key) const;
+  };
+  std::unordered_map<Key, OpCost, KeyHash> costs_;
+};
+
+/// accelerate_kernel with its ops' costs from `memo` (the same result).
+KernelAccelResult accelerate_kernel(const trace::KernelRecord& kernel, const BackendConfig& config,
+                                    OpTimingMemo& memo);
 
 /// Time of a replayed kernel's spill traffic on an idle link (the accelerator's only configured
 /// path to DRAM: Edx-Drone's AXI4 reads the PS DDR; Edx-Car's PCIe reaches host memory):

@@ -95,6 +95,15 @@ class OffloadModel {
   virtual void set_timeline(sim::Timeline& timeline, const std::string& group) = 0;
 };
 
+/// Plans one run's kernels (OffloadAccelerator::planner): the same plans as
+/// OffloadAccelerator::plan, and may keep exact memos across the run's kernels (an op's cost per
+/// shape). Not thread-safe: one per run.
+class OffloadPlanner {
+ public:
+  virtual ~OffloadPlanner() = default;
+  virtual std::unique_ptr<const OffloadPlan> plan(const trace::KernelRecord& kernel) = 0;
+};
+
 class OffloadAccelerator : public Component {
  public:
   static constexpr const char* kKindName = "offload accelerator";
@@ -103,6 +112,17 @@ class OffloadAccelerator : public Component {
   virtual std::vector<std::string> resource_names() const = 0;
   /// `kernel` (its recorded ops, or those derived from its sizes) on this accelerator.
   virtual std::unique_ptr<const OffloadPlan> plan(const trace::KernelRecord& kernel) const = 0;
+  /// A planner for one run (alive while this accelerator is); the default calls plan().
+  virtual std::unique_ptr<OffloadPlanner> planner() const {
+    struct Forwarding final : OffloadPlanner {
+      explicit Forwarding(const OffloadAccelerator& a) : accelerator(a) {}
+      std::unique_ptr<const OffloadPlan> plan(const trace::KernelRecord& kernel) override {
+        return accelerator.plan(kernel);
+      }
+      const OffloadAccelerator& accelerator;
+    };
+    return std::make_unique<Forwarding>(*this);
+  }
   /// Its DES model on `sim`.
   virtual std::unique_ptr<OffloadModel> instantiate(sim::Simulator& sim) const = 0;
   /// Its FPGA resources, group "backend" (empty for an accelerator that is fixed silicon).

@@ -21,11 +21,15 @@ using sim::Simulator;
 using trace::Image;
 using trace::Task;
 
+/// A task's predecessors: at most two (MO's), the rest empty handles (awaiting one is a no-op);
+/// in the coroutine's frame, so a task allocates no list.
+using Predecessors = std::array<ProcessHandle, 2>;
+
 /// One task: waits for its predecessors, then holds a copy of its unit for its cycles (on the
 /// unit's clock: a task that can start between its edges starts on the next one).
-Process run_task(Simulator& sim, const sim::ClockDomain& clock, Resource& unit,
-                 std::vector<ProcessHandle> after, TaskSpan& span) {
-  for (ProcessHandle& handle : after) co_await handle;
+Process run_task(Simulator& sim, const sim::ClockDomain& clock, Resource& unit, Predecessors after,
+                 TaskSpan& span) {
+  for (const ProcessHandle& handle : after) co_await handle;
   Lease lease = co_await unit.acquire();
   if (clock.next_edge(sim.now()) != sim.now()) co_await sim.cycles(clock, 0);
   span.start = sim.now();
@@ -88,11 +92,11 @@ sim::Task<void> FrontendAccelerator::run_frame(FrontendFrameTiming& timing, Link
   const auto at = [&](Task task, Image image) -> TaskSpan& {
     return s[find_span(s, task, image, timing.frame_id)];
   };
-  const auto spawn = [&](Task task, Image image, std::vector<ProcessHandle> after) {
+  const auto spawn = [&](Task task, Image image, const Predecessors& after) {
     // The unit's name (short: no allocation a task) names the process in the event log.
-    return sim.spawn(run_task(sim, *clocks_[static_cast<std::size_t>(task)], unit(task),
-                              std::move(after), at(task, image)),
-                     trace::to_string(task));
+    return sim.spawn(
+        run_task(sim, *clocks_[static_cast<std::size_t>(task)], unit(task), after, at(task, image)),
+        trace::to_string(task));
   };
   // Spawn order is the queue order on each unit: the left image before the right one.
   const ProcessHandle fd_l = spawn(Task::FD, Image::Left, {});

@@ -15,6 +15,19 @@
 #include "common/yaml_fields.hpp"
 
 namespace edx::arch {
+
+/// A regressor of a kernel row; `uses_detail` when it reads the kernel's detail JSON (which is
+/// parsed only for kinds that have such a regressor).
+struct KernelFeature {
+  const char* name;
+  double (*value)(const trace::KernelRecord&, const nlohmann::json& detail);
+  bool uses_detail = false;
+};
+struct TaskFeature {
+  const char* name;
+  double (*value)(const trace::TaskRecord&, double image_pixels);
+};
+
 namespace {
 
 using trace::KernelRecord;
@@ -79,18 +92,6 @@ double instance_elements(const OpRecord& op) {
 /// Flops and elements of an op record: its batch of instances.
 double op_flops(const OpRecord& op) { return d(op.batch) * instance_flops(op); }
 double op_elements(const OpRecord& op) { return d(op.batch) * instance_elements(op); }
-
-/// A regressor of a kernel row; `uses_detail` when it reads the kernel's detail JSON (which is
-/// parsed only for kinds that have such a regressor).
-struct KernelFeature {
-  const char* name;
-  double (*value)(const KernelRecord&, const nlohmann::json& detail);
-  bool uses_detail = false;
-};
-struct TaskFeature {
-  const char* name;
-  double (*value)(const TaskRecord&, double image_pixels);
-};
 
 double detail_count(const nlohmann::json& detail, const char* key) {
   const auto it = detail.find(key);
@@ -399,24 +400,73 @@ WorkRow work_of(const TaskRecord& task, double image_pixels) {
   return row;
 }
 
-WorkRow work_of(const KernelRecord& kernel) {
-  // The detail is parsed only for a kind with a regressor in it (this runs per kernel per
-  // frame; the trace reader checked that every detail is a JSON object).
-  const std::vector<KernelFeature>& features = kernel_features(kernel.kernel);
-  const bool uses_detail = std::any_of(features.begin(), features.end(),
-                                       [](const KernelFeature& f) { return f.uses_detail; });
-  const nlohmann::json detail = !uses_detail || kernel.detail_json == "{}"
-                                    ? nlohmann::json::object()
-                                    : nlohmann::json::parse(kernel.detail_json, nullptr, false);
+namespace {
+
+bool any_uses_detail(const std::vector<KernelFeature>& features) {
+  return std::any_of(features.begin(), features.end(),
+                     [](const KernelFeature& f) { return f.uses_detail; });
+}
+
+/// A kernel's detail JSON when its kind reads it, else an empty object; throws when it is not a
+/// JSON object.
+nlohmann::json kernel_detail(const KernelRecord& kernel, bool uses_detail) {
+  nlohmann::json detail = !uses_detail || kernel.detail_json == "{}"
+                              ? nlohmann::json::object()
+                              : nlohmann::json::parse(kernel.detail_json, nullptr, false);
   if (detail.is_discarded() || !detail.is_object()) {
     throw std::runtime_error(fmt::format("kernel '{}': detail is not a JSON object: {}",
                                          kernel.kernel, kernel.detail_json));
   }
+  return detail;
+}
+
+}  // namespace
+
+WorkRow work_of(const KernelRecord& kernel) {
+  // The detail is parsed only for a kind with a regressor in it (this runs per kernel per
+  // frame; the trace reader checked that every detail is a JSON object).
+  const std::vector<KernelFeature>& features = kernel_features(kernel.kernel);
+  const nlohmann::json detail = kernel_detail(kernel, any_uses_detail(features));
   WorkRow row{CostPart::kBackendKernel, kernel.kernel, {}};
   for (const KernelFeature& f : features) {
     row.x.push_back(f.value(kernel, detail));
   }
   return row;
+}
+
+std::optional<double> RowCoster::kernel(const KernelRecord& kernel) {
+  auto it = kernels_.find(kernel.kernel);
+  if (it == kernels_.end()) {
+    KernelKind kind;
+    kind.features = &kernel_features(kernel.kernel);
+    kind.uses_detail = any_uses_detail(*kind.features);
+    const auto cost = costs_.backend.find(kernel.kernel);  // try_predict's look-up
+    kind.cost = cost == costs_.backend.end() ? nullptr : &cost->second;
+    it = kernels_.emplace(kernel.kernel, kind).first;
+  }
+  const KernelKind& kind = it->second;
+  // work_of's values in its order (all of them: one may throw), then try_predict's sum.
+  const nlohmann::json detail = kernel_detail(kernel, kind.uses_detail);
+  x_.clear();
+  for (const KernelFeature& f : *kind.features) x_.push_back(f.value(kernel, detail));
+  if (kind.cost == nullptr) return std::nullopt;
+  return kind.cost->predict(x_);
+}
+
+std::optional<double> RowCoster::task(const TaskRecord& task, double image_pixels) {
+  auto it = tasks_.find(task.task);
+  if (it == tasks_.end()) {
+    TaskKind kind;
+    kind.features = &task_features(task.task);
+    const auto cost = costs_.frontend.find(trace::to_string(task.task));
+    kind.cost = cost == costs_.frontend.end() ? nullptr : &cost->second;
+    it = tasks_.emplace(task.task, kind).first;
+  }
+  const TaskKind& kind = it->second;
+  x_.clear();
+  for (const TaskFeature& f : *kind.features) x_.push_back(f.value(task, image_pixels));
+  if (kind.cost == nullptr) return std::nullopt;
+  return kind.cost->predict(x_);
 }
 
 WorkRow frontend_rest_of(const trace::FrameTrace&) {

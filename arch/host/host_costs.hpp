@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "common/config_fields.hpp"
@@ -83,6 +84,37 @@ struct HostCostModel {
   static std::vector<ReferenceRow> reference();
   /// The bundled table, configs/host/host_costs.yaml (common::find_resource), read once.
   static const HostCostModel& bundled();
+};
+
+struct KernelFeature;  // a kernel kind's regressor (host_costs.cpp)
+struct TaskFeature;    // a task kind's regressor
+
+/// Σ_j c_j x_j of tasks' and kernels' rows: costs.try_predict(work_of(...)) to the bit, with the
+/// per-kind look-ups (regressor list, costs) done once per kind and no row built, as
+/// suite_scaled needs for every task and kernel of every frame. Errors as work_of's. One
+/// thread's; `costs` must outlive it.
+class RowCoster {
+ public:
+  explicit RowCoster(const HostCostModel& costs) : costs_(costs) {}
+  /// costs.try_predict(work_of(kernel)).
+  std::optional<double> kernel(const trace::KernelRecord& kernel);
+  /// costs.try_predict(work_of(task, image_pixels)).
+  std::optional<double> task(const trace::TaskRecord& task, double image_pixels);
+
+ private:
+  struct KernelKind {
+    const std::vector<KernelFeature>* features = nullptr;
+    bool uses_detail = false;
+    const RowCost* cost = nullptr;  ///< nullptr: the table has none
+  };
+  struct TaskKind {
+    const std::vector<TaskFeature>* features = nullptr;
+    const RowCost* cost = nullptr;
+  };
+  const HostCostModel& costs_;
+  std::unordered_map<std::string, KernelKind> kernels_;
+  std::map<trace::Task, TaskKind> tasks_;
+  std::vector<double> x_;  ///< the row's regressors (reused)
 };
 
 /// One trace's rows for the fit: its frames and the local suite speed of each.

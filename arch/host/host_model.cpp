@@ -149,6 +149,8 @@ PlatformHostTimes PlatformHostTimes::suite_scaled(const SuiteTimes& host, HostTi
     return it->second;
   };
   const std::string_view frontend_rest = "frontend_rest";
+  std::optional<RowCoster> coster;  // the tasks' and kernels' rows, kinds looked up once
+  if (modeled) coster.emplace(*costs);
   for (const trace::FrameTrace& frame : frames) {
     const std::int64_t id = frame.frame.frame_id;
     const double fe = t.mapping.frontend_scale(id) * 1e-6;  // ns -> ms
@@ -171,7 +173,8 @@ PlatformHostTimes PlatformHostTimes::suite_scaled(const SuiteTimes& host, HostTi
       }
       const double pixels = image_pixels(frame);
       for (const trace::TaskRecord& task : frame.tasks) {
-        const double units = cost(work_of(task, pixels)) *
+        const std::optional<double> modeled_units = coster->task(task, pixels);
+        const double units = (modeled_units ? *modeled_units : cost(work_of(task, pixels))) *
                              factor_of(CostPart::kFrontendTask, trace::to_string(task.task));
         tasks.push_back(units * fe);
         frontend_units += units;
@@ -181,7 +184,8 @@ PlatformHostTimes PlatformHostTimes::suite_scaled(const SuiteTimes& host, HostTi
         backend_units = cost(rest) * factor_of(CostPart::kBackendRest, rest.kind);
       }
       for (const trace::KernelRecord& kernel : frame.kernels) {
-        kernels.push_back(cost(work_of(kernel)) *
+        const std::optional<double> kernel_units = coster->kernel(kernel);
+        kernels.push_back((kernel_units ? *kernel_units : cost(work_of(kernel))) *
                           factor_of(CostPart::kBackendKernel, kernel.kernel) * be);
         backend_units += kernels.back() / be;
       }

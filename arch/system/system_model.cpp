@@ -549,12 +549,13 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   std::vector<KernelInvocation> invocations;
   std::vector<std::unique_ptr<const OffloadPlan>> accel;
   std::vector<KernelTransfer> transfers;
+  const std::unique_ptr<OffloadPlanner> planner = platform.backend->planner();  // this run's memo
   for (std::size_t f = 0; f < frames.size(); ++f) {
     const trace::FrameTrace& frame = frames[f];
     for (std::size_t k = 0; k < frame.kernels.size(); ++k) {
       const trace::KernelRecord& kernel = frame.kernels[k];
       if (!platform.scheduler.offloads(kernel.kernel) || !has_ops(kernel)) continue;
-      std::unique_ptr<const OffloadPlan> a = platform.backend->plan(kernel);
+      std::unique_ptr<const OffloadPlan> a = planner->plan(kernel);
       KernelTransfer t =
           kernel_transfer(kernel, platform.transfers, platform.backend->matrix_format());
       const double link_s = sim::to_seconds(kernel_transfer_time(*platform.link, t));

@@ -34,6 +34,18 @@ std::unique_ptr<const OffloadPlan> FpgaMatrixUnits::plan(const trace::KernelReco
   return std::make_unique<const KernelAccelResult>(accelerate_kernel(kernel, config_));
 }
 
+std::unique_ptr<OffloadPlanner> FpgaMatrixUnits::planner() const {
+  struct Planner final : OffloadPlanner {
+    explicit Planner(const BackendConfig& c) : config(c) {}
+    std::unique_ptr<const OffloadPlan> plan(const trace::KernelRecord& kernel) override {
+      return std::make_unique<const KernelAccelResult>(accelerate_kernel(kernel, config, memo));
+    }
+    const BackendConfig& config;
+    OpTimingMemo memo;
+  };
+  return std::make_unique<Planner>(config_);
+}
+
 std::unique_ptr<OffloadModel> FpgaMatrixUnits::instantiate(sim::Simulator& sim) const {
   return std::make_unique<BackendAccelerator>(sim, config_);
 }

@@ -22,6 +22,8 @@ class FpgaMatrixUnits final : public OffloadAccelerator {
   /// The instances of count > 0, in BackendConfig::units order.
   std::vector<std::string> resource_names() const override;
   std::unique_ptr<const OffloadPlan> plan(const trace::KernelRecord& kernel) const override;
+  /// Plans with one OpTimingMemo for the run (kernel_replay.hpp).
+  std::unique_ptr<OffloadPlanner> planner() const override;
   std::unique_ptr<OffloadModel> instantiate(sim::Simulator& sim) const override;
   /// Table II's building blocks: each unit instance (N.S.: one per offloaded kernel using it),
   /// the "Misc." adder (one per kernel that adds) and the operand SPM (one per kernel).

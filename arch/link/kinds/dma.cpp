@@ -134,6 +134,13 @@ class DmaLink final : public Link {
       }
       return static_cast<sim::Time>(std::llround(picoseconds));
     }
+    /// True when wire_time(bytes) does not throw (wire time monotone in bytes: then no smaller
+    /// count throws either).
+    bool wire_in_range(std::int64_t bytes) const {
+      const double picoseconds = static_cast<double>(bytes) * 1e3 / bandwidth_gb_per_s;
+      return std::isfinite(picoseconds) && picoseconds >= 0.0 &&
+             picoseconds < 9223372036854775808.0;  // 2^63, as wire_time
+    }
     /// The chunk of `bytes` at byte `offset` of a transfer: wire(offset + bytes) - wire(offset).
     sim::Time chunk_wire_time(std::int64_t offset, std::int64_t bytes) const {
       return wire_time(offset + bytes) - wire_time(offset);
@@ -234,7 +241,6 @@ class DmaLink final : public Link {
 
   const Params& params() const { return params_; }
 
- private:
   /// True when chunk j's slot (freed at D_{j-K} = E_{j-K} + L) is always free before the wire
   /// is: E_{j-K} + L + s <= E_{j-1}, i.e. the K - 1 full chunks between them take at least
   /// L + s on the wire. A full chunk's rounded wire time is at least C / bandwidth - 1 ps, so
@@ -246,6 +252,7 @@ class DmaLink final : public Link {
            static_cast<double>(latency + setup + 1);
   }
 
+ private:
   Params params_;
   sim::Time setup_;        ///< dma.setup_ns as simulated time
   sim::Time latency_;      ///< latency_ns as simulated time
@@ -261,6 +268,7 @@ class DmaModel final : public LinkModel {
         params_(link.params()),
         setup_(ns_to_time(params_.dma.setup_ns)),
         latency_(ns_to_time(params_.latency_ns)),
+        slots_never_wait_(DmaLink::slots_never_wait(params_, setup_, latency_)),
         h2c_(params_.dma.max_outstanding),
         c2h_(params_.dma.max_outstanding) {
     // Half duplex: one wire and one DMA engine (its K slots) for both directions.
@@ -286,28 +294,55 @@ class DmaModel final : public LinkModel {
     const sim::Time begin = sim_->now();
     sim::Time last_arrival = begin;
     const std::int64_t chunk_size = params_.dma.chunk_bytes;
+    const std::int64_t n = (bytes + chunk_size - 1) / chunk_size;  // chunks
     std::vector<sim::Time>& slots = *l.slot_free;
-    for (std::int64_t offset = 0; offset < bytes; offset += chunk_size) {
+    const auto k = static_cast<std::int64_t>(slots.size());
+    // The transfer's time t: now, or a grant it went on to without an event because nothing
+    // else can happen until the horizon (Simulator::quiet_horizon: a long transfer alone on the
+    // link books its chunks in one event instead of one per slot it waits for).
+    Run run{begin, 0, last_arrival};
+    sim::Time horizon = sim_->quiet_horizon();
+    std::int64_t next_try = k;  // when to try a steady stretch (book_steady) next
+    for (std::int64_t j = 0; j < n;) {
+      if (j >= next_try && slots_never_wait_) {
+        const std::int64_t booked = book_steady(l, j, n, bytes, horizon, run);
+        j += booked;
+        if (booked == 0) next_try = j + k;  // not now: again after k chunks
+        continue;
+      }
+      const std::int64_t offset = j * chunk_size;
       // Ask for a slot now: the earliest free one (earlier requests took the earlier ones, as a
       // FIFO queue would hand them out); granted at G = max(now, its free time).
       std::pop_heap(slots.begin(), slots.end(), later);
-      const sim::Time grant = std::max(sim_->now(), slots.back());
+      const sim::Time grant = std::max(run.t, slots.back());
       // Setup, then the wire in grant order (W = max(G + s, wire free)), then the flight; the
       // slot is held until the chunk has arrived.
       const std::int64_t chunk_bytes = std::min(chunk_size, bytes - offset);
       const sim::Time wire_start = std::max(grant + setup_, l.wire->free_at);
-      const sim::Time on_wire = params_.chunk_wire_time(offset, chunk_bytes);
+      const sim::Time wire_end = params_.wire_time(offset + chunk_bytes);
+      const sim::Time on_wire = wire_end - run.wire_done;  // chunk_wire_time(offset, chunk_bytes)
+      run.wire_done = wire_end;
       l.wire->free_at = wire_start + on_wire;
       l.wire->busy.add(on_wire);
       const sim::Time arrival = l.wire->free_at + latency_;
       slots.back() = arrival;
       std::push_heap(slots.begin(), slots.end(), later);
       l.chunks.add();
-      last_arrival = std::max(last_arrival, arrival);
+      run.last_arrival = std::max(run.last_arrival, arrival);
+      ++j;
       // The next chunk's slot is asked for once this one is granted.
-      if (grant > sim_->now()) co_await sim_->delay_until(grant);
+      if (grant > run.t) {
+        if (grant > horizon) {
+          co_await sim_->delay_until(grant);
+          horizon = sim_->quiet_horizon();
+        }
+        run.t = grant;
+      }
     }
-    if (last_arrival > sim_->now()) co_await sim_->delay_until(last_arrival);
+    last_arrival = run.last_arrival;
+    // At the last arrival, or at t when the transfer went on past now without waiting.
+    const sim::Time end = std::max(last_arrival, run.t);
+    if (end > sim_->now()) co_await sim_->delay_until(end);
     l.bytes.add(static_cast<std::uint64_t>(bytes));
     l.transfers.add();
     l.latency_us.add(sim::to_us(sim_->now() - begin));
@@ -370,11 +405,87 @@ class DmaModel final : public LinkModel {
   const Lane& lane(Direction d) const noexcept { return d == Direction::HostToFpga ? h2c_ : c2h_; }
   Lane& lane(Direction d) noexcept { return d == Direction::HostToFpga ? h2c_ : c2h_; }
 
+  /// A transfer's state between chunks.
+  struct Run {
+    sim::Time t;             ///< its time: now, or the last grant it went on to
+    sim::Time wire_done;     ///< wire(offset of its next chunk)
+    sim::Time last_arrival;  ///< its latest chunk arrival so far
+  };
+
+  /// Books chunks a, a + 1, ... of a transfer of `bytes` (n chunks) at once while they run
+  /// steadily, as the chunk loop would one by one; returns how many (0: none, the loop books a).
+  /// With the slots sorted s_0 <= ... <= s_{K-1} and E_{a-1} the wire's free time:
+  ///   E_j = E_{a-1} + wire(end_j) - wire(o_a)   (back to back on the wire)
+  ///   A_j = E_j + L                              (arrival)
+  ///   G_j = max(t, s_{j-a}) for j - a < K, else A_{j-K}   (the slot granted)
+  /// which is the loop's schedule when every chunk finds the wire busy past its setup,
+  /// G_j + s <= E_{j-1} (checked for the first K; after them the K - 1 full chunks between a
+  /// slot's two uses outlast L + s: slots_never_wait), when the slots all free before the first
+  /// arrival (s_{K-1} <= A_a: they are granted in order before the transfer's own), and when
+  /// nothing else can happen up to G_j (G_j <= horizon). The slots end holding the last K
+  /// arrivals (their heap order is immaterial: only their values are read).
+  std::int64_t book_steady(Lane& l, std::int64_t a, std::int64_t n, std::int64_t bytes,
+                           sim::Time horizon, Run& run) {
+    std::vector<sim::Time>& slots = *l.slot_free;
+    const std::size_t k = slots.size();
+    const std::int64_t c = params_.dma.chunk_bytes;
+    if (!params_.wire_in_range(bytes)) return 0;  // the loop throws at its chunk
+    const auto end_of = [&](std::int64_t j) { return std::min((j + 1) * c, bytes); };
+    const sim::Time e0 = l.wire->free_at;  // E_{a-1}
+    const sim::Time w0 = run.wire_done;    // wire(o_a)
+    const auto wire_end = [&](std::int64_t j) { return e0 + params_.wire_time(end_of(j)) - w0; };
+    std::array<sim::Time, 16> few{};
+    std::vector<sim::Time> many(k > few.size() ? k : 0);
+    sim::Time* const sorted = k > few.size() ? many.data() : few.data();
+    std::copy(slots.begin(), slots.end(), sorted);
+    std::sort(sorted, sorted + k);
+    if (sorted[k - 1] > wire_end(a) + latency_) return 0;
+    const auto grant = [&](std::int64_t j) {
+      const auto i = static_cast<std::size_t>(j - a);
+      return i < k ? std::max(run.t, sorted[i])
+                   : wire_end(j - static_cast<std::int64_t>(k)) + latency_;
+    };
+    // The first K chunks must find the wire busy past their setup; the stretch ends before
+    // the first that does not.
+    std::int64_t last = n - 1;
+    for (std::int64_t j = a; j <= last && j - a < static_cast<std::int64_t>(k); ++j) {
+      if (grant(j) + setup_ > (j == a ? e0 : wire_end(j - 1))) last = j - 1;
+    }
+    if (last < a || grant(a) > horizon) return 0;
+    // The last chunk granted by the horizon (grants do not decrease).
+    if (grant(last) > horizon) {
+      std::int64_t lo = a, hi = last;  // grant(lo) <= horizon < grant(hi)
+      while (hi - lo > 1) {
+        const std::int64_t mid = lo + (hi - lo) / 2;
+        (grant(mid) <= horizon ? lo : hi) = mid;
+      }
+      last = lo;
+    }
+    const std::int64_t count = last - a + 1;
+    // The slots: the sorted ones not yet granted, then the arrivals of chunks a..last.
+    const auto kept =
+        static_cast<std::size_t>(std::max<std::int64_t>(0, static_cast<std::int64_t>(k) - count));
+    for (std::size_t i = 0; i < k; ++i) {
+      slots[i] = i < kept ? sorted[k - kept + i]
+                          : wire_end(last - static_cast<std::int64_t>(k - 1 - i)) + latency_;
+    }
+    std::make_heap(slots.begin(), slots.end(), std::greater<sim::Time>());
+    const sim::Time wire_last = params_.wire_time(end_of(last));
+    l.wire->busy.add(wire_last - w0);
+    l.wire->free_at = e0 + wire_last - w0;
+    l.chunks.add(static_cast<std::uint64_t>(count));
+    run.last_arrival = std::max(run.last_arrival, l.wire->free_at + latency_);
+    run.t = std::max(run.t, grant(last));
+    run.wire_done = wire_last;
+    return count;
+  }
+
   sim::Simulator* sim_;
   sim::Time created_;
   DmaLink::Params params_;  ///< a copy: the model may outlive the platform's instance
   sim::Time setup_;
   sim::Time latency_;
+  bool slots_never_wait_;  ///< DmaLink::slots_never_wait: book_steady's stretches may be long
   Lane h2c_;
   Lane c2h_;
   sim::Timeline* timeline_ = nullptr;
