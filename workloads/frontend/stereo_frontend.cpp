@@ -49,8 +49,12 @@ struct Job {
 /// depend on which worker runs what. OpenCV runs parallel_for_ calls made inside a running one
 /// serially, so the OpenCV functions the jobs call (LK, Gaussian filter, resize) do not compete
 /// with the jobs for the cores. Returns the jobs' work: the sum of each job's thread CPU time, ns
-/// (workers waiting for a job, and the calling thread waiting for the workers, are not work).
-std::int64_t run_jobs(const std::vector<Job>& jobs) {
+/// (workers waiting for a job, and the calling thread waiting for the workers, are not work),
+/// and their span: the largest CPU time of the jobs one worker ran (JobsWork).
+struct JobsWork {
+  std::int64_t total_ns = 0, span_ns = 0;
+};
+JobsWork run_jobs(const std::vector<Job>& jobs) {
   const std::size_t n = jobs.size();
   std::vector<std::exception_ptr> failures(n);
   std::vector<std::int64_t> work_ns(n, 0);
@@ -59,6 +63,7 @@ std::int64_t run_jobs(const std::vector<Job>& jobs) {
   std::condition_variable finished_one;
   std::atomic<std::size_t> next{0};
   const int workers = std::max(1, std::min(cv::getNumThreads(), static_cast<int>(n)));
+  std::vector<std::int64_t> worker_ns(static_cast<std::size_t>(workers), 0);
   cv::parallel_for_(
       cv::Range(0, workers),
       [&](const cv::Range& range) {
@@ -85,6 +90,7 @@ std::int64_t run_jobs(const std::vector<Job>& jobs) {
             {
               const std::lock_guard<std::mutex> lock(mutex);
               work_ns[index] = end - start;
+              worker_ns[static_cast<std::size_t>(w)] += end - start;
               failures[index] = failure;
               finished[index] = 1;
             }
@@ -96,27 +102,34 @@ std::int64_t run_jobs(const std::vector<Job>& jobs) {
   for (const std::exception_ptr& failure : failures) {
     if (failure) std::rethrow_exception(failure);
   }
-  return std::accumulate(work_ns.begin(), work_ns.end(), std::int64_t{0});
+  return {std::accumulate(work_ns.begin(), work_ns.end(), std::int64_t{0}),
+          *std::max_element(worker_ns.begin(), worker_ns.end())};
 }
 
 /// The CPU time of a frame's work (FrontendFrame::host_ns): the calling thread's CPU time,
-/// except while it waits in run_jobs, plus the jobs' own CPU time.
+/// except while it waits in run_jobs, plus the jobs' own CPU time; and its span
+/// (FrontendFrame::span_ns): the same with each run_jobs counted by its span.
 class FrameWorkClock {
  public:
   FrameWorkClock() : start_ns_(trace::thread_cpu_ns()) {}
   /// Runs `jobs` (run_jobs) and counts their work instead of the caller's wait.
   void run_jobs(const std::vector<Job>& jobs) {
     const std::int64_t before = trace::thread_cpu_ns();
-    jobs_ns_ += edx::frontend::run_jobs(jobs);
+    const JobsWork work = edx::frontend::run_jobs(jobs);
+    jobs_ns_ += work.total_ns;
+    span_ns_ += work.span_ns;
     waited_ns_ += trace::thread_cpu_ns() - before;
   }
   std::int64_t elapsed_ns() const {
     return trace::thread_cpu_ns() - start_ns_ - waited_ns_ + jobs_ns_;
   }
+  std::int64_t span_ns() const {
+    return trace::thread_cpu_ns() - start_ns_ - waited_ns_ + span_ns_;
+  }
 
  private:
   std::int64_t start_ns_;
-  std::int64_t waited_ns_ = 0, jobs_ns_ = 0;
+  std::int64_t waited_ns_ = 0, jobs_ns_ = 0, span_ns_ = 0;
 };
 
 /// Contiguous parts LSS's points are split into for the parallel run (a fixed number, so the
@@ -375,6 +388,7 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
 
   out.tasks = {fd_left, if_left, fd_right, if_right, dc, lss, fc_left, fc_right, mo, dr};
   out.host_ns = clock.elapsed_ns();
+  out.span_ns = clock.span_ns();
   // Counting LK iterations is measurement, not frontend work: after the frame's timing.
   if (options_.count_lk_iterations) {
     tracker_.count_iterations(previous_pyramid_, pyramid, previous_points_, tracks, out.tasks[5]);
