@@ -120,12 +120,12 @@ class FrameWorkClock {
     span_ns_ += work.span_ns;
     waited_ns_ += trace::thread_cpu_ns() - before;
   }
-  std::int64_t elapsed_ns() const {
-    return trace::thread_cpu_ns() - start_ns_ - waited_ns_ + jobs_ns_;
+  /// The work until `now` (the calling thread's trace::thread_cpu_ns()).
+  std::int64_t elapsed_ns(std::int64_t now) const {
+    return now - start_ns_ - waited_ns_ + jobs_ns_;
   }
-  std::int64_t span_ns() const {
-    return trace::thread_cpu_ns() - start_ns_ - waited_ns_ + span_ns_;
-  }
+  /// The same with each run_jobs counted by its span.
+  std::int64_t span_ns(std::int64_t now) const { return now - start_ns_ - waited_ns_ + span_ns_; }
 
  private:
   std::int64_t start_ns_;
@@ -394,8 +394,9 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
   out.stats.right_keypoints = static_cast<int>(right_keypoints.size());
 
   out.tasks = {fd_left, if_left, fd_right, if_right, dc, lss, fc_left, fc_right, mo, dr};
-  out.host_ns = clock.elapsed_ns();
-  out.span_ns = clock.span_ns();
+  const std::int64_t now = trace::thread_cpu_ns();
+  out.host_ns = clock.elapsed_ns(now);
+  out.span_ns = clock.span_ns(now);
   // Counting LK iterations is measurement, not frontend work: after the frame's timing.
   if (options_.count_lk_iterations) {
     tracker_.count_iterations(previous_pyramid_, pyramid, previous_points_, tracks, out.tasks[5]);
