@@ -35,7 +35,14 @@ struct FrontendBenchmarkResult {
   cv::Size resolution;
   std::size_t frames = 0;  ///< timed frames
   double fps = 0;          ///< timed frames / their summed process() wall time
-  SampleStats frame_ms;    ///< process() wall time per frame
+  SampleStats frame_ms;    ///< process() wall time per frame (steady clock)
+  /// Timed frames / their summed CPU time of the work (FrontendFrame::host_ns, all threads):
+  /// the frame rate on one core.
+  double cpu_fps = 0;
+  SampleStats frame_cpu_ms;  ///< FrontendFrame::host_ns per frame
+  /// Timed frames / their summed FrontendFrame::span_ns: the frame rate on cv::getNumThreads()
+  /// cores no other process competes for (a shared machine's wall clock shows less).
+  double span_fps = 0;
   std::vector<TaskTimeSummary> tasks;
   double left_keypoints = 0, stereo_matches = 0, tracked = 0;  ///< means per timed frame
 };

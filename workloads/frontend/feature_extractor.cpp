@@ -302,19 +302,48 @@ bool FeatureExtractor::describable(const ImagePyramid& pyramid, cv::Point2f poin
 cv::Mat FeatureExtractor::describe(const ImagePyramid& pyramid, const ImagePyramid& smoothed,
                                    std::vector<cv::KeyPoint>& keypoints,
                                    trace::TaskRecord& fc) const {
+  cv::Mat descriptors = make_descriptors(keypoints);
+  std::vector<int> levels(pyramid.levels.size());
+  for (std::size_t level = 0; level < levels.size(); ++level) {
+    levels[level] = static_cast<int>(level);
+  }
+  describe_levels(pyramid, smoothed, levels, keypoints, descriptors, fc);
+  finish_description(keypoints, fc);
+  return descriptors;
+}
+
+cv::Mat FeatureExtractor::make_descriptors(const std::vector<cv::KeyPoint>& keypoints) {
+  return cv::Mat(static_cast<int>(keypoints.size()), 32, CV_8U, cv::Scalar(0));
+}
+
+void FeatureExtractor::finish_description(const std::vector<cv::KeyPoint>& keypoints,
+                                          trace::TaskRecord& fc) const {
+  std::sort(fc.per_level.begin(), fc.per_level.end(),
+            [](const trace::LevelWork& a, const trace::LevelWork& b) { return a.level < b.level; });
+  fc.keypoints += static_cast<std::int64_t>(keypoints.size());
+  fc.descriptors += static_cast<std::int64_t>(keypoints.size());
+  fc.window_size = kOrbPatchSize;
+}
+
+void FeatureExtractor::describe_levels(const ImagePyramid& pyramid, const ImagePyramid& smoothed,
+                                       std::span<const int> levels,
+                                       std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors,
+                                       trace::TaskRecord& fc) const {
   ScopedTaskTimer timer(fc);
-  cv::Mat descriptors(static_cast<int>(keypoints.size()), 32, CV_8U, cv::Scalar(0));
   // One single-level ORB per level: the filtered level image (IF output) is handed over with
   // the keypoints in level pixels. edgeThreshold = edge margin, so ORB's border filter keeps
   // every keypoint passed. The pixels counted are those ORB smooths again internally.
   cv::Ptr<cv::ORB> orb =
       cv::ORB::create(options_.features_per_image, 1.2f, 1, options_.edge_margin_px, 0, 2,
                       cv::ORB::HARRIS_SCORE, kOrbPatchSize, options_.fast_threshold);
-  for (std::size_t level = 0; level < pyramid.levels.size(); ++level) {
-    const cv::Mat& img = pyramid.levels[level];
-    std::vector<cv::KeyPoint> at_level;
+  std::vector<cv::KeyPoint> at_level;
+  cv::Mat level_descriptors;
+  for (const int level_index : levels) {
+    const auto level = static_cast<std::size_t>(level_index);
+    const cv::Mat& img = pyramid.levels.at(level);
+    at_level.clear();
     for (std::size_t i = 0; i < keypoints.size(); ++i) {
-      if (keypoints[i].octave != static_cast<int>(level)) continue;
+      if (keypoints[i].octave != level_index) continue;
       if (!describable(pyramid, keypoints[i].pt, keypoints[i].octave)) {
         throw std::logic_error("FeatureExtractor::describe: keypoint outside the edge margin");
       }
@@ -328,7 +357,6 @@ cv::Mat FeatureExtractor::describe(const ImagePyramid& pyramid, const ImagePyram
     }
     if (at_level.empty()) continue;
     const std::size_t handed = at_level.size();
-    cv::Mat level_descriptors;
     orb->compute(smoothed.levels.at(level), at_level, level_descriptors);
     if (at_level.size() != handed || level_descriptors.rows != static_cast<int>(handed)) {
       throw std::logic_error("FeatureExtractor::describe: cv::ORB dropped keypoints");
@@ -339,12 +367,8 @@ cv::Mat FeatureExtractor::describe(const ImagePyramid& pyramid, const ImagePyram
     const std::int64_t pixels = static_cast<std::int64_t>(img.cols) * img.rows;
     fc.pixels += pixels;
     fc.levels += 1;
-    fc.per_level.push_back({static_cast<int>(level), img.cols, img.rows, pixels, 0, 0});
+    fc.per_level.push_back({level_index, img.cols, img.rows, pixels, 0, 0});
   }
-  fc.keypoints += static_cast<std::int64_t>(keypoints.size());
-  fc.descriptors += static_cast<std::int64_t>(keypoints.size());
-  fc.window_size = kOrbPatchSize;
-  return descriptors;
 }
 
 }  // namespace edx::frontend

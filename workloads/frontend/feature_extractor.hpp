@@ -77,6 +77,17 @@ class FeatureExtractor {
   cv::Mat describe(const ImagePyramid& pyramid, const ImagePyramid& smoothed,
                    std::vector<cv::KeyPoint>& keypoints, trace::TaskRecord& fc) const;
 
+  /// describe() in parts that may run concurrently: make_descriptors() the zero rows, then
+  /// describe_levels() for disjoint sets of `levels` (each writes only its levels' keypoints'
+  /// angles and descriptor rows, and adds its time, pixels and per_level rows to its own `fc`),
+  /// then finish_description() once on the merged record (per_level by level, the counts).
+  /// Identical results to describe(): each keypoint is described on its own level alone.
+  static cv::Mat make_descriptors(const std::vector<cv::KeyPoint>& keypoints);
+  void describe_levels(const ImagePyramid& pyramid, const ImagePyramid& smoothed,
+                       std::span<const int> levels, std::vector<cv::KeyPoint>& keypoints,
+                       cv::Mat& descriptors, trace::TaskRecord& fc) const;
+  void finish_description(const std::vector<cv::KeyPoint>& keypoints, trace::TaskRecord& fc) const;
+
   /// Whether a level-0 point keeps the edge margin on pyramid level `octave`.
   bool describable(const ImagePyramid& pyramid, cv::Point2f point, int octave) const;
 

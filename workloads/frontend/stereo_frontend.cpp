@@ -3,10 +3,12 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <atomic>
+#include <condition_variable>
 #include <cstring>
 #include <exception>
 #include <functional>
-#include <initializer_list>
+#include <mutex>
 #include <numeric>
 #include <opencv2/core/utility.hpp>
 #include <stdexcept>
@@ -32,56 +34,130 @@ void check_image(const cv::Mat& image, const char* side, std::size_t frame) {
   }
 }
 
-/// Runs `jobs` concurrently on OpenCV's thread pool (cv::parallel_for_, one stripe per job,
-/// cv::getNumThreads() threads), waits for all and rethrows the first job's exception. OpenCV
-/// runs parallel_for_ calls made inside a running one serially, so the OpenCV functions the
-/// jobs call (LK, Gaussian filter, resize) do not compete with the jobs for the cores.
-/// Returns the jobs' work: the sum of each job's thread CPU time, ns (the pool's threads waiting
-/// for work, and the calling thread waiting for the jobs, are not work).
-std::int64_t run_concurrently(std::initializer_list<std::function<void()>> jobs) {
-  const std::vector<std::function<void()>> list(jobs);
-  std::vector<std::exception_ptr> failures(list.size());
-  std::vector<std::int64_t> work_ns(list.size(), 0);
+/// One job of run_jobs: `run`, started only once job `after` (an earlier index, -1: none) has
+/// finished.
+struct Job {
+  std::function<void()> run;
+  int after = -1;
+};
+
+/// Runs `jobs` on OpenCV's thread pool: min(cv::getNumThreads(), jobs) workers in one
+/// cv::parallel_for_ take the jobs in list order (each the next one not yet taken, so the list
+/// should start with the longest), waits for all and rethrows the first job's exception (a job
+/// whose `after` failed is skipped). Jobs only ever wait for earlier ones, which some worker
+/// has already taken, so a worker never waits forever, whatever the pool does; results do not
+/// depend on which worker runs what. OpenCV runs parallel_for_ calls made inside a running one
+/// serially, so the OpenCV functions the jobs call (LK, Gaussian filter, resize) do not compete
+/// with the jobs for the cores. Returns the jobs' work: the sum of each job's thread CPU time, ns
+/// (workers waiting for a job, and the calling thread waiting for the workers, are not work),
+/// and their span: the largest CPU time of the jobs one worker ran (JobsWork).
+struct JobsWork {
+  std::int64_t total_ns = 0, span_ns = 0;
+};
+JobsWork run_jobs(const std::vector<Job>& jobs) {
+  const std::size_t n = jobs.size();
+  std::vector<std::exception_ptr> failures(n);
+  std::vector<std::int64_t> work_ns(n, 0);
+  std::vector<char> finished(n, 0);
+  std::mutex mutex;
+  std::condition_variable finished_one;
+  std::atomic<std::size_t> next{0};
+  const int workers = std::max(1, std::min(cv::getNumThreads(), static_cast<int>(n)));
+  std::vector<std::int64_t> worker_ns(static_cast<std::size_t>(workers), 0);
   cv::parallel_for_(
-      cv::Range(0, static_cast<int>(list.size())),
+      cv::Range(0, workers),
       [&](const cv::Range& range) {
-        for (int j = range.start; j < range.end; ++j) {
-          const auto index = static_cast<std::size_t>(j);
-          const std::int64_t start = trace::thread_cpu_ns();
-          try {
-            list[index]();
-          } catch (...) {
-            failures[index] = std::current_exception();
+        for (int w = range.start; w < range.end; ++w) {
+          for (std::size_t index = next++; index < n; index = next++) {
+            const Job& job = jobs[index];
+            bool skip = false;
+            if (job.after >= 0) {
+              const auto after = static_cast<std::size_t>(job.after);
+              std::unique_lock<std::mutex> lock(mutex);
+              finished_one.wait(lock, [&] { return finished[after] != 0; });
+              skip = failures[after] != nullptr;
+            }
+            const std::int64_t start = trace::thread_cpu_ns();
+            std::exception_ptr failure;
+            if (!skip) {
+              try {
+                job.run();
+              } catch (...) {
+                failure = std::current_exception();
+              }
+            }
+            const std::int64_t end = trace::thread_cpu_ns();
+            {
+              const std::lock_guard<std::mutex> lock(mutex);
+              work_ns[index] = end - start;
+              worker_ns[static_cast<std::size_t>(w)] += end - start;
+              failures[index] = failure;
+              finished[index] = 1;
+            }
+            finished_one.notify_all();
           }
-          work_ns[index] = trace::thread_cpu_ns() - start;
         }
       },
-      static_cast<double>(list.size()));
+      static_cast<double>(workers));
   for (const std::exception_ptr& failure : failures) {
     if (failure) std::rethrow_exception(failure);
   }
-  return std::accumulate(work_ns.begin(), work_ns.end(), std::int64_t{0});
+  return {std::accumulate(work_ns.begin(), work_ns.end(), std::int64_t{0}),
+          *std::max_element(worker_ns.begin(), worker_ns.end())};
 }
 
 /// The CPU time of a frame's work (FrontendFrame::host_ns): the calling thread's CPU time,
-/// except while it waits in run_concurrently, plus the concurrent jobs' own CPU time.
+/// except while it waits in run_jobs, plus the jobs' own CPU time; and its span
+/// (FrontendFrame::span_ns): the same with each run_jobs counted by its span.
 class FrameWorkClock {
  public:
   FrameWorkClock() : start_ns_(trace::thread_cpu_ns()) {}
-  /// Runs `jobs` concurrently and counts their work instead of the caller's wait.
-  void run_concurrently(std::initializer_list<std::function<void()>> jobs) {
+  /// Runs `jobs` (run_jobs) and counts their work instead of the caller's wait.
+  void run_jobs(const std::vector<Job>& jobs) {
     const std::int64_t before = trace::thread_cpu_ns();
-    jobs_ns_ += edx::frontend::run_concurrently(jobs);
+    const JobsWork work = edx::frontend::run_jobs(jobs);
+    jobs_ns_ += work.total_ns;
+    span_ns_ += work.span_ns;
     waited_ns_ += trace::thread_cpu_ns() - before;
   }
-  std::int64_t elapsed_ns() const {
-    return trace::thread_cpu_ns() - start_ns_ - waited_ns_ + jobs_ns_;
+  /// The work until `now` (the calling thread's trace::thread_cpu_ns()).
+  std::int64_t elapsed_ns(std::int64_t now) const {
+    return now - start_ns_ - waited_ns_ + jobs_ns_;
   }
+  /// The same with each run_jobs counted by its span.
+  std::int64_t span_ns(std::int64_t now) const { return now - start_ns_ - waited_ns_ + span_ns_; }
 
  private:
   std::int64_t start_ns_;
-  std::int64_t waited_ns_ = 0, jobs_ns_ = 0;
+  std::int64_t waited_ns_ = 0, jobs_ns_ = 0, span_ns_ = 0;
 };
+
+/// Contiguous parts LSS's points are split into for the parallel run (a fixed number, so the
+/// split does not depend on the threads; LK solves every point on its own, so the parts'
+/// results, concatenated, are those of one call on all points).
+constexpr std::size_t kTrackParts = 4;
+
+/// FC's levels split into two parts of about equal pixels for the parallel run: levels in order,
+/// each to the part with fewer pixels so far (4 levels at scale 1.2: {0, 3} and {1, 2}).
+std::array<std::vector<int>, 2> describe_parts(const ImagePyramid& pyramid) {
+  std::array<std::vector<int>, 2> parts;
+  std::array<std::int64_t, 2> pixels{0, 0};
+  for (std::size_t level = 0; level < pyramid.levels.size(); ++level) {
+    const std::size_t part = pixels[1] < pixels[0] ? 1 : 0;
+    parts[part].push_back(static_cast<int>(level));
+    pixels[part] += static_cast<std::int64_t>(pyramid.levels[level].total());
+  }
+  return parts;
+}
+
+/// Adds a part's work to `task`: time and the counts, its per_level rows appended.
+void add_part(trace::TaskRecord& task, const trace::TaskRecord& part) {
+  task.host_ns += part.host_ns;
+  task.pixels += part.pixels;
+  task.levels += part.levels;
+  task.points += part.points;
+  task.per_level.insert(task.per_level.end(), part.per_level.begin(), part.per_level.end());
+}
 
 }  // namespace
 
@@ -137,6 +213,13 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
   trace::TaskRecord mo = make_task(Task::MO, Image::Stereo);
   trace::TaskRecord dr = make_task(Task::DR, Image::Stereo);
 
+  // With parallel_images the stages are cut finer than the chains of the file comment for the
+  // cores to share (three chains on two cores leave one idle): stage 1 runs DC, both detection
+  // chains and LSS in kTrackParts parts of the points (each after DC); stage 2 runs each
+  // image's FC in 2 parts of its pyramid levels; the workers take the jobs in that order. LK
+  // solves every point on its own and ORB describes every keypoint on its own level, so the
+  // parts' results are those of the whole, and the task rows the same work as without
+  // parallel_images (host_ns: the parts' CPU time summed).
   // Stage 1, three independent chains: temporal matching of the left image (DC, LSS; the
   // longest, started first), the left image's detection and filtering (FD L, IF L) and the
   // right image's (FD R, IF R). Stage 2: FC R beside the left features' selection and FC L,
@@ -164,12 +247,49 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
     tracks = tracker_.track(previous_pyramid_, pyramid, previous_points_, lss);
   };
   cv::Mat right_descriptors;
-  auto right_description = [&] {
-    right_descriptors =
-        extractor_.describe(right_corners.pyramid, right_smoothed, right_keypoints, fc_right);
-  };
   if (options_.parallel_images) {
-    clock.run_concurrently({tracking_chain, left_detection, right_detection});
+    // DC first, then both detection chains, then LSS in parts (after DC) for the cores to
+    // share; each part tracks a contiguous share of the points into its own record.
+    std::vector<Job> jobs;
+    jobs.push_back({[&] {
+      pyramid = tracker_.build_pyramid(left, dc);
+      dc.points = static_cast<std::int64_t>(previous_points_.size());
+    }});
+    jobs.push_back({left_detection});
+    jobs.push_back({right_detection});
+    std::array<std::vector<cv::Point2f>, kTrackParts> part_points;
+    std::array<TrackResult, kTrackParts> part_tracks;
+    std::array<trace::TaskRecord, kTrackParts> part_lss;
+    const std::size_t n = previous_points_.size();
+    for (std::size_t k = 0; k < kTrackParts; ++k) {
+      const auto begin =
+          previous_points_.begin() + static_cast<std::ptrdiff_t>(k * n / kTrackParts);
+      const auto end =
+          previous_points_.begin() + static_cast<std::ptrdiff_t>((k + 1) * n / kTrackParts);
+      part_points[k].assign(begin, end);
+      part_lss[k] = make_task(Task::LSS, Image::Left);
+      jobs.push_back({[&, k] {
+                        part_tracks[k] =
+                            tracker_.track(previous_pyramid_, pyramid, part_points[k], part_lss[k]);
+                      },
+                      0});
+    }
+    clock.run_jobs(jobs);
+    // One record and one result, as one call on all points makes them (levels, window and
+    // per_level are the same in every part).
+    lss = part_lss[0];
+    for (std::size_t k = 1; k < kTrackParts; ++k) {
+      lss.host_ns += part_lss[k].host_ns;
+      lss.points += part_lss[k].points;
+    }
+    auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+    for (const TrackResult& part : part_tracks) {
+      append(tracks.positions, part.positions);
+      append(tracks.tracked, part.tracked);
+      append(tracks.round_trip_px, part.round_trip_px);
+      append(tracks.lk_residual, part.lk_residual);
+      append(tracks.backward_from, part.backward_from);
+    }
   } else {
     right_detection();
     left_detection();
@@ -209,15 +329,36 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
   out.stats.new_features = static_cast<int>(tracks_now.size()) - out.stats.tracked;
 
   cv::Mat left_descriptors;
-  auto left_description = [&] {
+  if (options_.parallel_images) {
+    // Both descriptions in two parts of levels each (describe_levels), merged per image.
+    left_descriptors = FeatureExtractor::make_descriptors(left_keypoints);
+    right_descriptors = FeatureExtractor::make_descriptors(right_keypoints);
+    const std::array<std::vector<int>, 2> left_parts = describe_parts(left_corners.pyramid);
+    const std::array<std::vector<int>, 2> right_parts = describe_parts(right_corners.pyramid);
+    std::array<trace::TaskRecord, 2> left_fc{fc_left, fc_left}, right_fc{fc_right, fc_right};
+    std::vector<Job> jobs;
+    for (std::size_t p = 0; p < 2; ++p) {
+      jobs.push_back({[&, p] {
+        extractor_.describe_levels(right_corners.pyramid, right_smoothed, right_parts[p],
+                                   right_keypoints, right_descriptors, right_fc[p]);
+      }});
+      jobs.push_back({[&, p] {
+        extractor_.describe_levels(left_corners.pyramid, left_smoothed, left_parts[p],
+                                   left_keypoints, left_descriptors, left_fc[p]);
+      }});
+    }
+    clock.run_jobs(jobs);
+    for (std::size_t p = 0; p < 2; ++p) {
+      add_part(fc_left, left_fc[p]);
+      add_part(fc_right, right_fc[p]);
+    }
+    extractor_.finish_description(left_keypoints, fc_left);
+    extractor_.finish_description(right_keypoints, fc_right);
+  } else {
+    right_descriptors =
+        extractor_.describe(right_corners.pyramid, right_smoothed, right_keypoints, fc_right);
     left_descriptors =
         extractor_.describe(left_corners.pyramid, left_smoothed, left_keypoints, fc_left);
-  };
-  if (options_.parallel_images) {
-    clock.run_concurrently({left_description, right_description});
-  } else {
-    right_description();
-    left_description();
   }
   std::vector<StereoMatch> matches =
       matcher_.match(left_keypoints, left_descriptors, right_keypoints, right_descriptors, mo);
@@ -253,7 +394,9 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
   out.stats.right_keypoints = static_cast<int>(right_keypoints.size());
 
   out.tasks = {fd_left, if_left, fd_right, if_right, dc, lss, fc_left, fc_right, mo, dr};
-  out.host_ns = clock.elapsed_ns();
+  const std::int64_t now = trace::thread_cpu_ns();
+  out.host_ns = clock.elapsed_ns(now);
+  out.span_ns = clock.span_ns(now);
   // Counting LK iterations is measurement, not frontend work: after the frame's timing.
   if (options_.count_lk_iterations) {
     tracker_.count_iterations(previous_pyramid_, pyramid, previous_points_, tracks, out.tasks[5]);

@@ -95,6 +95,11 @@ struct FrontendFrame {
   /// CPU time of process()'s work without the LK iteration replay: the calling thread's, plus
   /// with parallel_images each concurrent chain's own (not the pool's waiting), docs/TRACE.md
   std::int64_t host_ns = 0;
+  /// host_ns with each set of concurrent jobs counted by its span, the largest CPU time one
+  /// worker spent on its jobs: the frame's time on cv::getNumThreads() otherwise idle cores
+  /// (waits between jobs left out), what a wall clock shows when no other process competes.
+  /// host_ns without parallel_images.
+  std::int64_t span_ns = 0;
   FrameStats stats;
 };
 

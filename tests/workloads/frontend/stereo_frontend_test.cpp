@@ -182,7 +182,14 @@ TEST(StereoFrontend, SameInputSameOutput) {
       EXPECT_EQ(x.descriptor, y.descriptor);
       EXPECT_EQ(x.stereo, y.stereo);
       EXPECT_EQ(x.disparity, y.disparity);
+      EXPECT_EQ(x.angle, y.angle);
+      EXPECT_EQ(x.lk_residual, y.lk_residual);
+      EXPECT_EQ(x.round_trip_px, y.round_trip_px);
     }
+    // The parallel jobs' span is at most their work; without parallel_images it is the work.
+    EXPECT_GT(a[n].span_ns, 0);
+    EXPECT_LE(a[n].span_ns, a[n].host_ns);
+    EXPECT_EQ(b[n].span_ns, b[n].host_ns);
     for (std::size_t i = 0; i < a[n].tasks.size(); ++i) {
       trace::TaskRecord ta = a[n].tasks[i], tb = b[n].tasks[i];
       ta.host_ns = tb.host_ns = 0;
