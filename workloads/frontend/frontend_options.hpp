@@ -61,9 +61,11 @@ struct FrontendOptions {
   bool count_lk_iterations = true;
 
   // --- Execution ---
-  /// Run the frontend's independent chains concurrently (stereo_frontend.hpp) in one
-  /// cv::parallel_for_ (cv::getNumThreads() threads); meanwhile OpenCV runs every other
-  /// parallel_for_ of the process, the chains' own included, serially.
+  /// Run the frontend's independent work concurrently (stereo_frontend.hpp): each stage's jobs
+  /// (stage 1: DC, both detection chains, LSS in parts of the points; stage 2: FC of both images
+  /// in parts of the pyramid levels) on one cv::parallel_for_ (cv::getNumThreads() threads);
+  /// meanwhile OpenCV runs every other parallel_for_ of the process, the jobs' own included,
+  /// serially. The recorded work is the same either way.
   bool parallel_images = true;
 
   /// Every option once: key, unit, accepted values and a line of doc; validate() and to_json()

@@ -223,7 +223,8 @@ FrontendFrame StereoFrontend::process(const cv::Mat& left, const cv::Mat& right)
   // Stage 1, three independent chains: temporal matching of the left image (DC, LSS; the
   // longest, started first), the left image's detection and filtering (FD L, IF L) and the
   // right image's (FD R, IF R). Stage 2: FC R beside the left features' selection and FC L,
-  // which need the tracks. With parallel_images each stage's chains share OpenCV's pool.
+  // which need the tracks. With parallel_images each stage runs as finer jobs on OpenCV's pool
+  // (below).
   std::vector<cv::KeyPoint> right_keypoints;
   ImagePyramid right_smoothed;
   DetectedCorners right_corners;

@@ -5,8 +5,10 @@
 // matches the left features into the right image, and records every task it ran with its host
 // time and work counts (docs/TRACE.md, tasks table).
 //
-// Per frame, in this order (stages 1 and 2 each run their chains concurrently on OpenCV's
-// thread pool when parallel_images is on):
+// Per frame, in this order (when parallel_images is on, stages 1 and 2 each run as jobs on
+// OpenCV's thread pool: stage 1 as DC(L), the two detection chains and LSS(L) in parts of the
+// points after DC; stage 2, after FD(L)'s selection, as FC of each image in parts of its
+// pyramid levels; the task rows record the same work as one after another):
 //   stage 1, chain 1: DC(L) LK pyramid of the left image, LSS(L) tracking the previous left
 //                     features
 //            chain 2: FD(L) detection, IF(L) of the left pyramid
