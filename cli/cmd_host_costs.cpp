@@ -86,6 +86,9 @@ void fit(const HostCostsArguments& args) {
       "# host whose reference-suite part takes 1 ms. Written by edx host-costs fit; do not "
       "edit.\n" +
           model.to_yaml());
+  for (const std::string& warning : arch::fit_warnings(model)) {
+    fmt::print(stderr, "edx: warning: {}: {}\n", args.out, warning);
+  }
   fmt::print("host costs  {} (suite v{}, {} kinds)\n", args.out, model.suite,
              model.frontend.size() + model.backend.size());
   for (const auto* table : {&model.frontend, &model.backend}) {

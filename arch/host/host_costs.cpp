@@ -632,6 +632,9 @@ HostCostModel fit_host_costs(const std::vector<CostFitInput>& traces,
   HostCostModel model;
   model.suite = 0;
   for (const CostFitInput& input : traces) {
+    if (input.frames->empty()) {
+      throw std::runtime_error(fmt::format("{}: the trace has no frames to fit", input.name));
+    }
     const int suite = trace::host_speed_of(*input.meta, input.name).suite;
     if (model.suite != 0 && suite != model.suite) {
       throw std::runtime_error(
@@ -660,6 +663,20 @@ HostCostModel fit_host_costs(const std::vector<CostFitInput>& traces,
     (is_frontend(s.part) ? model.frontend : model.backend)[kind] = std::move(cost);
   }
   return model;
+}
+
+std::vector<std::string> fit_warnings(const HostCostModel& model) {
+  std::vector<std::string> warnings;
+  for (const auto* table : {&model.frontend, &model.backend}) {
+    for (const auto& [kind, cost] : *table) {
+      if (cost.samples >= 3 * cost.features.size()) continue;
+      warnings.push_back(fmt::format(
+          "kind '{}' fitted from {} row{}: its per-call cost alone (all {} costs need {} rows)",
+          kind, cost.samples, cost.samples == 1 ? "" : "s", cost.features.size(),
+          3 * cost.features.size()));
+    }
+  }
+  return warnings;
 }
 
 HostCostModel replace_kinds(HostCostModel base, const HostCostModel& fitted,

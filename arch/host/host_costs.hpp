@@ -127,9 +127,13 @@ struct CostFitInput {
 /// Least squares of each kind's measured CPU time over its frame's local suite time (ms) on its
 /// regressors; a regressor whose cost comes out negative is dropped and the kind refitted, so
 /// every cost is ≥ 0. Kinds with fewer rows than 3 × regressors keep only the per-call cost.
-/// Throws when a trace has no host_speed.
+/// Throws when a trace has no frames or no host_speed.
 HostCostModel fit_host_costs(const std::vector<CostFitInput>& traces,
                              const std::string& provenance);
+
+/// One line per kind of `model` fitted from fewer rows than 3 × its regressors (so only its
+/// per-call cost was fitted), for `edx host-costs fit` to warn about.
+std::vector<std::string> fit_warnings(const HostCostModel& model);
 
 /// `base` with the costs of `kinds` replaced by those of `fitted` (a partial re-fit: a kernel
 /// whose work changed is re-fitted on new traces, the other kinds keep their costs; the costs

@@ -77,6 +77,29 @@ TEST(HostCosts, TheFitRecoversTheCostsTheTimesWereMadeOf) {
               1e-12);
 }
 
+TEST(HostCosts, AFitWithoutFramesIsRefusedAndThinKindsAreNamed) {
+  const std::vector<FrameTrace> none;
+  EXPECT_THAT(
+      [&] {
+        fit_host_costs({{"empty.db", &none, &kMeta}}, "test");
+      },
+      ::testing::ThrowsMessage<std::runtime_error>(
+          ::testing::StrEq("empty.db: the trace has no frames to fit")));
+  // Two frames: IF (call, pixels) needs 6 rows, solve (call, m2, m3) 9, the rests 3 and 6.
+  const std::vector<FrameTrace> two = synthetic_frames(2, 1);
+  const std::vector<std::string> warnings =
+      fit_warnings(fit_host_costs({{"two.db", &two, &kMeta}}, "test"));
+  EXPECT_THAT(warnings, ::testing::Contains(
+                            "kind 'IF' fitted from 2 rows: its per-call cost alone (all 2 costs "
+                            "need 6 rows)"));
+  EXPECT_THAT(warnings,
+              ::testing::Contains("kind 'solve' fitted from 2 rows: its per-call cost alone (all 3 "
+                                  "costs need 9 rows)"));
+  // 60 frames fit every cost of every kind: no warning.
+  const std::vector<FrameTrace> sixty = synthetic_frames(60, 1);
+  EXPECT_TRUE(fit_warnings(fit_host_costs({{"s.db", &sixty, &kMeta}}, "test")).empty());
+}
+
 // The VIO's `jacobians` kernel: its sizes and the whitening's flops from its detail (0 without).
 TEST(HostCosts, JacobiansWorkIncludesTheWhiteningFlopsOfItsDetail) {
   trace::KernelRecord kernel;
