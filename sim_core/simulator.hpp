@@ -187,16 +187,12 @@ class Simulator {
   /// Runs every event with time <= `until`, then sets now() to `until` (unless stopped or an
   /// exception escaped). Throws std::invalid_argument if `until` < now().
   void run_until(Time until);
-  /// True when nothing else can happen before time `t` (>= now()) in the current run: the
+  /// The latest time t (>= now()) up to which nothing else can happen in the current run: the
   /// earliest queued event is after t, t is within the run's limit, no stop() is pending and no
-  /// event log or hook is on. The running process may then go on as if it had waited until t
-  /// (`co_await delay_until(t)`) without that event: no other process runs in between, so every
-  /// outcome is the same (the event it skips is neither counted nor logged). False outside a run.
-  bool quiet_until(Time t) {
-    return running_ && !tracing_ && !stop_requested_ && t <= run_limit_ && queue_.next_time() > t;
-  }
-  /// The latest time t with quiet_until(t) true, now() when there is none (nothing queued
-  /// changes while the running process goes on without an event).
+  /// event log or hook is on; now() when there is none or outside a run. The running process may
+  /// then go on as if it had waited until any time up to t (`co_await delay_until(t)`) without
+  /// that event: no other process runs in between, so every outcome is the same (the event it
+  /// skips is neither counted nor logged).
   Time quiet_horizon() {
     if (!running_ || tracing_ || stop_requested_) return now_;
     const Time next = queue_.next_time();  // >= now_

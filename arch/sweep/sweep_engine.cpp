@@ -414,7 +414,18 @@ SystemResult SweepContext::execute_simulate(const Platform& platform, std::size_
   FrontendStudy study =
       made_once(mutex_, studies_, frontend_study_key(platform) + "\ntrace=" + trace->hash,
                 [&] { return study_frontend(platform, trace->frames, trace->meta, trace->name); });
-  return simulate_system(platform, trace->frames, trace->meta, trace->name, std::move(study));
+  // So are the CPU baseline's DES runs, by baseline_des_key (after the checks simulate_system
+  // makes first: a platform that fails them leaves no runs behind for the others).
+  platform.validate();
+  check_precision(platform, trace->meta, trace->name);
+  SystemSimOptions options;
+  options.baseline =
+      made_once(mutex_, baselines_, baseline_des_key(platform) + "\ntrace=" + trace->hash, [&] {
+        return std::make_shared<const BaselineRuns>(
+            run_baseline_des(platform, trace->frames, study));
+      });
+  return simulate_system(platform, trace->frames, trace->meta, trace->name, std::move(study),
+                         options);
 }
 
 SweepTaskResult SweepContext::execute_local(const SweepTask& task) {

@@ -115,6 +115,7 @@ class SweepContext {
   std::mutex mutex_;
   std::map<std::size_t, std::shared_future<std::shared_ptr<const LoadedTrace>>> traces_;
   std::map<std::string, std::shared_future<FrontendStudy>> studies_;
+  std::map<std::string, std::shared_future<std::shared_ptr<const BaselineRuns>>> baselines_;
 };
 
 /// Where tasks run.

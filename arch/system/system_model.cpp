@@ -205,8 +205,17 @@ results::CauseTable cause_table(const SystemRun& run, const std::vector<FrameRes
   return t;
 }
 
+/// The runs of a variant on `platform` (system_des.hpp: run_system).
+SystemRun run_variant(const std::vector<SystemFrameWork>& work, const Platform& platform,
+                      bool accelerated, bool isolated, const SystemTimelineOptions& timeline) {
+  return run_system(work, platform.frontend, *platform.backend, *platform.link,
+                    platform.host_of(accelerated).cores(), platform.system, accelerated, isolated,
+                    timeline);
+}
+
 /// Model "des": runs the whole-system DES (system_des.hpp) for both variants, isolated and
-/// streamed, and replaces the analytical latencies of `r`'s frames by the isolated runs'.
+/// streamed (the baseline's from `options.baseline` when given), and replaces the analytical
+/// latencies of `r`'s frames by the isolated runs'.
 /// `accel`, `transfers`: per accelerable invocation, in the order of r.decisions.
 void simulate_platform_des(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
                            SystemResult& r,
@@ -215,16 +224,13 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
                            const SystemSimOptions& options) {
   const PlatformHostTimes& host = r.frontend.accelerated_host_times();
   const std::int64_t level0 = static_cast<std::int64_t>(r.frontend.width) * r.frontend.height;
+  // The accelerated variant's work (the baseline's fields are run_baseline_des's).
   std::vector<SystemFrameWork> work(frames.size());
   std::size_t next = 0;  // index into decisions
   for (std::size_t f = 0; f < frames.size(); ++f) {
     const trace::FrameTrace& frame = frames[f];
     SystemFrameWork& w = work[f];
     w.frame_id = frame.frame.frame_id;
-    w.frontend_host_ms = r.baseline.frames[f].frontend_ms;
-    w.frontend_host_chains = r.frontend.frame_cpu_chains[f];
-    w.backend_host_ms = r.frontend.frame_backend_host_ms[f];
-    w.backend_device_ms = r.frontend.frame_backend_device_ms[f];
     w.frontend = prepare_frontend_frame(frame, level0, platform.frontend, platform.transfers);
     const std::vector<double>& kernel_ms = host.kernel_ms[f];
     std::vector<bool> offloaded;
@@ -252,27 +258,25 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
   if (options.timeline) {
     timeline_options = {&timeline, options.timeline_first, options.timeline_count};
   }
-  const auto run = [&](bool accelerated, bool isolated, const SystemTimelineOptions& t) {
-    return run_system(work, platform.frontend, *platform.backend, *platform.link,
-                      platform.host_of(accelerated).cores(), platform.system, accelerated, isolated,
-                      t);
-  };
-  for (VariantResult* v : {&r.baseline, &r.accelerated}) {
-    const bool accelerated = v == &r.accelerated;
-    const SystemRun isolated = run(accelerated, true, {});
+  std::shared_ptr<const BaselineRuns> baseline = options.baseline;
+  if (!baseline) {
+    baseline = std::make_shared<const BaselineRuns>(run_baseline_des(platform, frames, r.frontend));
+  }
+  const BaselineRuns accelerated{run_variant(work, platform, true, true, {}),
+                                 run_variant(work, platform, true, false, timeline_options)};
+  for (const auto& [v, runs] :
+       {std::pair{&r.baseline, baseline.get()}, std::pair{&r.accelerated, &accelerated}}) {
     for (std::size_t f = 0; f < frames.size(); ++f) {
-      const SystemFrameTiming& t = isolated.frames[f];
+      const SystemFrameTiming& t = runs->isolated.frames[f];
       FrameResult& out = v->frames[f];
       out.frontend_ms = sim::to_ms(t.frontend_end - t.start);
       out.backend_ms = sim::to_ms(t.end - t.backend_start);
       out.e2e_ms = sim::to_ms(t.end - t.start);
       out.host_busy_ms = std::min(t.host_busy_ms, out.e2e_ms);
     }
-    v->isolated_causes = cause_table(isolated, v->frames);
-    const SystemRun streamed =
-        run(accelerated, false, accelerated ? timeline_options : SystemTimelineOptions{});
-    v->stream = summarize_stream(streamed, v->frames, platform.system.sensor_fps, platform);
-    v->streamed_causes = cause_table(streamed, v->frames);
+    v->isolated_causes = cause_table(runs->isolated, v->frames);
+    v->stream = summarize_stream(runs->streamed, v->frames, platform.system.sensor_fps, platform);
+    v->streamed_causes = cause_table(runs->streamed, v->frames);
   }
   if (options.timeline) {
     r.timeline_json = timeline.to_json().dump();
@@ -476,6 +480,26 @@ std::string frontend_study_key(const Platform& platform) {
   if (platform.coprocessor) key["coprocessor"] = component_json(*platform.coprocessor);
   if (platform.ros.enabled) key["ros"] = platform.ros.to_json();
   return key.dump();
+}
+
+std::string baseline_des_key(const Platform& platform) {
+  return frontend_study_key(platform) + "\nsystem=" + platform.system.to_json().dump();
+}
+
+BaselineRuns run_baseline_des(const Platform& platform,
+                              const std::vector<trace::FrameTrace>& frames,
+                              const FrontendStudy& study) {
+  std::vector<SystemFrameWork> work(frames.size());
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    SystemFrameWork& w = work[f];
+    w.frame_id = frames[f].frame.frame_id;
+    w.frontend_host_ms = study.frame_cpu_ms[f];
+    w.frontend_host_chains = study.frame_cpu_chains[f];
+    w.backend_host_ms = study.frame_backend_host_ms[f];
+    w.backend_device_ms = study.frame_backend_device_ms[f];
+  }
+  return {run_variant(work, platform, false, true, {}),
+          run_variant(work, platform, false, false, {})};
 }
 
 void check_precision(const Platform& platform, const trace::TraceMeta& trace_meta,

@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -95,8 +96,19 @@ const char* to_string(SystemModelKind kind);
 SystemModelKind parse_system_model(const std::string& text);
 
 /// Options of simulate_system beyond the platform.
+/// The CPU baseline's two whole-system DES runs (model "des"), isolated and streamed. They read
+/// the frontend study (the baseline's frontend chains, backend host and coprocessor times), the
+/// frames' ids, the baseline host's cores and `system:` only: platforms with equal
+/// baseline_des_key on one trace have equal runs (sweeps share them).
+struct BaselineRuns {
+  SystemRun isolated, streamed;
+};
+
 struct SystemSimOptions {
   SystemModelKind model = SystemModelKind::kDes;
+  /// Model "des": the baseline's runs when already made (run_baseline_des on this platform's
+  /// baseline_des_key, frames and frontend study); null: made here.
+  std::shared_ptr<const BaselineRuns> baseline;
   /// The whole-system timeline of the accelerated streamed run (frames [first, first + count)),
   /// written as Perfetto JSON; empty: none.
   std::optional<std::filesystem::path> timeline;
@@ -175,6 +187,15 @@ std::string trace_hash(std::size_t frames, const trace::TraceMeta& trace_meta);
 /// link, memory, transfers, device, ros) as text: platforms with equal keys have equal frontend
 /// studies (sweeps reuse one).
 std::string frontend_study_key(const Platform& platform);
+
+/// frontend_study_key and `system:`: platforms with equal keys have equal BaselineRuns on a
+/// trace.
+std::string baseline_des_key(const Platform& platform);
+
+/// The CPU baseline's DES runs of `platform` on `frames`, `study` being its frontend study.
+BaselineRuns run_baseline_des(const Platform& platform,
+                              const std::vector<trace::FrameTrace>& frames,
+                              const FrontendStudy& study);
 
 /// Throws std::runtime_error, one line naming both, when the trace's precision (meta precision)
 /// is not the platform's (backend.precision): a trace is simulated only at its own arithmetic;
