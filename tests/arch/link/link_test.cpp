@@ -360,27 +360,24 @@ std::vector<Time> staggered(sim::Simulator& sim, Model& link, const Jobs& jobs) 
   return done;
 }
 
-TEST(DmaLinkContention, BookedScheduleEqualsTheChunkProcessModel) {
-  // Transfers of many sizes started at staggered times in both directions contend for slots
-  // and wires; the dma kind's booked chunks must finish exactly when chunk processes would.
+/// `count` transfers drawn by an LCG (Knuth's MMIX constants) from `seed`: sizes below
+/// `max_bytes`, a third of them FPGA to host, starts below `max_start`.
+Jobs lcg_jobs(std::uint64_t seed, int count, std::uint64_t max_bytes, std::uint64_t max_start) {
   Jobs jobs;
-  std::uint64_t x = 12345;
-  for (int i = 0; i < 40; ++i) {
-    x = x * 6364136223846793005ull + 1442695040888963407ull;  // LCG (Knuth MMIX)
-    const std::int64_t bytes = static_cast<std::int64_t>((x >> 33) % 70000);
+  std::uint64_t x = seed;
+  for (int i = 0; i < count; ++i) {
+    x = x * 6364136223846793005ull + 1442695040888963407ull;
+    const auto bytes = static_cast<std::int64_t>((x >> 33) % max_bytes);
     const Direction d = (x >> 20) % 3 == 0 ? Direction::FpgaToHost : Direction::HostToFpga;
-    jobs.emplace_back(bytes, d, static_cast<int>((x >> 40) % 20000));
+    jobs.emplace_back(bytes, d, static_cast<int>((x >> 40) % max_start));
   }
-  const std::vector<ReferenceLink::Spec> specs = {
-      {"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 8}}", 7.9,
-       500, 1000, 4096, 8, true},
-      {"{bandwidth_gb_per_s: 1.2, latency_ns: 100, dma: {setup_ns: 200, max_outstanding: 8}}", 1.2,
-       100, 200, 4096, 8, true},
-      {"{bandwidth_gb_per_s: 1.2, latency_ns: 100, full_duplex: false, dma: {setup_ns: 200}}", 1.2,
-       100, 200, 4096, 8, false},
-      {"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 2}}", 7.9,
-       500, 1000, 4096, 2, true},
-  };
+  return jobs;
+}
+
+/// On each link of `specs`, the dma kind's completion times of `jobs` equal those of the
+/// one-process-per-chunk reference.
+void expect_booked_equals_chunk_processes(const Jobs& jobs,
+                                          const std::vector<ReferenceLink::Spec>& specs) {
   for (const ReferenceLink::Spec& spec : specs) {
     sim::Simulator booked_sim;
     const std::unique_ptr<LinkModel> model = dma(spec.params)->make_model(booked_sim);
@@ -394,38 +391,34 @@ TEST(DmaLinkContention, BookedScheduleEqualsTheChunkProcessModel) {
   }
 }
 
+TEST(DmaLinkContention, BookedScheduleEqualsTheChunkProcessModel) {
+  // Transfers of many sizes started at staggered times in both directions contend for slots
+  // and wires; the dma kind's booked chunks must finish exactly when chunk processes would.
+  expect_booked_equals_chunk_processes(
+      lcg_jobs(12345, 40, 70000, 20000),
+      {{"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 8}}",
+        7.9, 500, 1000, 4096, 8, true},
+       {"{bandwidth_gb_per_s: 1.2, latency_ns: 100, dma: {setup_ns: 200, max_outstanding: 8}}", 1.2,
+        100, 200, 4096, 8, true},
+       {"{bandwidth_gb_per_s: 1.2, latency_ns: 100, full_duplex: false, dma: {setup_ns: 200}}", 1.2,
+        100, 200, 4096, 8, false},
+       {"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 2}}",
+        7.9, 500, 1000, 4096, 2, true}});
+}
+
 TEST(DmaLinkContention, LongTransfersBookedInStretchesEqualTheChunkProcessModel) {
   // Transfers of hundreds of chunks (spills), alone on the link for long stretches and
   // overlapping others: the stretches the dma kind books at once (book_steady) must give the
   // same completion times as chunk processes, on links whose slots never wait and on one whose
   // slots do (two outstanding requests: the chunk loop only).
-  Jobs jobs;
-  std::uint64_t x = 777;
-  for (int i = 0; i < 14; ++i) {
-    x = x * 6364136223846793005ull + 1442695040888963407ull;  // LCG (Knuth MMIX)
-    const std::int64_t bytes = static_cast<std::int64_t>((x >> 33) % 1500000);
-    const Direction d = (x >> 20) % 3 == 0 ? Direction::FpgaToHost : Direction::HostToFpga;
-    jobs.emplace_back(bytes, d, static_cast<int>((x >> 40) % 900000));
-  }
-  const std::vector<ReferenceLink::Spec> specs = {
-      {"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 8}}", 7.9,
-       500, 1000, 4096, 8, true},
-      {"{bandwidth_gb_per_s: 1.2, latency_ns: 100, full_duplex: false, dma: {setup_ns: 200}}", 1.2,
-       100, 200, 4096, 8, false},
-      {"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 2}}", 7.9,
-       500, 1000, 4096, 2, true},
-  };
-  for (const ReferenceLink::Spec& spec : specs) {
-    sim::Simulator booked_sim;
-    const std::unique_ptr<LinkModel> model = dma(spec.params)->make_model(booked_sim);
-    const std::vector<Time> booked = staggered(booked_sim, *model, jobs);
-    sim::Simulator reference_sim;
-    ReferenceLink reference_link(reference_sim, spec);
-    const std::vector<Time> reference = staggered(reference_sim, reference_link, jobs);
-    for (std::size_t i = 0; i < jobs.size(); ++i) {
-      EXPECT_EQ(booked[i], reference[i]) << spec.params << " transfer " << i;
-    }
-  }
+  expect_booked_equals_chunk_processes(
+      lcg_jobs(777, 14, 1500000, 900000),
+      {{"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 8}}",
+        7.9, 500, 1000, 4096, 8, true},
+       {"{bandwidth_gb_per_s: 1.2, latency_ns: 100, full_duplex: false, dma: {setup_ns: 200}}", 1.2,
+        100, 200, 4096, 8, false},
+       {"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 2}}",
+        7.9, 500, 1000, 4096, 2, true}});
 }
 
 }  // namespace
