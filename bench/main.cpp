@@ -1,6 +1,8 @@
 // Entry point of `edx-bench` (run as `./edx bench NAME ...`): registers the benchmarks and maps
 // failures to exit codes: 0 success, 1 failed benchmark (one-line message), 2 bad command line.
 #include <fmt/core.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
 #include <exception>
@@ -9,6 +11,8 @@
 #include "bench/benches.hpp"
 
 int main(int argc, char** argv) {
+  // Log lines (a dataset's warnings) go to stderr: stdout carries only the results (--json).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("edx-bench"));
   CLI::App app{"edx-bench: benchmarks of edx (run as ./edx bench NAME ...)", "edx-bench"};
   app.require_subcommand(1);
 
