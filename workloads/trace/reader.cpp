@@ -95,7 +95,12 @@ class Row {
 
 TraceReader::TraceReader(std::filesystem::path path) : path_(std::move(path)) {
   const std::string file = path_.string();
-  if (!std::filesystem::is_regular_file(path_)) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path_, ec)) {
+    throw std::runtime_error(
+        fmt::format("{}: is a directory (expected a trace file, written by edx trace)", file));
+  }
+  if (!std::filesystem::is_regular_file(path_, ec)) {
     throw std::runtime_error(fmt::format("{}: no such trace file", file));
   }
   try {
