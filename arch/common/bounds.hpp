@@ -15,7 +15,8 @@ namespace edx::arch::bounds {
 inline Bounds clock_mhz() { return Bounds::at_least(1).at_most(1000); }
 /// A unit's own clock: 0 (its section's clock) or a clock_mhz() (the key's range is [0, 1000];
 /// its section's validate() refuses (0, 1) with this text).
-inline constexpr const char* kUnitClockExpected = "0 (the section's clock_mhz) or a number in [1, 1000]";
+inline constexpr const char* kUnitClockExpected =
+    "0 (the section's clock_mhz) or a number in [1, 1000]";
 inline bool unit_clock_ok(double mhz) { return mhz == 0 || clock_mhz().contains(mhz); }
 
 /// The fewest items (pixels, rows) a streaming datapath moves a cycle: 1/1024, the resolution

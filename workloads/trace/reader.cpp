@@ -275,7 +275,16 @@ std::vector<FrameTrace> TraceReader::read_all() const {
   } catch (const SQLite::Exception& e) {
     throw std::runtime_error(fmt::format("{}: cannot read trace: {}", file, e.what()));
   }
-  for (const FrameTrace& frame : frames) validate_frame(frame, file);
+  const auto resolution = meta_.find("resolution");
+  const std::optional<ImageSize> image =
+      resolution == meta_.end() ? std::nullopt : parse_image_size(resolution->second);
+  for (const FrameTrace& frame : frames) {
+    if (image) {
+      validate_frame(frame, file, *image);
+    } else {
+      validate_frame(frame, file);
+    }
+  }
   return frames;
 }
 
