@@ -267,7 +267,7 @@ std::vector<BadInputCase> cases() {
       {"c6_number_beyond_a_double",
        [](const fs::path& d) { write(d, "p.yaml", "name: p\nbackend:\n  clock_mhz: 1e400\n"); },
        "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}' --out '{dir}/r.db'", 1,
-       "edx: error: {dir}/p.yaml:3: backend.clock_mhz: expected a number in [1, 1000], got "
+       "edx: error: {dir}/p.yaml:3: backend.clock_mhz: expected a number in [0.001, 1000], got "
        "'1e400'"},
       // A command-line range: its bound in a few digits (CLI11's own prints the largest double
       // in full, 309 digits).
@@ -280,7 +280,7 @@ std::vector<BadInputCase> cases() {
          write(d, "p.yaml", "extends: {car}\nname: p\nfrontend:\n  clock_mhz: 1e-300\n");
        },
        "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}'", 1,
-       "edx: error: {dir}/p.yaml:4: frontend.clock_mhz: expected a number in [1, 1000], got "
+       "edx: error: {dir}/p.yaml:4: frontend.clock_mhz: expected a number in [0.001, 1000], got "
        "'1e-300'"},
       {"c6_platform_window_wider_than_the_traced_lines",
        [](const fs::path& d) {

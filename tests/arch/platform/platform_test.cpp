@@ -45,7 +45,7 @@ TEST(Platform, ReadsFieldsOverTheDefaults) {
 
 TEST(Platform, BadInputNamesFileLineAndKey) {
   EXPECT_EQ(error_of("name: car\nfrontend:\n  clock_mhz: fast\n"),
-            "p.yaml:3: frontend.clock_mhz: expected a number in [1, 1000], got 'fast'");
+            "p.yaml:3: frontend.clock_mhz: expected a number in [0.001, 1000], got 'fast'");
   EXPECT_EQ(error_of("name: car\nfrontend:\n  clok_mhz: 100\n"),
             "p.yaml:3: frontend.clok_mhz: unknown key");
   EXPECT_EQ(error_of("name: car\nfrontend:\n  fd_stencil: 4\n"),
@@ -75,13 +75,13 @@ TEST(Platform, BadInputNamesFileLineAndKey) {
 // each at the edge its range now has (arch/common/bounds.hpp, docs/RELIABILITY.md).
 TEST(Platform, ValuesTheModelCannotTakeAreRefusedAtTheirKey) {
   EXPECT_EQ(error_of("name: car\nfrontend:\n  clock_mhz: 1e-300\n"),
-            "p.yaml:3: frontend.clock_mhz: expected a number in [1, 1000], got '1e-300'");
+            "p.yaml:3: frontend.clock_mhz: expected a number in [0.001, 1000], got '1e-300'");
   EXPECT_EQ(error_of("name: car\nfrontend:\n  fe_pixels_per_cycle: 1e-9\n"),
             "p.yaml:3: frontend.fe_pixels_per_cycle: expected a number in [0.0009765625, 1024], "
             "got '1e-9'");
-  EXPECT_EQ(error_of("name: car\nfrontend:\n  units: {FD: {clock_mhz: 0.5}}\n"),
+  EXPECT_EQ(error_of("name: car\nfrontend:\n  units: {FD: {clock_mhz: 0.0005}}\n"),
             "p.yaml:3: frontend.units.FD.clock_mhz: expected 0 (the section's clock_mhz) or a "
-            "number in [1, 1000], got '0.5'");
+            "number in [0.001, 1000], got '0.0005'");
   EXPECT_EQ(error_of("name: car\nsystem:\n  sensor_fps: 1e-7\n"),
             "p.yaml:3: system.sensor_fps: expected 0 (frames back to back) or a rate in [0.001, "
             "1e+06] frames/s, got '1e-07'");
@@ -95,10 +95,10 @@ TEST(Platform, ValuesTheModelCannotTakeAreRefusedAtTheirKey) {
   EXPECT_EQ(error_of("name: car\npower:\n  int8_op_pj: 1e308\n"),
             "p.yaml:3: power.int8_op_pj: expected a number in [0, 1000000], got '1e308'");
   // Inside the ranges (the edges themselves) a platform is read.
-  EXPECT_NO_THROW(
-      Platform::parse("name: car\nfrontend:\n  clock_mhz: 1\n  fe_pixels_per_cycle: 0.0009765625\n"
-                      "system:\n  sensor_fps: 0.001\n",
-                      "p.yaml"));
+  EXPECT_NO_THROW(Platform::parse(
+      "name: car\nfrontend:\n  clock_mhz: 0.001\n  fe_pixels_per_cycle: 0.0009765625\n"
+      "system:\n  sensor_fps: 0.001\n",
+      "p.yaml"));
 }
 
 // An error found while simulating (a product of in-range values the model cannot hold) names
