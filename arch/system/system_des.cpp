@@ -204,7 +204,8 @@ class SystemSimulation {
     if (camera) {
       // The last frame arrives at (F - 1) / fps: inside simulated time (2^64 ps), or the rate
       // is named (its own range allows 18 000 frames at the slowest).
-      const double last_ps = 1e12 * static_cast<double>(work_.size() - 1) / system_.sensor_fps;
+      const double last = work_.empty() ? 0.0 : static_cast<double>(work_.size() - 1);
+      const double last_ps = 1e12 * last / system_.sensor_fps;
       if (!(last_ps < 0x1p64)) {
         throw InputError({}, "system.sensor_fps",
                          fmt::format("{:g} frames/s: the trace's {} frames would arrive over "
