@@ -183,12 +183,12 @@ void add_eval_command(CLI::App& app) {
       ->add_option("--t-max-diff", args->t_max_diff_s,
                    "largest timestamp difference (s) of an associated pair (tum, euroc)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_number());
   command
       ->add_option("--rpe-delta-m", args->rpe_delta_m,
                    "ground-truth path length (m) between the two poses of the distance RPE")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   command->add_flag("--json", args->json, "print the figures as one JSON object");
   command->add_flag("--kitti-odom-eval", args->kitti_odom_eval,
                     "use the conventions of the public kitti-odom-eval tool (eval_odom.py): "

@@ -119,7 +119,7 @@ void add_simulate_command(CLI::App& app) {
                   "run (model des; the pipelined frontend with --model analytical)");
   cmd->add_option("--timeline-first", args->timeline_first, "First frame of the timeline");
   cmd->add_option("--timeline-frames", args->timeline_frames, "Frames in the timeline")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--model", args->model,
                   "des: the whole-system discrete-event simulation; analytical: the closed-form "
                   "model it reduces to without contention (cross-check)")

@@ -118,7 +118,7 @@ void add_trace_command(CLI::App& app) {
   cmd->add_option("--frames", args->frames,
                   "Process only the first N frames (with --mix: frames of the whole mix, "
                   "default 400)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--resolution", args->resolution,
                   "Resize the rectified frames to WxH (e.g. 640x480; with --mix: the resolution "
                   "the worlds are rendered at, default 640x480)")
@@ -145,7 +145,7 @@ void add_trace_command(CLI::App& app) {
   cmd->add_option("--vocab", args->vocab,
                   "BoW vocabulary for the keyframe database (registration only; edx vocab)");
   cmd->add_option("--features", args->features, "Keypoint budget per image")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_option("--precision", args->precision,
                   "Arithmetic of the backend's offloadable kernels (Kalman gain and covariance "
                   "update, marginalization, projection): fp64 or fp32 (docs/TRACE.md, meta "

@@ -88,7 +88,7 @@ void add_vocab_command(CLI::App& app) {
                   "kitti:PATH (a KITTI sequence folder)")
       ->required();
   cmd->add_option("--out", args->out, "Vocabulary file to write")->required();
-  cmd->add_option("--stride", args->stride, "Use every N-th frame")->check(CLI::PositiveNumber);
+  cmd->add_option("--stride", args->stride, "Use every N-th frame")->check(positive_number());
   cmd->add_option("--max-descriptors", args->max_descriptors,
                   "Cluster at most this many descriptors (a seeded sample; 0: all)");
   cmd->add_option("--branching", args->branching, "k: children per node")->check(CLI::Range(2, 64));

@@ -49,6 +49,10 @@ void add_seed_options(CLI::App& cmd, SeedOptions& seeds, CLI::Option* trace);
 
 /// Accepts a WxH resolution option (datasets::parse_resolution's rules and message).
 CLI::Validator resolution_validator();
+/// Accepts a finite number > 0 (positive) or >= 0; refuses with "expected a number > 0, got
+/// '0'" (CLI11's own CLI::PositiveNumber prints its bound, the largest double, in 309 digits).
+CLI::Validator positive_number();
+CLI::Validator non_negative_number();
 /// `edx host-speed`: the machine-speed reference suite's times on this machine.
 void add_host_speed_command(CLI::App& app);
 void add_host_costs_command(CLI::App& app);

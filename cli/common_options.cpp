@@ -3,6 +3,8 @@
 #include <fmt/core.h>
 
 #include <array>
+#include <charconv>
+#include <cmath>
 #include <string>
 #include <string_view>
 
@@ -51,6 +53,33 @@ CLI::Validator resolution_validator() {
         return std::string();
       },
       "WxH");
+}
+
+namespace {
+
+/// A finite number whose value `accepts`, else "expected a number <bound>, got '<text>'".
+CLI::Validator number_validator(bool (*accepts)(double), const std::string& bound,
+                                const std::string& name) {
+  return CLI::Validator(
+      [accepts, bound](std::string& text) {
+        double value = 0;
+        const char* end = text.data() + text.size();
+        const auto [at, error] = std::from_chars(text.data(), end, value);
+        const bool ok = !text.empty() && error == std::errc() && at == end &&
+                        std::isfinite(value) && accepts(value);
+        return ok ? std::string() : fmt::format("expected a number {}, got '{}'", bound, text);
+      },
+      name);
+}
+
+}  // namespace
+
+CLI::Validator positive_number() {
+  return number_validator([](double v) { return v > 0; }, "> 0", "POSITIVE");
+}
+
+CLI::Validator non_negative_number() {
+  return number_validator([](double v) { return v >= 0; }, ">= 0", "NONNEGATIVE");
 }
 
 arch::WorkloadTracer mix_tracer() {

@@ -69,6 +69,12 @@ int yaml_line(const YAML::Node& node) {
 }
 
 std::string read_input_file(const std::filesystem::path& path, const std::string& what) {
+  // A folder opens as a stream that reads nothing (Linux), which would be parsed as an empty
+  // document ("expected a map"): named as what it is.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw InputError({path.string()}, "", "is a directory (expected a " + what + ")");
+  }
   std::ifstream in(path);
   if (!in) throw InputError({path.string()}, "", "cannot read the " + what);
   std::ostringstream text;

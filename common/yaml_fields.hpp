@@ -19,7 +19,7 @@
 namespace edx {
 
 /// The text of the input file `path`; InputError "path: cannot read the <what>" when it cannot
-/// be read.
+/// be read, "path: is a directory (expected a <what>)" for a folder.
 std::string read_input_file(const std::filesystem::path& path, const std::string& what);
 
 /// Input limits of every YAML document edx reads (docs/RELIABILITY.md, "Input limits"). An

@@ -1,6 +1,7 @@
 #include "sim_core/time.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace edx::sim {
@@ -10,8 +11,12 @@ Time seconds(double value) {
   constexpr double kLimitPs = 18446744073709551616.0;
   const double picoseconds = std::round(value * 1e12);
   if (!std::isfinite(value) || value < 0.0 || picoseconds >= kLimitPs) {
-    throw std::out_of_range("edx::sim::seconds(" + std::to_string(value) +
-                            "): expected a finite, non-negative duration below 2^64 ps");
+    // The value in a few digits: 1e308 printed in full is 309 digits (issue 45).
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", value);
+    throw std::out_of_range(
+        std::string("a duration of ") + text +
+        " s: expected a finite, non-negative duration below 2^64 ps (213 days)");
   }
   return static_cast<Time>(picoseconds);
 }

@@ -7,6 +7,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "arch/common/bounds.hpp"
 #include "common/yaml_fields.hpp"
 #include "workloads/trace/precision_field.hpp"
 
@@ -60,14 +61,16 @@ const FieldList<BackendConfig>& BackendConfig::fields() {
   static const FieldList<C> list = {
       field("clock_mhz", &C::clock_mhz, "MHz",
             "the units' clock unless a unit sets its own (assumed: the frontend's HLS clock)",
-            Bounds::above(0).at_most(1000)),
+            bounds::clock_mhz()),
       trace::precision_field(
           &C::precision,
           "the units' arithmetic (MACs, dividers, roots) and a matrix element in "
           "the SPM and on the link (fp64: 8 bytes, fp32: 4); must be the "
           "trace's"),
+      // At most 1 GiB: 20 times the on-chip memory of the largest FPGAs (a VU19P's BRAM and
+      // URAM, 54 MB); the BRAM mapping counts its words in 64 bits.
       field("spm_bytes", &C::spm_bytes, "bytes", "the scratchpad holding the running op's operands",
-            positive),
+            Bounds::at_least(1).at_most(1 << 30)),
       field("symmetric_optimization", &C::symmetric_optimization, "",
             "compute and store only one triangle of symmetric results (Sec. VI-A)"),
       field("pose_dim", &C::pose_dim, "",
@@ -86,6 +89,8 @@ void BackendConfig::validate() const {
       throw InputError({}, "backend.units." + u.name, "no unit kind");
     }
     check_fields(u, "backend.units." + u.name, MatrixUnitInstance::fields());
+    require_field(bounds::unit_clock_ok(u.clock_mhz), "backend.units." + u.name, "clock_mhz",
+                  bounds::kUnitClockExpected, fmt::format("{}", u.clock_mhz));
   }
   // Every op has one server at most (an op's unit is the one place its cycles come from).
   for (trace::Op op : trace::kOps) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "arch/common/bounds.hpp"
 #include "common/yaml_fields.hpp"
 
 namespace edx::arch {
@@ -36,7 +37,8 @@ const FieldList<MatrixUnitInstance>& MatrixUnitInstance::fields() {
             "stay on the host)",
             Bounds::at_least(0).at_most(1024)),
       field("clock_mhz", &C::clock_mhz, "MHz", "the unit's clock; 0: the backend's clock_mhz",
-            Bounds::at_least(0).at_most(1000)),
+            Bounds::at_least(0).at_most(1000))
+          .expects(bounds::kUnitClockExpected),
   };
   return list;
 }

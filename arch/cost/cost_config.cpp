@@ -2,6 +2,7 @@
 
 #include <map>
 
+#include "arch/common/bounds.hpp"
 #include "common/yaml_fields.hpp"
 
 namespace edx::arch::cost {
@@ -54,23 +55,25 @@ const FieldList<PowerConfig>& PowerConfig::fields() {
   static const FieldList<C> list = {
       field("fpga_static_w", &C::fpga_static_w, "W", "FPGA static power (assumed, XPE order)",
             non_negative),
-      field("int8_op_pj", &C::int8_op_pj, "pJ", "8-bit add at 45 nm (Horowitz 2014)", non_negative),
+      field("int8_op_pj", &C::int8_op_pj, "pJ", "8-bit add at 45 nm (Horowitz 2014)",
+            bounds::energy_pj()),
       field("fixed_mac_pj", &C::fixed_mac_pj, "pJ", "16-bit multiply + 32-bit add at 45 nm",
-            non_negative),
+            bounds::energy_pj()),
       field("single_mac_pj", &C::single_mac_pj, "pJ", "32-bit float multiply + add at 45 nm",
-            non_negative),
+            bounds::energy_pj()),
       field("double_mac_pj", &C::double_mac_pj, "pJ", "64-bit float multiply + add (assumed 4x)",
-            non_negative),
+            bounds::energy_pj()),
       field("fpga_energy_factor", &C::fpga_energy_factor, "",
-            "FPGA over ASIC dynamic energy (Kuon and Rose 2007: 7-14x)", Bounds::above(0)),
-      field("dram_pj_per_byte", &C::dram_pj_per_byte, "pJ/byte", "DRAM access", non_negative),
+            "FPGA over ASIC dynamic energy (Kuon and Rose 2007: 7-14x)", bounds::energy_scale()),
+      field("dram_pj_per_byte", &C::dram_pj_per_byte, "pJ/byte", "DRAM access",
+            bounds::energy_pj()),
       field("fpga_idle_fraction", &C::fpga_idle_fraction, "",
             "idle-but-clocked FPGA unit power over its busy power (assumed 0)",
             non_negative.at_most(1)),
       field("host_power_scale", &C::host_power_scale, "", "calibration hook (1: not calibrated)",
-            Bounds::above(0)),
+            bounds::energy_scale()),
       field("fpga_dynamic_scale", &C::fpga_dynamic_scale, "",
-            "calibration hook (1: not calibrated)", Bounds::above(0)),
+            "calibration hook (1: not calibrated)", bounds::energy_scale()),
   };
   return list;
 }

@@ -7,6 +7,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "arch/common/bounds.hpp"
 #include "common/yaml_fields.hpp"
 
 namespace edx::arch {
@@ -52,19 +53,22 @@ double FrontendConfig::clock_of(const FrontendUnitInstance& unit) const {
 const FieldList<FrontendConfig>& FrontendConfig::fields() {
   using C = FrontendConfig;
   const Bounds count = Bounds::at_least(1);
-  const Bounds rate = Bounds::above(0);
+  const Bounds window = bounds::window_side();
   const Bounds bytes = Bounds::at_least(1);
   static const FieldList<C> list = {
-      field("clock_mhz", &C::clock_mhz, "MHz", "frontend clock", Bounds::above(0).at_most(1000)),
+      field("clock_mhz", &C::clock_mhz, "MHz", "frontend clock", bounds::clock_mhz()),
       field("fe_pixels_per_cycle", &C::fe_pixels_per_cycle, "pixels/cycle",
-            "the FE engine's input stream: pyramid pixels FD and IF each consume a cycle", rate),
+            "the FE engine's input stream: pyramid pixels FD and IF each consume a cycle",
+            bounds::pixels_per_cycle()),
       field("fd_stencil", &C::fd_stencil, "pixels",
-            "FAST window side (Bresenham circle of radius 3: 7)", Bounds::at_least(3).odd_only()),
+            "FAST window side (Bresenham circle of radius 3: 7)",
+            bounds::window_side(3).odd_only()),
       field("if_stencil", &C::if_stencil, "pixels",
-            "Gaussian kernel side (the trace's IF window_size wins)", count.odd_only()),
+            "Gaussian kernel side (the trace's IF window_size wins)", window.odd_only()),
       field("fc_patch", &C::fc_patch, "pixels",
-            "rBRIEF patch side (the trace's FC window_size wins)", Bounds::at_least(3).odd_only()),
-      field("dc_stencil", &C::dc_stencil, "pixels", "Scharr kernel side", count.odd_only()),
+            "rBRIEF patch side (the trace's FC window_size wins)",
+            bounds::window_side(3).odd_only()),
+      field("dc_stencil", &C::dc_stencil, "pixels", "Scharr kernel side", window.odd_only()),
       field("pipeline_fe_sm", &C::pipeline_fe_sm, "",
             "FE of frame t+1 overlaps SM of frame t (double buffers)"),
       field("frame_interval_ms", &C::frame_interval_ms, "ms",
@@ -78,11 +82,11 @@ const FieldList<FrontendConfig>& FrontendConfig::fields() {
       choice_field("dr_reread", &C::dr_reread, "", {"on_chip_frame", "dram"},
                    "where that re-read comes from (dram: the paper's Sec. V-C wording)"),
       field("dr_window", &C::dr_window, "pixels",
-            "DR block-matching window side (the trace's DR row wins)", count.odd_only()),
+            "DR block-matching window side (the trace's DR row wins)", window.odd_only()),
       field("dr_search", &C::dr_search, "offsets",
             "DR candidate offsets along the row (the trace's row wins)", count),
       field("pyramid_filter", &C::pyramid_filter, "pixels",
-            "pyrDown's Gaussian side (DC builds the LK pyramid with it)", count.odd_only()),
+            "pyrDown's Gaussian side (DC builds the LK pyramid with it)", window.odd_only()),
       field("keypoint_bytes", &C::keypoint_bytes, "bytes",
             "keypoint entry in a FIFO/SPM: x, y, score, level, angle", bytes),
       field("descriptor_bytes", &C::descriptor_bytes, "bytes", "256-bit rBRIEF descriptor", bytes),
@@ -116,6 +120,8 @@ void FrontendConfig::validate() const {
                                    u.unit->kind(), trace::to_string(u.unit->task())));
     }
     check_fields(u, "frontend.units." + u.name, FrontendUnitInstance::fields());
+    require_field(bounds::unit_clock_ok(u.clock_mhz), "frontend.units." + u.name, "clock_mhz",
+                  bounds::kUnitClockExpected, fmt::format("{}", u.clock_mhz));
   }
 }
 

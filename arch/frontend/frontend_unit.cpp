@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "arch/common/bounds.hpp"
 #include "common/yaml_fields.hpp"
 
 namespace edx::arch {
@@ -14,7 +15,8 @@ const FieldList<FrontendUnitInstance>& FrontendUnitInstance::fields() {
             "left and right images side by side)",
             Bounds::at_least(1).at_most(64)),
       field("clock_mhz", &C::clock_mhz, "MHz", "the unit's clock; 0: the frontend's clock_mhz",
-            Bounds::at_least(0).at_most(1000)),
+            Bounds::at_least(0).at_most(1000))
+          .expects(bounds::kUnitClockExpected),
   };
   return list;
 }

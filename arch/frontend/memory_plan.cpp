@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/input_error.hpp"
 #include "sim_core/clock.hpp"
 
 namespace edx::arch {
@@ -51,6 +52,19 @@ PixelStream stream(std::int64_t first_cycle, double pixels_per_cycle) {
 std::int64_t window_lag_cycles(int k, std::int64_t width, double rate) {
   const std::int64_t half = (k - 1) / 2;
   return static_cast<std::int64_t>(std::ceil(static_cast<double>(half * width + half) / rate));
+}
+
+/// A window of `side` pixels over the `width`-pixel lines of stencil buffer `buffer`: a side
+/// wider than the lines that is the platform's (`configured`, not the trace's) is an error naming
+/// its key, placed at the platform file by simulate_system (issue 45).
+void require_window_fits(int side, int configured, const char* key, std::int64_t width,
+                         const std::string& buffer) {
+  if (side > width && side == configured) {
+    throw InputError({}, key,
+                     fmt::format("a {}-pixel window is wider than the {}-pixel lines of stencil "
+                                 "buffer {} (a pyramid level of the trace's images)",
+                                 side, width, buffer));
+  }
 }
 
 const TaskSpan& span_of(const FrontendFrameTiming& t, Task task, Image image) {
@@ -130,6 +144,9 @@ FrontendMemoryPlan plan_frontend_memory(const std::vector<trace::FrameTrace>& fr
   const int if_side = window_of(frames, Task::IF, Image::Left, c.if_stencil, false);
   const int fc_side = window_of(frames, Task::FC, Image::Left, c.fc_patch, false);
   for (const trace::LevelWork& level : levels_of(frames, Task::FD, Image::Left)) {
+    const std::string name = fmt::format("fe.L{}", level.level);
+    require_window_fits(c.fd_stencil, c.fd_stencil, "frontend.fd_stencil", level.width, name);
+    require_window_fits(if_side, c.if_stencil, "frontend.if_stencil", level.width, name);
     plan.stencil_buffers.push_back(
         size_stencil_buffer({fmt::format("fe.L{}", level.level),
                              level.width,
@@ -137,11 +154,17 @@ FrontendMemoryPlan plan_frontend_memory(const std::vector<trace::FrameTrace>& fr
                              {{"FD", c.fd_stencil, c.fd_stencil}, {"IF", if_side, if_side}}}));
   }
   for (const trace::LevelWork& level : levels_of(frames, Task::IF, Image::Left)) {
+    require_window_fits(fc_side, c.fc_patch, "frontend.fc_patch", level.width,
+                        fmt::format("fc.L{}", level.level));
     plan.stencil_buffers.push_back(size_stencil_buffer(
         {fmt::format("fc.L{}", level.level), level.width, b, {{"FC", fc_side, fc_side}}}));
   }
   const std::vector<trace::LevelWork> lk_levels = levels_of(frames, Task::DC, Image::Left);
   for (const trace::LevelWork& level : lk_levels) {
+    const std::string name = fmt::format("dc.L{}", level.level);
+    require_window_fits(c.dc_stencil, c.dc_stencil, "frontend.dc_stencil", level.width, name);
+    require_window_fits(c.pyramid_filter, c.pyramid_filter, "frontend.pyramid_filter", level.width,
+                        name);
     plan.stencil_buffers.push_back(size_stencil_buffer(
         {fmt::format("dc.L{}", level.level),
          level.width,
@@ -150,6 +173,7 @@ FrontendMemoryPlan plan_frontend_memory(const std::vector<trace::FrameTrace>& fr
   }
   const int dr_window = window_of(frames, Task::DR, Image::Stereo, c.dr_window, false);
   const int dr_search = window_of(frames, Task::DR, Image::Stereo, c.dr_search, true);
+  require_window_fits(dr_window, c.dr_window, "frontend.dr_window", width, "dr.left");
   const StencilBuffer dr_left =
       size_stencil_buffer({"dr.left", width, b, {{"DR", dr_window, dr_window}}});
   const StencilBuffer dr_right =

@@ -491,10 +491,19 @@ std::optional<double> HostCostModel::try_predict(const WorkRow& row) const {
 
 double HostCostModel::predict(const WorkRow& row, const std::string& where) const {
   if (const std::optional<double> t = try_predict(row)) return *t;
-  throw std::runtime_error(fmt::format(
-      "{}: the host cost table (suite v{}) has no costs for '{}' (re-fit it: edx host-costs "
-      "fit, docs/MODEL.md \"Host CPU\")",
-      where, suite, row.kind));
+  // The table is at fault, so its file leads; a table fitted in memory has none.
+  const std::string kind =
+      fmt::format("'{}' ({} kind)", row.kind, is_frontend(row.part) ? "a frontend" : "a backend");
+  if (source.empty()) {
+    throw std::runtime_error(
+        fmt::format("{}: the host cost table (suite v{}) has no costs for {} (re-fit it: edx "
+                    "host-costs fit, docs/MODEL.md \"Host CPU\")",
+                    where, suite, kind));
+  }
+  throw std::runtime_error(
+      fmt::format("{}: the host cost table (suite v{}) has no costs for {}, which {} needs (re-fit "
+                  "it: edx host-costs fit, docs/MODEL.md \"Host CPU\")",
+                  source, suite, kind, where));
 }
 
 YAML::Emitter& HostCostModel::emit(YAML::Emitter& out) const {
@@ -595,6 +604,7 @@ HostCostModel HostCostModel::from_yaml(const YAML::Node& root, const std::string
   read_costs(top, "frontend", CostPart::kFrontendTask, CostPart::kFrontendRest, model.frontend);
   read_costs(top, "backend", CostPart::kBackendKernel, CostPart::kBackendRest, model.backend);
   top.finish();
+  model.source = where;
   return model;
 }
 

@@ -67,9 +67,11 @@ struct HostCostModel {
   std::string provenance;                   ///< traces, revision, date, machine of the fit
   std::map<std::string, RowCost> frontend;  ///< tasks and "frontend_rest"
   std::map<std::string, RowCost> backend;   ///< kernels and "backend_rest:<mode>"
+  std::string source;  ///< the file it was read from ("": fitted in this process)
 
   /// Modeled time of a row in ns per suite-ms of its part. Throws std::runtime_error naming
-  /// `where` and the kind when the table has no costs for it.
+  /// the table's file (its source), the kind and `where` (the trace and frame that needs it)
+  /// when the table has no costs for it.
   double predict(const WorkRow& row, const std::string& where) const;
   /// As predict, std::nullopt when the table has no costs for the row's kind.
   std::optional<double> try_predict(const WorkRow& row) const;

@@ -11,6 +11,7 @@
 #include "common/input_error.hpp"
 #include "common/resources.hpp"
 #include "common/yaml_fields.hpp"
+#include "workloads/trace/host_speed.hpp"
 
 namespace edx::arch {
 
@@ -32,19 +33,23 @@ void HostPower::validate() const {
 
 const FieldList<SuiteTimeKeys>& SuiteTimeKeys::fields() {
   using C = SuiteTimeKeys;
-  const Bounds non_negative = Bounds::at_least(0);
+  // At most 100 s: 236 times the Kaby Lake anchor's 423 ms (a 100 MHz in-order core), and host
+  // times scale with it: the simulated 2^64 ps still hold about 10^5 frames of 1280x720 work.
+  const Bounds suite_ms = Bounds::at_least(0).at_most(1e5);
   static const FieldList<C> list = {
       field("suite", &C::suite, "",
             "reference-suite version the suite times are for (a trace's must match)",
-            Bounds::at_least(1)),
+            Bounds::at_least(1).at_most(trace::kHostSpeedSuite))
+          .expects(fmt::format("{} (the reference-suite version edx host-speed measures)",
+                               trace::kHostSpeedSuite)),
       field("frontend_suite_ms", &C::frontend_suite_ms, "ms",
             "the reference suite's frontend part on this host, CPU time (suite_scaled: 0 with "
             "backend_suite_ms 0, the trace host is the target; datasheet: 0 on a processor "
             "predicted from its `reference`)",
-            non_negative),
+            suite_ms),
       field("provenance", &C::provenance, "", "where frontend_suite_ms comes from"),
       field("backend_suite_ms", &C::backend_suite_ms, "ms",
-            "the reference suite's backend part on this host, CPU time", non_negative),
+            "the reference suite's backend part on this host, CPU time", suite_ms),
       field("backend_provenance", &C::backend_provenance, "", "where backend_suite_ms comes from"),
       enum_field(
           "times", &C::times, {"modeled", "measured"},

@@ -29,24 +29,29 @@ std::int64_t FrameTransferConfig::feature_record_bytes() const {
 
 const FieldList<FrameTransferConfig>& FrameTransferConfig::fields() {
   using C = FrameTransferConfig;
+  // A record field or sample of at most 1 KiB (the largest, a descriptor, is 32 B) and at most
+  // 10^4 samples a frame (a 10 kHz IMU beside a 1 FPS camera): a frame's transfers then stay
+  // within what the DES moves in bounded time (issue 45).
+  const Bounds field_bytes = Bounds::at_least(0).at_most(1024);
+  const Bounds samples = Bounds::at_least(0).at_most(10000);
   static const FieldList<C> list = {
       field("feature_id_bytes", &C::feature_id_bytes, "bytes", "track id of a feature record",
-            Bounds::at_least(0)),
+            field_bytes),
       field("coordinate_bytes", &C::coordinate_bytes, "bytes",
-            "one image coordinate (Q12.4); a record has four", Bounds::at_least(1)),
+            "one image coordinate (Q12.4); a record has four", Bounds::at_least(1).at_most(1024)),
       field("disparity_bytes", &C::disparity_bytes, "bytes", "stereo disparity (Q8.8)",
-            Bounds::at_least(0)),
+            field_bytes),
       field("descriptor_bytes", &C::descriptor_bytes, "bytes",
             "descriptor shipped with a feature (32: 256-bit rBRIEF; 0: positions only)",
-            Bounds::at_least(0)),
+            field_bytes),
       field("imu_samples_per_frame", &C::imu_samples_per_frame, "",
-            "IMU samples per camera frame (EuRoC: 200 Hz / 20 Hz)", Bounds::at_least(0)),
+            "IMU samples per camera frame (EuRoC: 200 Hz / 20 Hz)", samples),
       field("imu_sample_bytes", &C::imu_sample_bytes, "bytes",
-            "one IMU sample: time stamp + 3 gyro + 3 accel doubles", Bounds::at_least(0)),
+            "one IMU sample: time stamp + 3 gyro + 3 accel doubles", field_bytes),
       field("gps_samples_per_frame", &C::gps_samples_per_frame, "",
-            "GPS fixes per frame that has GPS (assumed 1)", Bounds::at_least(0)),
+            "GPS fixes per frame that has GPS (assumed 1)", samples),
       field("gps_sample_bytes", &C::gps_sample_bytes, "bytes",
-            "one GPS fix: time stamp + 3 position doubles", Bounds::at_least(0)),
+            "one GPS fix: time stamp + 3 position doubles", field_bytes),
       field("pack_symmetric", &C::pack_symmetric, "",
             "ship symmetric matrices as upper triangles n(n+1)/2"),
   };

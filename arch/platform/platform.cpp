@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
 #include "arch/memory/bram.hpp"
@@ -162,7 +163,7 @@ void note_origins(const YAML::Node& node, const std::string& prefix, const std::
   for (const auto& item : node) {
     const std::string key =
         prefix.empty() ? item.first.Scalar() : prefix + "." + item.first.Scalar();
-    origins[key] = {file};
+    origins[key] = {file, yaml_line(item.first)};
     note_origins(item.second, key, file, origins);
   }
 }
@@ -303,23 +304,44 @@ Platform Platform::parse(const std::string& text, const std::string& where) {
   return parse_root(root, where);
 }
 
-Platform Platform::parse(const PlatformSource& source) {
-  try {
-    return parse_root(source.root, source.file);
-  } catch (const InputError& e) {
-    // The merged tree's nodes keep their lines; the file is the one that wrote the longest known
-    // prefix of the key (a top-level key is reported as "platform.key").
-    std::string key = e.key().starts_with("platform.") ? e.key().substr(9) : e.key();
-    for (; !key.empty(); key = key.substr(0, key.rfind('.'))) {
-      if (const auto it = source.origins.find(key); it != source.origins.end()) {
-        InputPlace origin = it->second;
-        if (origin.line == 0) origin.line = e.line();
-        throw e.at(origin);
-      }
-      if (key.find('.') == std::string::npos) break;
+namespace {
+
+/// Where `key` was written: the origin of its longest known prefix (a top-level key may come as
+/// "platform.key"), the line the error knows when it knows one.
+std::optional<InputPlace> origin_of(const std::map<std::string, InputPlace>& origins,
+                                    const InputError& e) {
+  std::string key = e.key().starts_with("platform.") ? e.key().substr(9) : e.key();
+  for (; !key.empty(); key = key.substr(0, key.rfind('.'))) {
+    if (const auto it = origins.find(key); it != origins.end()) {
+      InputPlace origin = it->second;
+      if (e.line() != 0) origin.line = e.line();
+      return origin;
     }
+    if (key.find('.') == std::string::npos) break;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+Platform Platform::parse(const PlatformSource& source) {
+  Platform p;
+  try {
+    p = parse_root(source.root, source.file);
+  } catch (const InputError& e) {
+    // The merged tree's nodes keep their lines; the file is the one that wrote the key.
+    if (const std::optional<InputPlace> origin = origin_of(source.origins, e)) throw e.at(*origin);
     throw;
   }
+  p.file = source.file;
+  p.origins = source.origins;
+  return p;
+}
+
+InputError Platform::locate(const InputError& error) const {
+  if (error.place().known() || file.empty()) return error;
+  if (const std::optional<InputPlace> origin = origin_of(origins, error)) return error.at(*origin);
+  return error.at({file});
 }
 
 Platform Platform::load(const std::filesystem::path& path) {

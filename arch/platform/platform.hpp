@@ -117,6 +117,14 @@ struct Platform {
   SchedulerConfig scheduler;
   SystemConfig system;  ///< the whole-system DES: camera, queues, contention
   RosTransport ros;     ///< the CPU baseline as ROS 1 nodes (`ros:`; off by default)
+  /// The file it was loaded from and where each dotted key was written (load(); empty for a
+  /// platform built in code), so that an error found later, while simulating, names them.
+  std::string file;
+  std::map<std::string, InputPlace> origins;
+  /// `error` placed at the file and line of its key (the file that wrote the longest known
+  /// prefix of it; a key of no file: the platform's file) when it names no place yet: a product
+  /// of in-range values that the model cannot hold, found when a trace meets the platform.
+  InputError locate(const InputError& error) const;
   nlohmann::json to_json() const;
   /// Every section's validate() (a platform built or changed in code); load() already did.
   void validate() const;

@@ -27,12 +27,21 @@ DropPolicy parse_drop_policy(const std::string& text) {
   throw std::runtime_error(fmt::format("expected oldest, newest or none, got '{}'", text));
 }
 
+namespace {
+
+constexpr double kMinSensorFps = 1e-3;
+constexpr const char* kSensorFpsExpected =
+    "0 (frames back to back) or a rate in [0.001, 1e+06] frames/s";
+
+}  // namespace
+
 const FieldList<SystemConfig>& SystemConfig::fields() {
   using C = SystemConfig;
   static const FieldList<C> list = {
       field("sensor_fps", &C::sensor_fps, "frames/s",
             "camera frame rate of the streamed run; 0: frames back to back",
-            Bounds::at_least(0).at_most(1e6)),
+            Bounds::at_least(0).at_most(1e6))
+          .expects(kSensorFpsExpected),
       field("queue_depth", &C::queue_depth, "frames",
             "frames waiting for the frontend; a full queue drops by `drop`", Bounds::at_least(1)),
       enum_field(
@@ -49,7 +58,13 @@ const FieldList<SystemConfig>& SystemConfig::fields() {
   return list;
 }
 
-void SystemConfig::validate() const { check_fields(*this, "system", fields()); }
+void SystemConfig::validate() const {
+  check_fields(*this, "system", fields());
+  // A camera of at least a frame per 1000 s: frame f arrives at f / fps, and 2^64 ps (213 days)
+  // then holds 18 000 frames; a longer trace at a slow rate is refused when it is simulated.
+  require_field(sensor_fps == 0 || sensor_fps >= kMinSensorFps, "system", "sensor_fps",
+                kSensorFpsExpected, fmt::format("{}", sensor_fps));
+}
 
 nlohmann::json SystemConfig::to_json() const { return fields_to_json(*this, fields()); }
 

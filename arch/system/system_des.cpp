@@ -11,6 +11,7 @@
 
 #include "arch/backend/offload_accelerator.hpp"
 #include "arch/link/link.hpp"
+#include "common/input_error.hpp"
 
 namespace edx::arch {
 
@@ -201,6 +202,16 @@ class SystemSimulation {
   SystemRun run() {
     const bool camera = !isolated_ && system_.sensor_fps > 0;
     if (camera) {
+      // The last frame arrives at (F - 1) / fps: inside simulated time (2^64 ps), or the rate
+      // is named (its own range allows 18 000 frames at the slowest).
+      const double last = work_.empty() ? 0.0 : static_cast<double>(work_.size() - 1);
+      const double last_ps = 1e12 * last / system_.sensor_fps;
+      if (!(last_ps < 0x1p64)) {
+        throw InputError({}, "system.sensor_fps",
+                         fmt::format("{:g} frames/s: the trace's {} frames would arrive over "
+                                     "{:.3g} s, beyond the 213 days simulated time holds",
+                                     system_.sensor_fps, work_.size(), last_ps * 1e-12));
+      }
       sim_.spawn(camera_process(), "camera");
     } else {
       for (std::size_t f = 0; f < work_.size(); ++f) camera_queue_items_.push_back(f);

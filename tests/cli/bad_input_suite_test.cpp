@@ -267,8 +267,46 @@ std::vector<BadInputCase> cases() {
       {"c6_number_beyond_a_double",
        [](const fs::path& d) { write(d, "p.yaml", "name: p\nbackend:\n  clock_mhz: 1e400\n"); },
        "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}' --out '{dir}/r.db'", 1,
-       "edx: error: {dir}/p.yaml:3: backend.clock_mhz: expected a number in (0, 1000], got "
+       "edx: error: {dir}/p.yaml:3: backend.clock_mhz: expected a number in [0.001, 1000], got "
        "'1e400'"},
+      // A command-line range: its bound in a few digits (CLI11's own prints the largest double
+      // in full, 309 digits).
+      {"c6_option_below_its_range", none, "'{edx}' trace --mix paper --frames 0 --out '{dir}/t.db'",
+       2, "edx: --frames: expected a number > 0, got '0' (see edx --help)"},
+      // Issue 45: a value inside a key's old range that the model cannot take is refused at
+      // the key; one the trace takes past its lines is placed at the key by the platform.
+      {"c6_platform_clock_the_model_cannot_take",
+       [](const fs::path& d) {
+         write(d, "p.yaml", "extends: {car}\nname: p\nfrontend:\n  clock_mhz: 1e-300\n");
+       },
+       "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}'", 1,
+       "edx: error: {dir}/p.yaml:4: frontend.clock_mhz: expected a number in [0.001, 1000], got "
+       "'1e-300'"},
+      {"c6_platform_window_wider_than_the_traced_lines",
+       [](const fs::path& d) {
+         write(d, "p.yaml", "extends: {car}\nname: p\nfrontend:\n  fd_stencil: 255\n");
+       },
+       "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}'", 1,
+       "edx: error: {dir}/p.yaml:4: frontend.fd_stencil: a 255-pixel window is wider than the "
+       "222-pixel lines of stencil buffer fe.L2 (a pyramid level of the trace's images)"},
+      // ... and trace counts beyond what the images hold, or operands beyond any host's memory.
+      {"c6_task_keypoints_beyond_its_images",
+       [](const fs::path& d) {
+         spoiled_trace(d, "t.db",
+                       "UPDATE tasks SET keypoints = 1000000000000 WHERE frame_id = 0 AND seq = 6");
+       },
+       "'{edx}' simulate --config '{car}' --trace '{dir}/t.db'", 1,
+       "edx: error: {dir}/t.db: frame 0, task 6 (FC): keypoints is 1000000000000, more than the "
+       "4915200 pixels of a 64-level pyramid of the 320x240 images (meta.resolution)"},
+      {"c6_op_operand_beyond_host_memory",
+       [](const fs::path& d) {
+         spoiled_trace(d, "t.db",
+                       "UPDATE ops SET m = 1000000, n = 1000000 WHERE rowid = (SELECT MIN(rowid) "
+                       "FROM ops)");
+       },
+       "'{edx}' simulate --config '{car}' --trace '{dir}/t.db'", 1,
+       "edx: error: {dir}/t.db: frame 3, kernel 5 (normal_equations), op 0: an operand of m x n = "
+       "1000000 x 1000000 elements, above the 2^32 no host holds"},
       {"c6_sweep_limit_of_zero", [](const fs::path& d) { write(d, "s.yaml", sweep_spec()); },
        "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db' --limit 0", 2,
        "edx: --limit: expected a number of points >= 1 (omit --limit for no limit) (see edx "
@@ -411,6 +449,17 @@ std::vector<BadInputCase> cases() {
        "'{edx}' host-costs check --trace '{golden}' --costs '{dir}/costs.yaml'", 1,
        "edx: error: {dir}/costs.yaml:3: frontend.IF: features [call, area], but this edx models "
        "[call, pixels] (re-fit: edx host-costs fit)"},
+      // A table lacking a kind the trace runs: the table is named, with the kind and the trace.
+      {"c7_host_cost_table_without_a_kind_of_the_trace",
+       [](const fs::path& d) {
+         write(d, "costs.yaml",
+               "suite: 1\nfrontend:\n  IF: {features: [call, pixels], costs: [1, 2], samples: 3, "
+               "r2: 1, share: 1}\nbackend: {}\n");
+       },
+       "'{edx}' host-costs check --trace '{golden}' --costs '{dir}/costs.yaml'", 1,
+       "edx: error: {dir}/costs.yaml: the host cost table (suite v1) has no costs for 'FD' (a "
+       "frontend kind), which {golden} needs (re-fit it: edx host-costs fit, docs/MODEL.md \"Host "
+       "CPU\")"},
       {"c7_host_cost_refit_of_a_kind_the_traces_lack", [](const fs::path&) {},
        "'{edx}' host-costs fit --trace '{golden}' --only no_such_kernel --out '{dir}/costs.yaml'",
        1, "edx: error: --only: kind 'no_such_kernel': the traces have no rows of it"},
@@ -462,6 +511,18 @@ std::vector<BadInputCase> cases() {
       {"c7_missing_platform_file", none,
        "'{edx}' simulate --config '{dir}/none.yaml' --trace '{golden}'", 1,
        "edx: error: {dir}/none.yaml: cannot read the platform file"},
+      // A folder where a file is expected: named as a folder, at the one place each is opened.
+      {"c7_platform_that_is_a_folder",
+       [](const fs::path& d) { fs::create_directory(d / "p.yaml"); },
+       "'{edx}' simulate --config '{dir}/p.yaml' --trace '{golden}'", 1,
+       "edx: error: {dir}/p.yaml: is a directory (expected a platform file)"},
+      {"c7_sweep_spec_that_is_a_folder",
+       [](const fs::path& d) { fs::create_directory(d / "s.yaml"); },
+       "'{edx}' sweep '{dir}/s.yaml' --db '{dir}/r.db'", 1,
+       "edx: error: {dir}/s.yaml: is a directory (expected a sweep spec)"},
+      {"c7_trace_that_is_a_folder", [](const fs::path& d) { fs::create_directory(d / "t.db"); },
+       "'{edx}' simulate --config '{car}' --trace '{dir}/t.db'", 1,
+       "edx: error: {dir}/t.db: is a directory (expected a trace file, written by edx trace)"},
       {"c7_missing_trace_file", none, "'{edx}' simulate --config '{car}' --trace '{dir}/none.db'",
        1, "edx: error: {dir}/none.db: no such trace file"},
       {"c7_missing_dataset_folder", none,

@@ -95,7 +95,12 @@ class Row {
 
 TraceReader::TraceReader(std::filesystem::path path) : path_(std::move(path)) {
   const std::string file = path_.string();
-  if (!std::filesystem::is_regular_file(path_)) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path_, ec)) {
+    throw std::runtime_error(
+        fmt::format("{}: is a directory (expected a trace file, written by edx trace)", file));
+  }
+  if (!std::filesystem::is_regular_file(path_, ec)) {
     throw std::runtime_error(fmt::format("{}: no such trace file", file));
   }
   try {
@@ -270,7 +275,16 @@ std::vector<FrameTrace> TraceReader::read_all() const {
   } catch (const SQLite::Exception& e) {
     throw std::runtime_error(fmt::format("{}: cannot read trace: {}", file, e.what()));
   }
-  for (const FrameTrace& frame : frames) validate_frame(frame, file);
+  const auto resolution = meta_.find("resolution");
+  const std::optional<ImageSize> image =
+      resolution == meta_.end() ? std::nullopt : parse_image_size(resolution->second);
+  for (const FrameTrace& frame : frames) {
+    if (image) {
+      validate_frame(frame, file, *image);
+    } else {
+      validate_frame(frame, file);
+    }
+  }
   return frames;
 }
 

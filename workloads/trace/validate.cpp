@@ -2,10 +2,14 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <cinttypes>
 #include <cmath>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string_view>
+#include <tuple>
 
 namespace edx::trace {
 namespace {
@@ -83,6 +87,15 @@ void validate_kernel(const KernelRecord& kernel, const std::string& where) {
     require_non_negative(op.n, "n", op_where, kMaxDimension);
     require_non_negative(op.k, "k", op_where, kMaxDimension);
     require_non_negative(op.host_ns, "host_ns", op_where, kMaxHostNs);
+    for (const auto& [rows, cols, name] :
+         {std::tuple{op.m, op.n, "m x n"}, std::tuple{op.m, op.k, "m x k"},
+          std::tuple{op.n, op.k, "n x k"}}) {
+      if (rows * cols > kMaxOperandElements) {  // each <= 10^7: the product fits 64 bits
+        fail(op_where, fmt::format("an operand of {} = {} x {} elements, above the 2^32 no host "
+                                   "holds",
+                                   name, rows, cols));
+      }
+    }
     if (op.batch < 1) fail(op_where, fmt::format("batch must be at least 1, is {}", op.batch));
     require_non_negative(op.batch, "batch", op_where, kMaxDimension);
     if ((op.flags & ~op_flags::kAll) != 0) {
@@ -92,6 +105,47 @@ void validate_kernel(const KernelRecord& kernel, const std::string& where) {
 }
 
 }  // namespace
+
+std::optional<ImageSize> parse_image_size(const std::string& resolution) {
+  ImageSize size;
+  char x = 0, extra = 0;
+  if (std::sscanf(resolution.c_str(), "%" SCNd64 "%c%" SCNd64 "%c", &size.width, &x, &size.height,
+                  &extra) != 3 ||
+      x != 'x' || size.width < 1 || size.height < 1 || size.width > 65536 || size.height > 65536) {
+    return std::nullopt;
+  }
+  return size;
+}
+
+void validate_frame(const FrameTrace& trace, const std::string& where, const ImageSize& image) {
+  validate_frame(trace, where);
+  const std::int64_t pyramid = kMaxLevels * image.width * image.height;  // <= 2^38
+  const std::int64_t side = std::max(image.width, image.height);
+  const std::string levels = fmt::format("the {} levels a pyramid has", kMaxLevels);
+  const std::string pixels =
+      fmt::format("the {} pixels of a {}-level pyramid of the {}x{} images (meta.resolution)",
+                  pyramid, kMaxLevels, image.width, image.height);
+  const std::string longer = fmt::format("the {} pixels of the images' longer side", side);
+  for (std::size_t i = 0; i < trace.tasks.size(); ++i) {
+    const TaskRecord& task = trace.tasks[i];
+    const std::string task_where = fmt::format("{}: frame {}, task {} ({})", where,
+                                               trace.frame.frame_id, i, to_string(task.task));
+    const auto cap = [&](std::int64_t value, const char* name, std::int64_t max,
+                         const std::string& what) {
+      if (value > max) fail(task_where, fmt::format("{} is {}, more than {}", name, value, what));
+    };
+    cap(task.levels, "levels", kMaxLevels, levels);
+    cap(static_cast<std::int64_t>(task.per_level.size()), "per_level's length", kMaxLevels, levels);
+    for (const auto& [value, name] :
+         {std::pair{task.pixels, "pixels"}, std::pair{task.candidates, "candidates"},
+          std::pair{task.keypoints, "keypoints"}, std::pair{task.descriptors, "descriptors"},
+          std::pair{task.points, "points"}, std::pair{task.windows, "windows"}}) {
+      cap(value, name, pyramid, pixels);
+    }
+    cap(task.window_size, "window_size", side, longer);
+    cap(task.search_range, "search_range", side, longer);
+  }
+}
 
 void validate_frame(const FrameTrace& trace, const std::string& where) {
   const FrameRecord& frame = trace.frame;

@@ -16,6 +16,7 @@
 
 #include "arch/backend/matrix_unit.hpp"
 #include "arch/backend/op_timing.hpp"
+#include "arch/common/bounds.hpp"
 
 namespace edx::arch {
 namespace {
@@ -38,9 +39,11 @@ class Decomposition final : public MatrixUnit {
                 "blocked factorization: panels on the substitution unit, trailing updates on the "
                 "array serving syrk"),
           field("divide_latency_cycles", &C::divide_latency_cycles, "cycles",
-                "latency of its pipelined divider (a reciprocal per column)", positive),
+                "latency of its pipelined divider (a reciprocal per column)",
+                bounds::latency_cycles()),
           field("sqrt_latency_cycles", &C::sqrt_latency_cycles, "cycles",
-                "latency of its pipelined square root (Cholesky: a root per column)", positive),
+                "latency of its pipelined square root (Cholesky: a root per column)",
+                bounds::latency_cycles()),
       };
       return list;
     }

@@ -14,6 +14,7 @@
 
 #include "arch/backend/matrix_unit.hpp"
 #include "arch/backend/op_timing.hpp"
+#include "arch/common/bounds.hpp"
 
 namespace edx::arch {
 namespace {
@@ -30,9 +31,11 @@ class Householder final : public MatrixUnit {
       static const FieldList<C> list = {
           field("lanes", &C::lanes, "", "L: multiply-accumulate lanes", positive.at_most(4096)),
           field("divide_latency_cycles", &C::divide_latency_cycles, "cycles",
-                "latency of its pipelined divider (a reciprocal per reflector)", positive),
+                "latency of its pipelined divider (a reciprocal per reflector)",
+                bounds::latency_cycles()),
           field("sqrt_latency_cycles", &C::sqrt_latency_cycles, "cycles",
-                "latency of its pipelined square root (a norm per reflector)", positive),
+                "latency of its pipelined square root (a norm per reflector)",
+                bounds::latency_cycles()),
       };
       return list;
     }

@@ -20,6 +20,7 @@
 //   resources   one divider, L MACs, operand registers, an address generator
 #include "arch/backend/matrix_unit.hpp"
 #include "arch/backend/op_timing.hpp"
+#include "arch/common/bounds.hpp"
 
 namespace edx::arch {
 namespace {
@@ -40,7 +41,8 @@ class Inverse final : public MatrixUnit {
           field("structured", &C::structured, "",
                 "invert [A B; B^T D] with A diagonal and D 6x6 as reciprocals + a 6x6 inverse"),
           field("divide_latency_cycles", &C::divide_latency_cycles, "cycles",
-                "latency of its pipelined divider (a reciprocal per pivot)", positive),
+                "latency of its pipelined divider (a reciprocal per pivot)",
+                bounds::latency_cycles()),
       };
       return list;
     }

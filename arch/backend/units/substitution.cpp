@@ -15,6 +15,7 @@
 
 #include "arch/backend/matrix_unit.hpp"
 #include "arch/backend/op_timing.hpp"
+#include "arch/common/bounds.hpp"
 
 namespace edx::arch {
 namespace {
@@ -33,7 +34,8 @@ class Substitution final : public MatrixUnit {
           field("blocked", &C::blocked, "",
                 "blocked substitution: the block rows' updates on the array serving gemm"),
           field("divide_latency_cycles", &C::divide_latency_cycles, "cycles",
-                "latency of its pipelined divider (the diagonal's reciprocals)", positive),
+                "latency of its pipelined divider (the diagonal's reciprocals)",
+                bounds::latency_cycles()),
       };
       return list;
     }

@@ -6,6 +6,7 @@
 //                    generator (no arithmetic)
 #include "arch/backend/matrix_unit.hpp"
 #include "arch/backend/op_timing.hpp"
+#include "arch/common/bounds.hpp"
 
 namespace edx::arch {
 namespace {
@@ -18,7 +19,7 @@ class Transpose final : public MatrixUnit {
       using C = Params;
       static const FieldList<C> list = {
           field("words_per_cycle", &C::words_per_cycle, "words/cycle",
-                "w: words moved a cycle (Edx-Car: 4)", Bounds::at_least(1)),
+                "w: words moved a cycle (Edx-Car: 4)", bounds::ops_per_cycle()),
       };
       return list;
     }

@@ -9,6 +9,7 @@
 //   resources  macs_per_cycle MACs (16 x 16 bits fixed, or PG060 single), five accumulators, the
 //              2x2 solve of a step (4 multiplies, 2 adds, 1 divide in single precision)
 //   activity   the same MACs; I, Ix, Iy read from the SPM per window pixel and update
+#include "arch/common/bounds.hpp"
 #include "arch/frontend/frontend_config.hpp"
 #include "arch/frontend/task_timing.hpp"
 
@@ -27,7 +28,7 @@ class LkSolver final : public FrontendUnit {
       using C = Params;
       static const FieldList<C> list = {
           field("macs_per_cycle", &C::macs_per_cycle, "MACs/cycle",
-                "multiply-accumulates a cycle of the LK solver", Bounds::at_least(1)),
+                "multiply-accumulates a cycle of the LK solver", bounds::ops_per_cycle()),
           choice_field("arithmetic", &C::arithmetic, "", {"fixed", "single"},
                        "its multiply-accumulates: fixed point (16 x 16 bits) or single precision "
                        "(selected against Table III)"),

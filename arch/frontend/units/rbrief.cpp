@@ -12,6 +12,7 @@
 //              read from the SB
 #include <cmath>
 
+#include "arch/common/bounds.hpp"
 #include "arch/frontend/frontend_config.hpp"
 #include "arch/frontend/task_timing.hpp"
 #include "arch/memory/bram.hpp"
@@ -34,9 +35,11 @@ class Rbrief final : public FrontendUnit {
       const Bounds count = Bounds::at_least(1);
       static const FieldList<C> list = {
           field("patch_rows_per_cycle", &C::patch_rows_per_cycle, "rows/cycle",
-                "orientation: patch rows of moments a cycle", count),
+                "orientation: patch rows of moments a cycle (at most a patch's)",
+                bounds::window_side()),
           field("tests_per_cycle", &C::tests_per_cycle, "tests/cycle",
-                "rBRIEF intensity tests a cycle (256 per descriptor)", count),
+                "rBRIEF intensity tests a cycle (256 per descriptor: more do nothing)",
+                Bounds::at_least(1).at_most(256)),
           field("angle_bins", &C::angle_bins, "", "rBRIEF's rotated-pattern table entries", count),
       };
       return list;

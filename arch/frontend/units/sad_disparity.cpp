@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "arch/common/bounds.hpp"
 #include "arch/frontend/frontend_config.hpp"
 #include "arch/frontend/task_timing.hpp"
 
@@ -29,7 +30,7 @@ class SadDisparity final : public FrontendUnit {
       using C = Params;
       static const FieldList<C> list = {
           field("pixels_per_cycle", &C::pixels_per_cycle, "pixels/cycle",
-                "each image's level 0 streamed through DR's buffers", Bounds::above(0)),
+                "each image's level 0 streamed through DR's buffers", bounds::pixels_per_cycle()),
           field("sad_units", &C::sad_units, "", "window SADs computed in parallel",
                 Bounds::at_least(1)),
       };

@@ -9,6 +9,7 @@
 //              buffer once
 #include <algorithm>
 
+#include "arch/common/bounds.hpp"
 #include "arch/frontend/frontend_config.hpp"
 #include "arch/frontend/task_timing.hpp"
 
@@ -23,7 +24,7 @@ class ScharrPyramid final : public FrontendUnit {
       using C = Params;
       static const FieldList<C> list = {
           field("pixels_per_cycle", &C::pixels_per_cycle, "pixels/cycle",
-                "derivative (Scharr) stencil over the LK pyramid", Bounds::above(0)),
+                "derivative (Scharr) stencil over the LK pyramid", bounds::pixels_per_cycle()),
       };
       return list;
     }

@@ -37,6 +37,7 @@
 #include <utility>
 #include <vector>
 
+#include "arch/common/bounds.hpp"
 #include "arch/link/link.hpp"
 
 namespace edx::arch {
@@ -61,8 +62,9 @@ struct DmaEngine {
               Bounds::at_least(0).below(1e9)),
         field("chunk_bytes", &C::chunk_bytes, "bytes", "bytes per request",
               Bounds::at_least(1).at_most(1 << 30)),
+        // PCIe's 10-bit tags allow at most 1024 non-posted requests in flight (PCIe 4.0).
         field("max_outstanding", &C::max_outstanding, "", "requests in flight per direction",
-              Bounds::at_least(1)),
+              Bounds::at_least(1).at_most(1024)),
     };
     return list;
   }
@@ -107,14 +109,16 @@ class DmaLink final : public Link {
       using C = Params;
       static const FieldList<C> list = {
           field("name", &C::name, "", "the link's name in results"),
+          // At least 100 B/s: a chunk of the largest size (2^30 B) then takes at most 1.1e7 s,
+          // inside simulated time (2^63 ps); a transfer too long for it is refused by wire_time.
           field("bandwidth_gb_per_s", &C::bandwidth_gb_per_s, "GB/s",
-                "wire bandwidth per direction, 10^9 bytes/s", Bounds::above(0)),
+                "wire bandwidth per direction, 10^9 bytes/s", Bounds::at_least(1e-7)),
           field("latency_ns", &C::latency_ns, "ns", "one-way latency after a chunk leaves the wire",
                 Bounds::at_least(0).below(1e9)),
           field("full_duplex", &C::full_duplex, "",
                 "one wire and one DMA engine per direction (PCIe; AXI4 read/write channels)"),
           field("pj_per_byte", &C::pj_per_byte, "pJ/byte",
-                "energy of a byte crossing the link (assumed 10 pJ/bit)", Bounds::at_least(0)),
+                "energy of a byte crossing the link (assumed 10 pJ/bit)", bounds::energy_pj()),
       };
       return list;
     }

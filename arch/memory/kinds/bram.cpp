@@ -9,6 +9,7 @@
 //           access (Horowitz, ISSCC 2014)
 //
 //   memory: {kind: bram, allow_bram18: false}
+#include "arch/common/bounds.hpp"
 #include "arch/memory/on_chip_memory.hpp"
 
 namespace edx::arch {
@@ -28,7 +29,7 @@ class Bram final : public OnChipMemory {
                 "count the LUT muxes selecting among stacked BRAM rows"),
           field("pj_per_byte", &C::pj_per_byte, "pJ/byte",
                 "on-chip SRAM access (Horowitz 2014: 8 KB SRAM, 10 pJ per 64 bits)",
-                Bounds::at_least(0)),
+                bounds::energy_pj()),
       };
       return list;
     }

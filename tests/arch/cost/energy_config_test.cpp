@@ -103,8 +103,9 @@ TEST(CostYaml, ErrorsNameFileLineAndKey) {
                "car.yaml:3: power.host_active_w: moved: now host.active_w (docs/CONFIG.md)");
   expect_error("s:\n  host_idle_w: 1\n", true,
                "car.yaml:2: power.host_idle_w: moved: now host.idle_w (docs/CONFIG.md)");
-  expect_error("s:\n  fpga_energy_factor: [1]\n", true,
-               "car.yaml:2: power.fpga_energy_factor: expected a number > 0, got 'a list'");
+  expect_error(
+      "s:\n  fpga_energy_factor: [1]\n", true,
+      "car.yaml:2: power.fpga_energy_factor: expected a number in (0, 1000], got 'a list'");
   expect_error("s:\n  fpga_idle_fraction: 1.5\n", true,
                "car.yaml:2: power.fpga_idle_fraction: expected a number in [0, 1], got '1.5'");
   // The keys that became the memory's and the link's kinds' own name where they went.

@@ -51,8 +51,9 @@ TEST(FrontendUnits, TheMapOverridesByTaskAndNamesBadInput) {
     }
     return std::string("no error");
   };
-  EXPECT_EQ(error_of("units:\n  FC: {tests_per_cycle: 0}\n"),
-            "fe.yaml:2: frontend.units.FC.tests_per_cycle: expected an integer >= 1, got '0'");
+  EXPECT_EQ(
+      error_of("units:\n  FC: {tests_per_cycle: 0}\n"),
+      "fe.yaml:2: frontend.units.FC.tests_per_cycle: expected an integer in [1, 256], got '0'");
   EXPECT_EQ(error_of("units:\n  DR: {count: 0}\n"),
             "fe.yaml:2: frontend.units.DR.count: expected an integer in [1, 64], got '0'");
   EXPECT_EQ(error_of("units:\n  MO: {kind: lk_solver}\n"),

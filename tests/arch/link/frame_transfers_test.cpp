@@ -156,7 +156,7 @@ TEST(FrameTransfers, ConfigFromYaml) {
     return std::string("no error");
   };
   EXPECT_EQ(error_of("pack_symmetric: true\nimu_sample_bytes: -1\n"),
-            "car.yaml:2: transfers.imu_sample_bytes: expected an integer >= 0, got '-1'");
+            "car.yaml:2: transfers.imu_sample_bytes: expected an integer in [0, 1024], got '-1'");
   // The element size has one home, backend.precision.
   EXPECT_EQ(error_of("scalar_bytes: 4\n"), "car.yaml:1: transfers.scalar_bytes: unknown key");
   EXPECT_THROW(FrameTransferConfig::from_yaml(YAML::Load("imu_rate: 2\n"), "car.yaml"),

@@ -4,11 +4,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <string>
 #include <tuple>
 
 #include "arch/cost/resource_report.hpp"
 #include "tests/arch/backend/backend_test_support.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace edx::arch {
 namespace {
@@ -43,11 +45,11 @@ TEST(Platform, ReadsFieldsOverTheDefaults) {
 
 TEST(Platform, BadInputNamesFileLineAndKey) {
   EXPECT_EQ(error_of("name: car\nfrontend:\n  clock_mhz: fast\n"),
-            "p.yaml:3: frontend.clock_mhz: expected a number in (0, 1000], got 'fast'");
+            "p.yaml:3: frontend.clock_mhz: expected a number in [0.001, 1000], got 'fast'");
   EXPECT_EQ(error_of("name: car\nfrontend:\n  clok_mhz: 100\n"),
             "p.yaml:3: frontend.clok_mhz: unknown key");
   EXPECT_EQ(error_of("name: car\nfrontend:\n  fd_stencil: 4\n"),
-            "p.yaml:3: frontend.fd_stencil: expected an odd integer >= 3, got '4'");
+            "p.yaml:3: frontend.fd_stencil: expected an odd integer in [3, 255], got '4'");
   EXPECT_EQ(error_of("name: car\nhost: 3\n"), "p.yaml:2: platform.host: expected a map of keys");
   EXPECT_EQ(error_of("name: car\nbackend:\n  units:\n    gemm: {block: ~}\n"),
             "p.yaml:4: backend.units.gemm.block: expected an integer in [1, 256], got 'nothing (~ "
@@ -67,6 +69,56 @@ TEST(Platform, BadInputNamesFileLineAndKey) {
               HasSubstr("p.yaml:4: frontend.units.XX: expected a task of the graph"));
   EXPECT_THAT(error_of("name: car\nfrontend:\n  units:\n    FD: {kind: hamming}\n"),
               HasSubstr("frontend.units.FD.kind: expected a kind that runs FD, got 'hamming'"));
+}
+
+// Issue 45: values inside a key's old range that the model cannot take are refused at the key,
+// each at the edge its range now has (arch/common/bounds.hpp, docs/RELIABILITY.md).
+TEST(Platform, ValuesTheModelCannotTakeAreRefusedAtTheirKey) {
+  EXPECT_EQ(error_of("name: car\nfrontend:\n  clock_mhz: 1e-300\n"),
+            "p.yaml:3: frontend.clock_mhz: expected a number in [0.001, 1000], got '1e-300'");
+  EXPECT_EQ(error_of("name: car\nfrontend:\n  fe_pixels_per_cycle: 1e-9\n"),
+            "p.yaml:3: frontend.fe_pixels_per_cycle: expected a number in [0.0009765625, 1024], "
+            "got '1e-9'");
+  EXPECT_EQ(error_of("name: car\nfrontend:\n  units: {FD: {clock_mhz: 0.0005}}\n"),
+            "p.yaml:3: frontend.units.FD.clock_mhz: expected 0 (the section's clock_mhz) or a "
+            "number in [0.001, 1000], got '0.0005'");
+  EXPECT_EQ(error_of("name: car\nsystem:\n  sensor_fps: 1e-7\n"),
+            "p.yaml:3: system.sensor_fps: expected 0 (frames back to back) or a rate in [0.001, "
+            "1e+06] frames/s, got '1e-07'");
+  EXPECT_EQ(error_of("name: car\nhost:\n  frontend_suite_ms: 1e308\n  backend_suite_ms: 1\n"),
+            "p.yaml:3: host.frontend_suite_ms: expected a number in [0, 100000], got '1e308'");
+  EXPECT_EQ(error_of("name: car\nbackend:\n  spm_bytes: 9223372036854775807\n"),
+            "p.yaml:3: backend.spm_bytes: expected an integer in [1, 1073741824], got "
+            "'9223372036854775807'");
+  EXPECT_EQ(error_of("name: car\nlink:\n  dma: {max_outstanding: 2000}\n"),
+            "p.yaml:3: link.dma.max_outstanding: expected an integer in [1, 1024], got '2000'");
+  EXPECT_EQ(error_of("name: car\npower:\n  int8_op_pj: 1e308\n"),
+            "p.yaml:3: power.int8_op_pj: expected a number in [0, 1000000], got '1e308'");
+  // Inside the ranges (the edges themselves) a platform is read.
+  EXPECT_NO_THROW(Platform::parse(
+      "name: car\nfrontend:\n  clock_mhz: 0.001\n  fe_pixels_per_cycle: 0.0009765625\n"
+      "system:\n  sensor_fps: 0.001\n",
+      "p.yaml"));
+}
+
+// An error found while simulating (a product of in-range values the model cannot hold) names
+// the file and line of its key, through the platform's origins.
+TEST(Platform, LocatePlacesALaterErrorAtItsKeysFileAndLine) {
+  const edx::testing::TempDir dir;
+  std::ofstream(dir.path() / "base.yaml") << "name: base\nsystem:\n  queue_depth: 3\n";
+  std::ofstream(dir.path() / "p.yaml") << "extends: base.yaml\nname: p\nsystem:\n"
+                                          "  sensor_fps: 0.001\n";
+  const Platform p = Platform::load(dir.path() / "p.yaml");
+  const std::string file = (dir.path() / "p.yaml").string();
+  const std::string base = (dir.path() / "base.yaml").string();
+  EXPECT_EQ(std::string(p.locate(InputError({}, "system.sensor_fps", "too slow")).what()),
+            file + ":4: system.sensor_fps: too slow");
+  EXPECT_EQ(std::string(p.locate(InputError({}, "system.queue_depth", "x")).what()),
+            base + ":3: system.queue_depth: x");
+  // A key no file wrote (a default): the platform's file; an error already placed: unchanged.
+  EXPECT_EQ(std::string(p.locate(InputError({}, "frontend.fd_stencil", "y")).what()),
+            file + ": frontend.fd_stencil: y");
+  EXPECT_EQ(std::string(p.locate(InputError({"t.db", 2}, "k", "z")).what()), "t.db:2: k: z");
 }
 
 TEST(Platform, ReadsBackendCostPowerSchedulerAndHostBackendScale) {
@@ -105,12 +157,16 @@ TEST(Platform, BadKeysOfTheNewSectionsNameFileLineAndKey) {
       HasSubstr("p.yaml:3: scheduler.training_fraction: expected a number in [0, 1), got '1.5'"));
   EXPECT_EQ(error_of("name: car\nscheduler:\n  polcy: never\n"),
             "p.yaml:3: scheduler.polcy: unknown key");
-  EXPECT_THAT(error_of("name: car\nhost:\n  backend_suite_ms: -1\n"),
-              HasSubstr("p.yaml:3: host.backend_suite_ms: expected a number >= 0, got '-1'"));
+  EXPECT_THAT(
+      error_of("name: car\nhost:\n  backend_suite_ms: -1\n"),
+      HasSubstr("p.yaml:3: host.backend_suite_ms: expected a number in [0, 100000], got '-1'"));
   EXPECT_THAT(error_of("name: car\nhost:\n  frontend_suite_ms: 5\n"),
               HasSubstr("host.backend_suite_ms: expected both suite times or neither"));
-  EXPECT_THAT(error_of("name: car\nhost:\n  suite: 0\n"),
-              HasSubstr("p.yaml:3: host.suite: expected an integer >= 1"));
+  EXPECT_THAT(
+      error_of("name: car\nhost:\n  suite: 0\n"),
+      HasSubstr(
+          "p.yaml:3: host.suite: expected 1 (the reference-suite version edx host-speed measures), "
+          "got '0'"));
   EXPECT_EQ(error_of("name: car\npower: 3\n"), "p.yaml:2: platform.power: expected a map of keys");
 }
 

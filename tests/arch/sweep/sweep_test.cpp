@@ -95,7 +95,7 @@ TEST(Extends, ErrorsNameTheFileAndLineThatWroteTheKey) {
   write(dir.path() / "bad.yaml", "extends: ok.yaml\n\nfrontend:\n  clock_mhz: fast\n");
   EXPECT_EQ(error_of([&] { Platform::load(dir.path() / "bad.yaml"); }),
             (dir.path() / "bad.yaml").string() +
-                ":4: frontend.clock_mhz: expected a number in (0, 1000], got 'fast'");
+                ":4: frontend.clock_mhz: expected a number in [0.001, 1000], got 'fast'");
   write(dir.path() / "unknown.yaml", "extends: ok.yaml\nbackend:\n  gemm_blok: 4\n");
   EXPECT_EQ(error_of([&] { Platform::load(dir.path() / "unknown.yaml"); }),
             (dir.path() / "unknown.yaml").string() + ":3: backend.gemm_blok: unknown key");

@@ -137,6 +137,22 @@ TEST(Attribution, SlowBackendUnitIsTheBottleneck) {
   EXPECT_NEAR(isolated.causes.front().mean_ms, r.decisions.front().compute_ms, 1e-6);
 }
 
+// Issue 45: a camera rate inside its range that is too slow for the trace's frame count (the
+// last frame would arrive past 2^64 ps) is an error naming the key, not sim_core's overflow.
+TEST(SystemLimits, ACameraTooSlowForTheTracesFramesNamesItsRate) {
+  Platform p = platform("bandwidth_gb_per_s: 8", "clock_mhz: 100, units: {gemm: {block: 2}}");
+  p.system.sensor_fps = 0.001;  // 18 447 frames fit: frame f arrives at 1000 f s
+  try {
+    (void)simulate_system(p, hand_frames(18500), hand_meta(), "hand");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "system.sensor_fps");
+    EXPECT_EQ(std::string(e.what()),
+              "system.sensor_fps: 0.001 frames/s: the trace's 18500 frames would arrive over "
+              "1.85e+07 s, beyond the 213 days simulated time holds");
+  }
+}
+
 /// Every frame's causes add up to its latency: isolated to the frame's e2e_ms, streamed to
 /// end − arrival (the stream's latency distribution).
 void expect_exact_sums(const std::string& config, bool contention) {

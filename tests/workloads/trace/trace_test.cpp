@@ -8,6 +8,7 @@
 
 #include "workloads/trace/reader.hpp"
 #include "workloads/trace/schema.hpp"
+#include "workloads/trace/validate.hpp"
 #include "workloads/trace/writer.hpp"
 
 namespace edx::trace {
@@ -117,6 +118,49 @@ TEST_F(TraceTest, UnfinishedWriterLeavesNothing) {
   }
   EXPECT_FALSE(fs::exists(path));
   EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+// Issue 45: a frame's work is bounded by its images (meta.resolution), so that no accepted trace
+// drives the model past what it holds; each limit is read at its edge and refused past it.
+TEST(TraceLimits, WorkIsBoundedByTheImagesAndOperandsByHostMemory) {
+  EXPECT_EQ(parse_image_size("640x480")->width, 640);
+  EXPECT_EQ(parse_image_size("640x480")->height, 480);
+  EXPECT_FALSE(parse_image_size("640x"));
+  EXPECT_FALSE(parse_image_size("70000x480"));
+  EXPECT_FALSE(parse_image_size("640x480x2"));
+  const ImageSize image{640, 480};
+  const std::int64_t pyramid = 64 * 640 * 480;  // kMaxLevels x W x H = 19660800
+  const auto error = [&](const FrameTrace& frame) -> std::string {
+    try {
+      validate_frame(frame, "t.db", image);
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  FrameTrace frame = sample_frame(0);
+  frame.tasks[0].keypoints = frame.tasks[0].descriptors = pyramid;
+  frame.tasks[0].window_size = 640;
+  frame.kernels[1].ops[0] = {Op::Gemm, 65536, 65536, 65536, 0, 0};  // 2^32 elements each
+  EXPECT_EQ(error(frame), "no error");
+  frame.tasks[0].keypoints = pyramid + 1;
+  EXPECT_EQ(error(frame),
+            "t.db: frame 0, task 0 (FD): keypoints is 19660801, more than the 19660800 pixels of "
+            "a 64-level pyramid of the 640x480 images (meta.resolution)");
+  frame = sample_frame(0);
+  frame.tasks[0].window_size = 641;
+  EXPECT_EQ(error(frame),
+            "t.db: frame 0, task 0 (FD): window_size is 641, more than the 640 pixels of the "
+            "images' longer side");
+  frame = sample_frame(0);
+  frame.tasks[0].levels = 65;
+  EXPECT_EQ(error(frame),
+            "t.db: frame 0, task 0 (FD): levels is 65, more than the 64 levels a pyramid has");
+  frame = sample_frame(0);
+  frame.kernels[1].ops[0] = {Op::Gemm, 65536, 65537, 1, 0, 0};
+  EXPECT_EQ(error(frame),
+            "t.db: frame 0, kernel 1 (kalman_gain), op 0: an operand of m x n = 65536 x 65537 "
+            "elements, above the 2^32 no host holds");
 }
 
 TEST_F(TraceTest, WriterRejectsBadFrames) {
