@@ -61,8 +61,8 @@ Time ClockDomain::time_of_cycles(std::uint64_t n) const {
   const Wide product = static_cast<Wide>(n) * period_num_;
   const Wide edge = (product + period_den_ - 1) / period_den_;
   if (edge > kTimeMax) {
-    throw std::overflow_error("clock '" + name_ + "': cycle " + std::to_string(n) +
-                              " lies beyond the largest representable time");
+    throw TimeRangeError("clock '" + name_ + "': cycle " + std::to_string(n) +
+                         " lies beyond the largest representable time");
   }
   return static_cast<Time>(edge);
 }

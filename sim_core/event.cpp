@@ -30,8 +30,8 @@ void Event::notify_at(Time when, Priority priority) {
 
 void Event::notify_after(Time delay, Priority priority) {
   if (delay > kTimeMax - sim_->now()) {
-    throw std::overflow_error("edx::sim::Event '" + name_ + "': notify_after(" +
-                              std::to_string(delay) + " ps) lies beyond the largest time");
+    throw TimeRangeError("edx::sim::Event '" + name_ + "': notify_after(" + std::to_string(delay) +
+                         " ps) lies beyond the largest time");
   }
   notify_at(sim_->now() + delay, priority);
 }

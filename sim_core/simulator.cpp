@@ -127,7 +127,7 @@ void Simulator::retire(detail::ProcessRecord* record, std::exception_ptr error,
 
 TimerAwaiter Simulator::delay_until(Time when, Priority priority) {
   if (when == kTimeMax) {
-    throw std::overflow_error("edx::sim::Simulator::delay_until(kTimeMax): time is reserved");
+    throw TimeRangeError("edx::sim::Simulator::delay_until(kTimeMax): time is reserved");
   }
   if (when < now_) {
     throw std::invalid_argument("edx::sim::Simulator::delay_until(" + std::to_string(when) +
@@ -141,7 +141,7 @@ TimerAwaiter Simulator::cycles(const ClockDomain& clock, std::uint64_t n, Priori
   const Time when =
       n == 0 ? clock.next_edge(now_) : clock.time_of_cycles(clock.cycles_in(now_) + n);
   if (when == kTimeMax) {
-    throw std::overflow_error("edx::sim::Simulator::cycles: edge lies at the reserved kTimeMax");
+    throw TimeRangeError("edx::sim::Simulator::cycles: edge lies at the reserved kTimeMax");
   }
   return TimerAwaiter(*this, when, priority);
 }
@@ -243,16 +243,15 @@ void Simulator::record_event(const QueueEntry& entry) {
 }
 
 void Simulator::throw_time_overflow(Time duration) const {
-  throw std::overflow_error("edx::sim::Simulator::delay(" + std::to_string(duration) + " ps) at " +
-                            std::to_string(now_) +
-                            " ps lies beyond the largest representable time");
+  throw TimeRangeError("edx::sim::Simulator::delay(" + std::to_string(duration) + " ps) at " +
+                       std::to_string(now_) + " ps lies beyond the largest representable time");
 }
 
 void Simulator::throw_schedule_error(Time when) {
   if (when == kTimeMax) {
-    throw std::overflow_error("edx::sim::Simulator: cannot schedule at kTimeMax (reserved)");
+    throw TimeRangeError("edx::sim::Simulator: cannot schedule at kTimeMax (reserved)");
   }
-  throw std::overflow_error("edx::sim::Simulator: more than 2^48 events scheduled");
+  throw TimeRangeError("edx::sim::Simulator: more than 2^48 events scheduled");
 }
 
 }  // namespace edx::sim

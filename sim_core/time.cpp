@@ -10,13 +10,15 @@ Time seconds(double value) {
   // 2^64 ps as a double; anything at or above it cannot be represented.
   constexpr double kLimitPs = 18446744073709551616.0;
   const double picoseconds = std::round(value * 1e12);
-  if (!std::isfinite(value) || value < 0.0 || picoseconds >= kLimitPs) {
+  if (std::isnan(value) || value < 0.0 || picoseconds >= kLimitPs) {
     // The value in a few digits: 1e308 printed in full is 309 digits (issue 45).
     char text[32];
     std::snprintf(text, sizeof text, "%.3g", value);
-    throw std::out_of_range(
-        std::string("a duration of ") + text +
-        " s: expected a finite, non-negative duration below 2^64 ps (213 days)");
+    const std::string message = std::string("a duration of ") + text +
+                                " s: expected a finite, non-negative duration below 2^64 ps "
+                                "(213 days)";
+    if (std::isnan(value) || value < 0.0) throw std::out_of_range(message);
+    throw TimeRangeError(message);  // +inf included
   }
   return static_cast<Time>(picoseconds);
 }

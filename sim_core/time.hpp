@@ -13,10 +13,18 @@ using Time = std::uint64_t;
 /// The largest representable time; also used as "no limit" by Simulator::run_until.
 inline constexpr Time kTimeMax = std::numeric_limits<Time>::max();
 
+/// Simulated time ran out: a time, duration or cycle past 2^64 ps (213 days). Every such check of
+/// sim_core throws this type, so that a model can say it in the words of its inputs
+/// (simulate_system) without mistaking another error for it.
+class TimeRangeError : public std::overflow_error {
+ public:
+  using std::overflow_error::overflow_error;
+};
+
 namespace detail {
-/// value * scale, throwing std::overflow_error instead of wrapping around.
+/// value * scale, throwing TimeRangeError instead of wrapping around.
 constexpr Time scaled(std::uint64_t value, std::uint64_t scale, const char* overflow_message) {
-  if (value > kTimeMax / scale) throw std::overflow_error(overflow_message);
+  if (value > kTimeMax / scale) throw TimeRangeError(overflow_message);
   return value * scale;
 }
 }  // namespace detail
@@ -37,7 +45,7 @@ constexpr Time ms(std::uint64_t value) {
 }
 
 /// `value` seconds rounded to the nearest picosecond (halves away from zero); throws
-/// std::out_of_range for negative, non-finite or unrepresentable values.
+/// std::out_of_range for a negative or NaN value, TimeRangeError for one of 2^64 ps or more.
 Time seconds(double value);
 
 /// `t` in seconds (t / 10^12).

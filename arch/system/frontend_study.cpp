@@ -5,19 +5,19 @@
 #include <stdexcept>
 
 #include "sim_core/stats.hpp"
+#include "workloads/trace/validate.hpp"
 
 namespace edx::arch {
 namespace {
 
+/// meta.resolution as (W, H), by the trace reader's own parse (trace::parse_image_size).
 std::pair<int, int> parse_wxh(const std::string& text, const std::string& trace_name) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' || w <= 0 ||
-      h <= 0) {
+  const std::optional<trace::ImageSize> size = trace::parse_image_size(text);
+  if (!size) {
     throw std::runtime_error(fmt::format(
         "{}: meta.resolution: expected WxH (e.g. 1280x720), got '{}'", trace_name, text));
   }
-  return {w, h};
+  return {static_cast<int>(size->width), static_cast<int>(size->height)};
 }
 
 }  // namespace

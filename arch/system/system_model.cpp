@@ -547,14 +547,9 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
         study_frontend(platform, frames, trace_meta, trace_path, frontend_timeline), options);
   } catch (const InputError& e) {
     throw platform.locate(e);  // a key's value the trace takes past what the model holds
-  } catch (const std::exception& e) {
-    // Simulated time (2^64 ps) or a cycle count ran out (sim_core's overflow_error, a duration's
-    // or a wire time's out_of_range): the trace's work on this platform is more than the model
-    // holds, said in the words of the inputs rather than of sim_core.
-    if (dynamic_cast<const std::overflow_error*>(&e) == nullptr &&
-        dynamic_cast<const std::out_of_range*>(&e) == nullptr) {
-      throw;
-    }
+  } catch (const sim::TimeRangeError&) {
+    // Simulated time (2^64 ps) or a cycle count ran out: the trace's work on this platform is
+    // more than the model holds, said in the words of the inputs rather than of sim_core.
     throw std::runtime_error(fmt::format(
         "{}: simulating its {} frames on {} passes the 213 days simulated time holds (2^64 ps): "
         "a trace count or platform value beyond what the model takes (docs/RELIABILITY.md, "

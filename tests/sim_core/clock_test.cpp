@@ -27,7 +27,7 @@ TEST(Time, UnitHelpersScaleToPicoseconds) {
 TEST(Time, OverflowAndBadValuesThrow) {
   EXPECT_THROW(ns(kTimeMax / 999), std::overflow_error);
   EXPECT_THROW(seconds(-1.0), std::out_of_range);
-  EXPECT_THROW(seconds(1e8), std::out_of_range);  // 10^20 ps > 2^64
+  EXPECT_THROW(seconds(1e8), TimeRangeError);  // 10^20 ps > 2^64
 }
 
 // 150 MHz: period 10^12 / 1.5e8 = 6666.67 ps. Edge n at ceil(n * 20000 / 3).
