@@ -14,6 +14,11 @@ namespace edx::common {
 /// temporary is removed).
 void write_file_atomically(const std::filesystem::path& path, std::string_view contents);
 
+/// Writes `contents` to `path` in place (created or truncated; not synced): for files inside a
+/// folder that is itself renamed into place (a report's plots). Throws std::runtime_error naming
+/// the file and the system's reason.
+void write_file(const std::filesystem::path& path, std::string_view contents);
+
 /// Flushes the regular file `path` to the disk (fsync), before it is renamed into place; throws
 /// std::runtime_error naming `name` (the target the caller writes) and the system's reason.
 void sync_file(const std::filesystem::path& path, const std::filesystem::path& name);

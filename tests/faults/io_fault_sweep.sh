@@ -55,6 +55,8 @@ done
 for f in "$edx" "$preload"; do
   [ -f "$f" ] || { echo "io_fault_sweep.sh: $f: not found (build edx and edx_io_faults)" >&2; exit 2; }
 done
+edx=$(realpath "$edx")  # mpirun and the runs' folders need it absolute
+preload=$(realpath "$preload")
 command -v sqlite3 >/dev/null || { echo "io_fault_sweep.sh: sqlite3 not found" >&2; exit 2; }
 if [ -z "$work" ]; then work=$(mktemp -d /tmp/edx-io-faults.XXXXXX); fi
 mkdir -p "$work"
