@@ -105,6 +105,19 @@ std::string pct(double fraction) {
   return std::isfinite(fraction) ? fmt::format("{:.1f}%", 100 * fraction) : "–";
 }
 
+/// The text of `parts` streamed one after another (numbers as std::ostream prints them).
+template <typename... Parts>
+std::string cat(const Parts&... parts) {
+  std::ostringstream text;
+  (text << ... << parts);
+  return text.str();
+}
+
+/// Writes a data file or gnuplot script of the report. A failed write is an error naming the file
+/// and the system's reason (std::ofstream failed silently: gnuplot then plotted a truncated file,
+/// or failed naming no reason).
+void write_text(const fs::path& path, const std::string& text) { common::write_file(path, text); }
+
 /// Runs `gnuplot script` without a shell; on failure throws with gnuplot's first error line.
 void run_gnuplot(const std::string& gnuplot, const fs::path& script, const std::string& what) {
   const fs::path log = fs::path(script).replace_extension(".log");
@@ -237,10 +250,9 @@ class RunReport {
     const std::string png = prefix_ + name + kPlotExtension;
     const fs::path dat = dir_ / (prefix_ + name + ".dat");
     const fs::path gp = dir_ / (prefix_ + name + ".gp");
-    std::ofstream(dat) << data;
-    std::ofstream(gp) << kTerminal << "set output " << gp_quote((dir_ / png).string()) << "\n"
-                      << "datafile = " << gp_quote(dat.string()) << "\n"
-                      << script;
+    write_text(dat, data);
+    write_text(gp, cat(kTerminal, "set output ", gp_quote((dir_ / png).string()), "\n",
+                       "datafile = ", gp_quote(dat.string()), "\n", script));
     run_gnuplot(gnuplot_, gp, what);
     return png;
   }
@@ -802,18 +814,18 @@ std::string accuracy_front_html(const SweepData& sweep, int index, const fs::pat
     dat += "# block\n" + (b.empty() ? "nan nan nan\n" : b) + "\n\n";
   const std::string stem = fmt::format("sweep{}_accuracy", index);
   const std::string image = stem + kPlotExtension;
-  std::ofstream(dir / (stem + ".dat")) << dat;
-  std::ofstream(dir / (stem + ".gp"))
-      << kTerminal << "set output " << gp_quote((dir / image).string()) << "\n"
-      << "set title " << gp_quote("Sweep " + sweep.sweep_id + ": accuracy-latency-resources front")
-      << "\nset xlabel " << gp_quote(x) << "\nset ylabel " << gp_quote(a + " (m)")
-      << "\nset cblabel " << gp_quote(c)
-      << "\nset palette defined (0 '#0072B2', 1 '#009E73', 2 '#E69F00', 3 '#D55E00')"
-      << "\nset offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05"
-      << "\nset grid\nset key outside right top\n"
-      << "plot " << gp_quote((dir / (stem + ".dat")).string())
-      << " index 0 using 1:2 with points pt 7 ps 0.8 lc rgb '#BBBBBB' title 'feasible', "
-         "'' index 1 using 1:2:3 with points pt 7 ps 1.6 lc palette title 'front'\n";
+  write_text(dir / (stem + ".dat"), dat);
+  write_text(
+      dir / (stem + ".gp"),
+      cat(kTerminal, "set output ", gp_quote((dir / image).string()), "\n", "set title ",
+          gp_quote("Sweep " + sweep.sweep_id + ": accuracy-latency-resources front"),
+          "\nset xlabel ", gp_quote(x), "\nset ylabel ", gp_quote(a + " (m)"), "\nset cblabel ",
+          gp_quote(c), "\nset palette defined (0 '#0072B2', 1 '#009E73', 2 '#E69F00', 3 '#D55E00')",
+          "\nset offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05",
+          "\nset grid\nset key outside right top\n", "plot ",
+          gp_quote((dir / (stem + ".dat")).string()),
+          " index 0 using 1:2 with points pt 7 ps 0.8 lc rgb '#BBBBBB' title 'feasible', "
+          "'' index 1 using 1:2:3 with points pt 7 ps 1.6 lc palette title 'front'\n"));
   run_gnuplot(gnuplot, dir / (stem + ".gp"), "sweep " + sweep.sweep_id + " accuracy plot");
   images.push_back(image);
   return h + fmt::format("<img src=\"{}\" alt=\"Accuracy-latency-resources front\">\n", image);
@@ -838,13 +850,14 @@ std::string convergence_html(const SweepData& sweep, int index, const fs::path& 
     }
     const std::string stem = fmt::format("sweep{}_convergence", index);
     const std::string image = stem + kPlotExtension;
-    std::ofstream(dir / (stem + ".dat")) << dat;
-    std::ofstream(dir / (stem + ".gp"))
-        << kTerminal << "set output " << gp_quote((dir / image).string()) << "\n"
-        << "set title " << gp_quote("Sweep " + sweep.sweep_id + ": hypervolume per generation")
-        << "\nset xlabel 'Designs simulated'\nset ylabel 'Hypervolume of the feasible front'"
-        << "\nset grid\nunset key\nplot " << gp_quote((dir / (stem + ".dat")).string())
-        << " using 2:3 with linespoints pt 7 lw 2 lc rgb '#0072B2'\n";
+    write_text(dir / (stem + ".dat"), dat);
+    write_text(
+        dir / (stem + ".gp"),
+        cat(kTerminal, "set output ", gp_quote((dir / image).string()), "\n", "set title ",
+            gp_quote("Sweep " + sweep.sweep_id + ": hypervolume per generation"),
+            "\nset xlabel 'Designs simulated'\nset ylabel 'Hypervolume of the feasible front'",
+            "\nset grid\nunset key\nplot ", gp_quote((dir / (stem + ".dat")).string()),
+            " using 2:3 with linespoints pt 7 lw 2 lc rgb '#0072B2'\n"));
     run_gnuplot(gnuplot, dir / (stem + ".gp"), "sweep " + sweep.sweep_id + " convergence plot");
     images.push_back(image);
     h += fmt::format("<img src=\"{}\" alt=\"hypervolume per generation\">\n", image);
@@ -916,20 +929,21 @@ std::string workload_html(const ResultsData& data, const SweepData& sweep, int i
     const std::string stem = fmt::format("sweep{}_workloads", index);
     const std::string image = stem + kPlotExtension;
     const std::string data_file = gp_quote((dir / (stem + ".dat")).string());
-    std::ofstream(dir / (stem + ".dat")) << dat;
-    std::ofstream(dir / (stem + ".gp"))
-        << kTerminal << "set output " << gp_quote((dir / image).string()) << "\n"
-        << "set multiplot layout 1,2 title "
-        << gp_quote("Sweep " + sweep.sweep_id + ": frame rate and energy per workload point")
-        << "\nset style data histograms\nset style histogram clustered gap 1"
-        << "\nset style fill solid 0.85 border -1\nset boxwidth 0.9\nset grid ytics"
-        << "\nset xtics rotate by -30\nset key top left\nset yrange [0:*]"
-        << "\nset ylabel 'Frames per second (FE/BE pipelined)'\nplot " << data_file
-        << " using 2:xtic(1) title 'CPU baseline' lc rgb '#BBBBBB', '' using 3 title "
-           "'accelerated' lc rgb '#0072B2'"
-        << "\nset ylabel 'Energy per frame (mJ)'\nplot " << data_file
-        << " using 4:xtic(1) title 'CPU baseline' lc rgb '#BBBBBB', '' using 5 title "
-           "'accelerated' lc rgb '#D55E00'\nunset multiplot\n";
+    write_text(dir / (stem + ".dat"), dat);
+    write_text(
+        dir / (stem + ".gp"),
+        cat(kTerminal, "set output ", gp_quote((dir / image).string()), "\n",
+            "set multiplot layout 1,2 title ",
+            gp_quote("Sweep " + sweep.sweep_id + ": frame rate and energy per workload point"),
+            "\nset style data histograms\nset style histogram clustered gap 1",
+            "\nset style fill solid 0.85 border -1\nset boxwidth 0.9\nset grid ytics",
+            "\nset xtics rotate by -30\nset key top left\nset yrange [0:*]",
+            "\nset ylabel 'Frames per second (FE/BE pipelined)'\nplot ", data_file,
+            " using 2:xtic(1) title 'CPU baseline' lc rgb '#BBBBBB', '' using 3 title "
+            "'accelerated' lc rgb '#0072B2'",
+            "\nset ylabel 'Energy per frame (mJ)'\nplot ", data_file,
+            " using 4:xtic(1) title 'CPU baseline' lc rgb '#BBBBBB', '' using 5 title "
+            "'accelerated' lc rgb '#D55E00'\nunset multiplot\n"));
     run_gnuplot(gnuplot, dir / (stem + ".gp"), "sweep " + sweep.sweep_id + " workload plot");
     images.push_back(image);
     h += fmt::format("<img src=\"{}\" alt=\"frame rate and energy per workload point\">\n", image);
@@ -1009,20 +1023,20 @@ std::string sweeps_html(const ResultsData& data, const fs::path& dir, const std:
       }
       const std::string stem = fmt::format("sweep{}_{}", index, j);
       const std::string png = stem + kPlotExtension;
-      std::ofstream(dir / (stem + ".dat")) << dat;
-      std::ofstream(dir / (stem + ".gp"))
-          << kTerminal << "set output " << gp_quote((dir / png).string()) << "\n"
-          << "set title "
-          << gp_quote("Sweep " + sweep.sweep_id + ": design points and Pareto front")
-          << "\nset xlabel " << gp_quote(single ? std::string("Design point") : label(0))
-          << "\nset ylabel " << gp_quote(label(single ? 0 : j))
-          << "\nset offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05"
-          << "\nset grid\nset key outside right top\n"
-          << "plot " << gp_quote((dir / (stem + ".dat")).string())
-          << " index 0 using 1:2 with points pt 7 ps 1 lc rgb '#BBBBBB' title 'infeasible', "
-             "'' index 1 using 1:2 with linespoints pt 6 ps 2 lw 1 lc rgb '#000000' title "
-             "'Pareto front'"
-          << feasible_plots << "\n";
+      write_text(dir / (stem + ".dat"), dat);
+      write_text(
+          dir / (stem + ".gp"),
+          cat(kTerminal, "set output ", gp_quote((dir / png).string()), "\n", "set title ",
+              gp_quote("Sweep " + sweep.sweep_id + ": design points and Pareto front"),
+              "\nset xlabel ", gp_quote(single ? std::string("Design point") : label(0)),
+              "\nset ylabel ", gp_quote(label(single ? 0 : j)),
+              "\nset offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05",
+              "\nset grid\nset key outside right top\n", "plot ",
+              gp_quote((dir / (stem + ".dat")).string()),
+              " index 0 using 1:2 with points pt 7 ps 1 lc rgb '#BBBBBB' title 'infeasible', "
+              "'' index 1 using 1:2 with linespoints pt 6 ps 2 lw 1 lc rgb '#000000' title "
+              "'Pareto front'",
+              feasible_plots, "\n"));
       run_gnuplot(gnuplot, dir / (stem + ".gp"), "sweep " + sweep.sweep_id + " plot");
       images.push_back(png);
       h += fmt::format("<img src=\"{}\" alt=\"Pareto front\">\n", png);
@@ -1202,17 +1216,17 @@ std::string baselines_chart_html(const CheckResult& check, const fs::path& dir, 
   if (bars == 0) return "";
   const std::string stem = fmt::format("baselines{}", n);
   const std::string image = stem + kPlotExtension;
-  std::ofstream(dir / (stem + ".dat")) << dat;
-  std::ofstream(dir / (stem + ".gp"))
-      << svg_terminal(960, 360) << "set output " << gp_quote((dir / image).string()) << "\n"
-      << "datafile = " << gp_quote((dir / (stem + ".dat")).string()) << "\n"
-      << "set title 'Edx-Car speedup over each baseline: the paper and edx'\n"
-      << "set ylabel 'speedup (x)'\nset style data histograms\n"
-      << "set style histogram clustered gap 1\nset style fill solid 0.8 noborder\n"
-      << "set boxwidth 0.9\nset yrange [0:*]\nset grid ytics\nset key top left\n"
-      << "set xtics rotate by -20 scale 0\n"
-      << "plot datafile using 2:xtic(1) title 'paper' lc rgb '#999999', \\\n"
-      << "     '' using 3 title 'edx' lc rgb '#0072B2'\n";
+  write_text(dir / (stem + ".dat"), dat);
+  write_text(dir / (stem + ".gp"),
+             cat(svg_terminal(960, 360), "set output ", gp_quote((dir / image).string()), "\n",
+                 "datafile = ", gp_quote((dir / (stem + ".dat")).string()), "\n",
+                 "set title 'Edx-Car speedup over each baseline: the paper and edx'\n",
+                 "set ylabel 'speedup (x)'\nset style data histograms\n",
+                 "set style histogram clustered gap 1\nset style fill solid 0.8 noborder\n",
+                 "set boxwidth 0.9\nset yrange [0:*]\nset grid ytics\nset key top left\n",
+                 "set xtics rotate by -20 scale 0\n",
+                 "plot datafile using 2:xtic(1) title 'paper' lc rgb '#999999', \\\n",
+                 "     '' using 3 title 'edx' lc rgb '#0072B2'\n"));
   run_gnuplot(gnuplot, dir / (stem + ".gp"), "baseline comparison plot");
   images.push_back(image);
   return fmt::format(
@@ -1275,8 +1289,8 @@ std::string characterization_html(const fs::path& file, const fs::path& dir,
       }
       const fs::path edx_dat = dir / fmt::format("characterization_{}.dat", scenario);
       const fs::path paper_dat = dir / fmt::format("characterization_{}_paper.dat", scenario);
-      std::ofstream(edx_dat) << edx;
-      std::ofstream(paper_dat) << paper;
+      write_text(edx_dat, edx);
+      write_text(paper_dat, paper);
       script += fmt::format(
           "set title '{}: {}'\nplot {} using 2:3:4 with yerrorbars pt 7 lc rgb '#0072B2' title "
           "'edx', "
@@ -1288,7 +1302,7 @@ std::string characterization_html(const fs::path& file, const fs::path& dir,
           gp_quote(edx_dat.string()), gp_quote(paper_dat.string()));
     }
     script += "unset multiplot\n";
-    std::ofstream(dir / "characterization.gp") << script;
+    write_text(dir / "characterization.gp", script);
     run_gnuplot(gnuplot, dir / "characterization.gp", "characterization plot");
     images.push_back("characterization.svg");
     h += "<img src=\"characterization.svg\" alt=\"characterization\">\n";
@@ -1446,24 +1460,23 @@ std::string check_section(const CheckResult& check, const std::string& id, const
   }
   if (plot && index > 0) {
     const std::string image = id + kPlotExtension;
-    std::ofstream(dir / (id + ".dat")) << dat;
-    std::ofstream(dir / (id + ".gp"))
-        << svg_terminal(960, 200 + 18 * index) << "set output " << gp_quote((dir / image).string())
-        << "\n"
-        << "datafile = " << gp_quote((dir / (id + ".dat")).string()) << "\n"
-        << "set title 'Simulated / paper per target (grey band: tolerance"
-        << (over_runs ? "; bars: 95 % interval over the seeds" : "") << ")'\n"
-        << "set xlabel 'simulated / paper'\nset logscale x\nset xrange [0.1:10]\n"
-        << "set yrange [" << index << ":-1]\nset grid xtics\nset lmargin 38\nunset key\n"
-        << "set ytics scale 0\n"
-        << "clamp(x) = x < 0.1 ? 0.1 : (x > 10 ? 10 : x)\n"
-        << "plot datafile using (1-$3):1:(1-$3):(1+$3):($1-0.4):($1+0.4):ytic(6) "
-           "with boxxyerror fs solid 0.3 noborder lc rgb '#BBBBBB', \\\n"
-        << (over_runs ? "     '' using (clamp($2)):1:(clamp($4)):(clamp($5)) with xerrorbars "
-                        "pt -1 lc rgb '#555555', \\\n"
-                      : "")
-        << "     '' using (clamp($2)):1:(abs($2-1) <= $3 ? 0x009E73 : 0xD55E00) with points pt 7 "
-           "ps 1.2 lc rgb variable\n";
+    write_text(dir / (id + ".dat"), dat);
+    write_text(
+        dir / (id + ".gp"),
+        cat(svg_terminal(960, 200 + 18 * index), "set output ", gp_quote((dir / image).string()),
+            "\n", "datafile = ", gp_quote((dir / (id + ".dat")).string()), "\n",
+            "set title 'Simulated / paper per target (grey band: tolerance",
+            (over_runs ? "; bars: 95 % interval over the seeds" : ""), ")'\n",
+            "set xlabel 'simulated / paper'\nset logscale x\nset xrange [0.1:10]\n", "set yrange [",
+            index, ":-1]\nset grid xtics\nset lmargin 38\nunset key\n", "set ytics scale 0\n",
+            "clamp(x) = x < 0.1 ? 0.1 : (x > 10 ? 10 : x)\n",
+            "plot datafile using (1-$3):1:(1-$3):(1+$3):($1-0.4):($1+0.4):ytic(6) "
+            "with boxxyerror fs solid 0.3 noborder lc rgb '#BBBBBB', \\\n",
+            (over_runs ? "     '' using (clamp($2)):1:(clamp($4)):(clamp($5)) with xerrorbars "
+                         "pt -1 lc rgb '#555555', \\\n"
+                       : ""),
+            "     '' using (clamp($2)):1:(abs($2-1) <= $3 ? 0x009E73 : 0xD55E00) with points pt 7 "
+            "ps 1.2 lc rgb variable\n"));
     run_gnuplot(gnuplot, dir / (id + ".gp"), "paper check plot");
     images.push_back(image);
     h += fmt::format(

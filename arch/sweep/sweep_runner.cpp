@@ -237,12 +237,18 @@ void register_sweep(SQLite::Database& db, const SweepSpec& spec, const SweepOpti
 struct ReleaseLock {
   SQLite::Database& db;
   std::string sweep_id;
+  bool released = false;
+  /// Drops the lock row now (throws SQLite::Exception when it cannot).
+  void release() {
+    SQLite::Statement drop(db, "DELETE FROM sweep_locks WHERE sweep_id = ? AND pid = ?");
+    drop.bind(1, sweep_id);
+    drop.bind(2, static_cast<std::int64_t>(::getpid()));
+    drop.exec();
+    released = true;
+  }
   ~ReleaseLock() {
     try {
-      SQLite::Statement drop(db, "DELETE FROM sweep_locks WHERE sweep_id = ? AND pid = ?");
-      drop.bind(1, sweep_id);
-      drop.bind(2, static_cast<std::int64_t>(::getpid()));
-      drop.exec();
+      if (!released) release();
     } catch (const SQLite::Exception&) {
     }
   }
@@ -706,21 +712,31 @@ SweepOutcome run_sweep_impl(const SweepSpec& spec, const SweepOptions& options,
   });
   RemoveNewDatabase new_database{options.db, !created};
   const std::unique_ptr<SQLite::Database> db = open_results_database(options.db);
-  register_sweep(*db, spec, options, trace, points);
-  const ReleaseLock release_lock{*db, out.sweep_id};
-  // WAL with synchronous = NORMAL: a commit is not fsynced, but survives the process being
-  // killed (only a power cut can lose the last points; the file stays consistent). Set once the
-  // sweep's lock is held, so that a refused sweep leaves the file as it was.
-  db->exec("PRAGMA journal_mode = WAL");
-  db->exec("PRAGMA synchronous = NORMAL");
+  // SQLite's own messages ("database or disk is full", "disk I/O error") name no file.
+  try {
+    register_sweep(*db, spec, options, trace, points);
+    ReleaseLock release_lock{*db, out.sweep_id};
+    // WAL with synchronous = NORMAL: a commit is not fsynced, but survives the process being
+    // killed (only a power cut can lose the last points; the file stays consistent). Set once
+    // the sweep's lock is held, so that a refused sweep leaves the file as it was.
+    db->exec("PRAGMA journal_mode = WAL");
+    db->exec("PRAGMA synchronous = NORMAL");
 
-  bool limit_reached = false;
-  {
-    SweepMaster master(context, *db, out, new_database, given);
-    limit_reached = master.run();
+    bool limit_reached = false;
+    {
+      SweepMaster master(context, *db, out, new_database, given);
+      limit_reached = master.run();
+    }
+    out.complete = spec.nsga2 ? !limit_reached : out.points.size() == points;
+    if (out.complete) store_front(*db, spec, out);
+    // The points into the database file itself, flushed to the disk, the WAL emptied: a write
+    // or sync that fails here is an error (closing checkpoints too, but ignores failures).
+    release_lock.release();
+    db->exec("PRAGMA wal_checkpoint(TRUNCATE)");
+  } catch (const SQLite::Exception& e) {
+    throw std::runtime_error(
+        fmt::format("{}: cannot write the sweep's results: {}", options.db.string(), e.what()));
   }
-  out.complete = spec.nsga2 ? !limit_reached : out.points.size() == points;
-  if (out.complete) store_front(*db, spec, out);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

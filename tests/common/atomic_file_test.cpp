@@ -52,6 +52,30 @@ TEST(AtomicFile, SpecialFilesAreWrittenInPlaceDirectoriesRefused) {
   EXPECT_FALSE(fs::exists(missing_dir));
 }
 
+TEST(AtomicFile, AFailedWriteNamesTheFileAndTheReason) {
+  // /dev/full fails every write with ENOSPC, as a full disk does (special files are written in
+  // place); tests/faults/ fails the temporary's write, sync and rename (IoFaults.QuickSweep).
+  for (const auto& write : {write_file_atomically, write_file}) {
+    try {
+      write("/dev/full", "lost");
+      FAIL() << "a write to /dev/full succeeded";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "/dev/full: write failed (No space left on device)");
+    }
+  }
+  testing::TempDir dir;
+  const fs::path missing = dir.path() / "no" / "out.csv";
+  try {
+    write_file(missing, "x");
+    FAIL() << "wrote into a missing folder";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              missing.string() + ": cannot open for writing (No such file or directory)");
+  }
+  write_file(dir.path() / "plain.dat", "1 2\n");
+  EXPECT_EQ(read(dir.path() / "plain.dat"), "1 2\n");
+}
+
 TEST(AtomicFile, RegularOutputCheckRefusesSpecialFiles) {
   testing::TempDir dir;
   EXPECT_NO_THROW(require_regular_output(dir.path() / "new.db", "results database"));

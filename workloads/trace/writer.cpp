@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "common/atomic_file.hpp"
 #include "workloads/trace/codec.hpp"
 #include "workloads/trace/schema.hpp"
 #include "workloads/trace/validate.hpp"
@@ -63,27 +64,41 @@ TraceWriter::TraceWriter(std::filesystem::path path, TraceMeta meta, TraceWriter
   temp_path_ += fmt::format(".tmp-{}", ::getpid());
   temp_guard_ = std::make_unique<common::TemporaryFileGuard>(temp_path_);
   fs::remove(temp_path_);
-  db_ = std::make_unique<SQLite::Database>(temp_path_.string(),
-                                           SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
-  // The temporary file is discarded on failure, so durability per statement is not needed.
-  db_->exec("PRAGMA journal_mode = OFF; PRAGMA synchronous = OFF; PRAGMA foreign_keys = ON;");
-  db_->exec(std::string(kSchemaSql));
-  SQLite::Statement insert_meta(*db_, "INSERT INTO meta VALUES (?, ?)");
-  meta["schema_version"] = std::to_string(kSchemaVersion);
-  for (const auto& [key, value] : meta) {
-    insert_meta.bind(1, key);
-    insert_meta.bind(2, value);
-    insert_meta.exec();
-    insert_meta.reset();
+  // A constructor that throws runs no destructor: the temporary is removed here.
+  try {
+    db_ = std::make_unique<SQLite::Database>(temp_path_.string(),
+                                             SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+    // The temporary file is discarded on failure, so durability per statement is not needed
+    // (finish() flushes the whole file to the disk before the rename).
+    db_->exec("PRAGMA journal_mode = OFF; PRAGMA synchronous = OFF; PRAGMA foreign_keys = ON;");
+    db_->exec(std::string(kSchemaSql));
+    SQLite::Statement insert_meta(*db_, "INSERT INTO meta VALUES (?, ?)");
+    meta["schema_version"] = std::to_string(kSchemaVersion);
+    for (const auto& [key, value] : meta) {
+      insert_meta.bind(1, key);
+      insert_meta.bind(2, value);
+      insert_meta.exec();
+      insert_meta.reset();
+    }
+    insert_frame_ = std::make_unique<SQLite::Statement>(*db_, kInsertFrame);
+    insert_task_ = std::make_unique<SQLite::Statement>(*db_, kInsertTask);
+    insert_kernel_ = std::make_unique<SQLite::Statement>(*db_, kInsertKernel);
+    insert_op_ = std::make_unique<SQLite::Statement>(*db_, kInsertOp);
+  } catch (const SQLite::Exception& e) {
+    discard();
+    throw write_error(e);
+  } catch (...) {
+    discard();
+    throw;
   }
-  insert_frame_ = std::make_unique<SQLite::Statement>(*db_, kInsertFrame);
-  insert_task_ = std::make_unique<SQLite::Statement>(*db_, kInsertTask);
-  insert_kernel_ = std::make_unique<SQLite::Statement>(*db_, kInsertKernel);
-  insert_op_ = std::make_unique<SQLite::Statement>(*db_, kInsertOp);
 }
 
-TraceWriter::~TraceWriter() {
-  if (finished_) return;
+std::runtime_error TraceWriter::write_error(const std::exception& e) const {
+  return std::runtime_error(
+      fmt::format("{}: cannot write the trace: {}", path_.string(), e.what()));
+}
+
+void TraceWriter::discard() noexcept {
   insert_frame_.reset();
   insert_task_.reset();
   insert_kernel_.reset();
@@ -93,6 +108,10 @@ TraceWriter::~TraceWriter() {
   std::filesystem::remove(temp_path_, ignored);
 }
 
+TraceWriter::~TraceWriter() {
+  if (!finished_) discard();
+}
+
 void TraceWriter::append(const FrameTrace& frame) {
   if (finished_) throw std::logic_error("TraceWriter::append after finish");
   if (frame.frame.frame_id != static_cast<std::int64_t>(frames_written_)) {
@@ -100,15 +119,19 @@ void TraceWriter::append(const FrameTrace& frame) {
                                          path_.string(), frame.frame.frame_id, frames_written_));
   }
   validate_frame(frame, path_.string());
-  if (!in_transaction_) {
-    db_->exec("BEGIN");
-    in_transaction_ = true;
-  }
-  insert_frame(frame);
-  ++frames_written_;
-  if (frames_written_ % static_cast<std::size_t>(options_.frames_per_transaction) == 0) {
-    db_->exec("COMMIT");
-    in_transaction_ = false;
+  try {
+    if (!in_transaction_) {
+      db_->exec("BEGIN");
+      in_transaction_ = true;
+    }
+    insert_frame(frame);
+    ++frames_written_;
+    if (frames_written_ % static_cast<std::size_t>(options_.frames_per_transaction) == 0) {
+      db_->exec("COMMIT");
+      in_transaction_ = false;
+    }
+  } catch (const SQLite::Exception& e) {
+    throw write_error(e);
   }
 }
 
@@ -183,24 +206,39 @@ void TraceWriter::insert_frame(const FrameTrace& trace) {
 
 void TraceWriter::set_meta(const std::string& key, const std::string& value) {
   if (finished_) throw std::logic_error("TraceWriter::set_meta after finish");
-  SQLite::Statement update(*db_, "INSERT OR REPLACE INTO meta VALUES (?, ?)");
-  update.bind(1, key);
-  update.bind(2, value);
-  update.exec();
+  try {
+    SQLite::Statement update(*db_, "INSERT OR REPLACE INTO meta VALUES (?, ?)");
+    update.bind(1, key);
+    update.bind(2, value);
+    update.exec();
+  } catch (const SQLite::Exception& e) {
+    throw write_error(e);
+  }
 }
 
 void TraceWriter::finish() {
   if (finished_) return;
-  if (in_transaction_) {
-    db_->exec("COMMIT");
-    in_transaction_ = false;
+  try {
+    if (in_transaction_) {
+      db_->exec("COMMIT");
+      in_transaction_ = false;
+    }
+  } catch (const SQLite::Exception& e) {
+    throw write_error(e);
   }
   insert_frame_.reset();
   insert_task_.reset();
   insert_kernel_.reset();
   insert_op_.reset();
   db_.reset();
-  std::filesystem::rename(temp_path_, path_);
+  // On the disk before it has its name: a power cut never leaves a partial trace under it.
+  common::sync_file(temp_path_, path_);
+  std::error_code error;
+  std::filesystem::rename(temp_path_, path_, error);
+  if (error) {
+    throw std::runtime_error(fmt::format("{}: cannot rename the finished trace into place ({})",
+                                         path_.string(), error.message()));
+  }
   finished_ = true;
 }
 

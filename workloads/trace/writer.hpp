@@ -1,12 +1,15 @@
 #pragma once
 // Writes a trace database. Frames are appended in order inside batched transactions into a
-// temporary file next to the target, which is renamed onto the target by finish(): a trace
-// that was not finished (error, crash) leaves nothing behind under the target name.
+// temporary file next to the target, which is flushed to the disk and renamed onto the target by
+// finish(): a trace that was not finished (error, crash, a full disk) leaves nothing behind under
+// the target name, nor its temporary. Write errors name the target (`t.db: cannot write the
+// trace: database or disk is full`).
 #include <SQLiteCpp/Database.h>
 #include <SQLiteCpp/Statement.h>
 
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 
 #include "common/temporary_files.hpp"
 #include "workloads/trace/records.hpp"
@@ -41,6 +44,10 @@ class TraceWriter {
 
  private:
   void insert_frame(const FrameTrace& frame);
+  /// A SQLite error as one naming the trace.
+  std::runtime_error write_error(const std::exception& e) const;
+  /// Closes the database and removes the temporary file.
+  void discard() noexcept;
 
   std::filesystem::path path_;
   std::filesystem::path temp_path_;
