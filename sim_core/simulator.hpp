@@ -51,7 +51,7 @@ class TimerAwaiter {
  public:
   TimerAwaiter(Simulator& sim, Time when, Priority priority, bool in_place = false) noexcept
       : sim_(&sim), when_(when), priority_(priority), in_place_(in_place) {}
-  bool await_ready() const noexcept;
+  bool await_ready() const;  ///< not noexcept: advance's test may grow the queue's near heap
   template <class Promise>
   void await_suspend(std::coroutine_handle<Promise> handle) const;
   void await_resume() const noexcept {}
@@ -319,7 +319,7 @@ class Simulator {
   std::unordered_map<std::uint64_t, Label> labels_;  ///< sequence -> label, only while tracing
 };
 
-inline bool TimerAwaiter::await_ready() const noexcept {
+inline bool TimerAwaiter::await_ready() const {
   return in_place_ && sim_->try_advance_in_place(when_);
 }
 
