@@ -277,6 +277,13 @@ void PlatformSource::set(const std::string& key, const YAML::Node& value, InputP
   std::vector<YAML::Node> path{root};
   for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
     YAML::Node next = path.back()[parts[i]];
+    if (next && !next.IsMap() && !next.IsNull()) {
+      // A key under a value (backend.spm_bytes.x): the setter's error, not the platform file's.
+      std::string prefix = parts[0];
+      for (std::size_t j = 1; j <= i; ++j) prefix += "." + parts[j];
+      throw InputError(origin, key,
+                       fmt::format("'{}' is a value of the platform, not a map of keys", prefix));
+    }
     if (!next || !next.IsMap()) {
       path.back()[parts[i]] = YAML::Node(YAML::NodeType::Map);
       next = path.back()[parts[i]];

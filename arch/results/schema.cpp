@@ -344,6 +344,23 @@ const Table<SweepLockRow>& sweep_locks_table() {
   return table;
 }
 
+const Table<RunClaimRow>& run_claims_table() {
+  using R = RunClaimRow;
+  static const Table<R> table(
+      spec("run_claims", kSweep,
+           "A run being simulated by a sweep: a sweep that needs the same run (another spec over "
+           "the same design and trace) waits for it instead of simulating it twice; removed when "
+           "the run is stored or its sweep ends.",
+           {"run_id"}, 6),
+      {sweep_id_column(&R::sweep_id),
+       column("run_id", &R::run_id, "", "the run being simulated").not_null(),
+       column("pid", &R::pid, "", "its process id").not_null(),
+       column("host", &R::host, "", "its host name").not_null(),
+       column("since", &R::since, "UTC", "when it claimed the run (YYYY-MM-DD HH:MM:SS)")
+           .not_null()});
+  return table;
+}
+
 const Table<SweepGenerationRow>& sweep_generations_table() {
   using R = SweepGenerationRow;
   static const Table<R> table(
@@ -384,11 +401,14 @@ const Table<SweepWorkloadRow>& sweep_workloads_table() {
 
 const std::vector<const TableSpec*>& all_tables() {
   static const std::vector<const TableSpec*> tables{
-      &runs_table().spec,           &frames_table().spec,      &latency_table().spec,
-      &throughput_table().spec,     &energy_table().spec,      &offload_table().spec,
-      &schedule_table().spec,       &resources_table().spec,   &timelines_table().spec,
-      &frame_causes_table().spec,   &seed_runs_table().spec,   &sweeps_table().spec,
-      &sweep_points_table().spec,   &sweep_locks_table().spec, &sweep_generations_table().spec,
+      &runs_table().spec,           &frames_table().spec,
+      &latency_table().spec,        &throughput_table().spec,
+      &energy_table().spec,         &offload_table().spec,
+      &schedule_table().spec,       &resources_table().spec,
+      &timelines_table().spec,      &frame_causes_table().spec,
+      &seed_runs_table().spec,      &sweeps_table().spec,
+      &sweep_points_table().spec,   &sweep_locks_table().spec,
+      &run_claims_table().spec,     &sweep_generations_table().spec,
       &sweep_workloads_table().spec};
   return tables;
 }

@@ -24,7 +24,7 @@ namespace edx::results {
 // (runs of one workload over seeds). A writer
 // brings an older database to this version (missing tables created, missing columns added);
 // readers read every older version and refuse newer ones.
-inline constexpr int kSchemaVersion = 5;
+inline constexpr int kSchemaVersion = 6;
 
 /// Throws std::runtime_error "<path>: results schema version N is newer than this edx reads
 /// (kSchemaVersion); use a newer edx" for a version above kSchemaVersion, and names a negative
@@ -161,6 +161,14 @@ struct SweepLockRow {
   std::string host, started;
 };
 
+/// A run a sweep is simulating (table run_claims): another sweep on the database that needs the
+/// same run waits for it instead of simulating it again (issue 45).
+struct RunClaimRow {
+  std::string sweep_id, run_id;
+  std::int64_t pid = 0;
+  std::string host, since;
+};
+
 /// One generation of a search's convergence (table sweep_generations).
 struct SweepGenerationRow {
   std::string sweep_id;
@@ -193,6 +201,7 @@ const Table<SeedRunRow>& seed_runs_table();
 const Table<SweepRow>& sweeps_table();
 const Table<SweepPointRow>& sweep_points_table();
 const Table<SweepLockRow>& sweep_locks_table();
+const Table<RunClaimRow>& run_claims_table();
 const Table<SweepGenerationRow>& sweep_generations_table();
 const Table<SweepWorkloadRow>& sweep_workloads_table();
 

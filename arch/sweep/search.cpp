@@ -101,7 +101,7 @@ struct GridProblem {
     pagmo::vector_double lower, upper;
     for (std::size_t p : state->genes) {
       lower.push_back(0);
-      upper.push_back(double(state->spec->parameters[p].values.size() - 1));
+      upper.push_back(double(state->spec->parameters[p].size() - 1));
     }
     return {lower, upper};
   }
@@ -181,7 +181,7 @@ std::vector<SearchGeneration> run_nsga2(const SweepSpec& spec, const SweepPoints
   state->points = &points;
   state->evaluate = evaluate;
   for (std::size_t p = 0; p < spec.parameters.size(); ++p) {
-    if (spec.parameters[p].values.size() > 1) state->genes.push_back(p);
+    if (spec.parameters[p].size() > 1) state->genes.push_back(p);
   }
   if (state->genes.empty()) {
     throw std::runtime_error(fmt::format(

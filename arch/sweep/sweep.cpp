@@ -9,22 +9,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <set>
 #include <stdexcept>
 
+#include "arch/sweep/index_permutation.hpp"
 #include "common/input_error.hpp"
 #include "common/yaml_fields.hpp"
 
 namespace edx::arch {
 namespace {
-
-/// splitmix64 (Steele, Lea and Flood 2014): a fixed, portable stream for random sampling.
-std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
 
 struct NamedMetric {
   const char* name;
@@ -96,7 +88,15 @@ bool SweepSpec::needs_accuracy() const {
 
 bool is_sweep_metric(const std::string& metric) {
   if (is_accuracy_metric(metric)) return true;
-  if (metric == "resources" || (!metric.empty() && metric[0] == '/')) return true;
+  if (metric == "resources") return true;
+  if (!metric.empty() && metric[0] == '/') {
+    try {
+      const nlohmann::json::json_pointer pointer(metric);
+      return true;
+    } catch (const nlohmann::json::exception&) {
+      return false;  // "/a~2": '~' not followed by 0 or 1
+    }
+  }
   return std::any_of(std::begin(kMetrics), std::end(kMetrics),
                      [&](const NamedMetric& m) { return metric == m.name; });
 }
@@ -150,7 +150,7 @@ std::vector<std::size_t> pareto_front(const std::vector<std::vector<double>>& va
 nlohmann::json SweepPoint::parameters(const SweepSpec& spec) const {
   nlohmann::json j = nlohmann::json::object();
   for (std::size_t p = 0; p < spec.parameters.size(); ++p) {
-    j[spec.parameters[p].key] = spec.parameters[p].texts[choice[p]];
+    j[spec.parameters[p].key] = spec.parameters[p].text(choice[p]);
   }
   return j;
 }
@@ -160,7 +160,7 @@ nlohmann::json SweepPoint::workload(const SweepSpec& spec) const {
   nlohmann::json j = spec.workload;
   for (std::size_t p = 0; p < spec.workload_parameters; ++p) {
     j[spec.parameters[p].key.substr(std::string_view("workload.").size())] =
-        spec.parameters[p].texts[choice[p]];
+        spec.parameters[p].text(choice[p]);
   }
   return j;
 }
@@ -168,14 +168,14 @@ nlohmann::json SweepPoint::workload(const SweepSpec& spec) const {
 std::size_t SweepPoint::workload_index(const SweepSpec& spec) const {
   std::size_t index = 0;
   for (std::size_t p = 0; p < spec.workload_parameters; ++p) {
-    index = index * spec.parameters[p].values.size() + choice[p];
+    index = index * spec.parameters[p].size() + choice[p];
   }
   return index;
 }
 
 nlohmann::json SweepSpec::to_json() const {
   nlohmann::json params = nlohmann::json::object();
-  for (const SweepParameter& p : parameters) params[p.key] = p.texts;
+  for (const SweepParameter& p : parameters) params[p.key] = p.to_json();
   nlohmann::json obj = nlohmann::json::array(), con = nlohmann::json::array();
   for (const SweepObjective& o : objectives) {
     obj.push_back({{o.maximize ? "maximize" : "minimize", o.metric}});
@@ -205,9 +205,49 @@ nlohmann::json SweepSpec::to_json() const {
   return j;
 }
 
+namespace {
+
+/// Text of a generated value: integers without a decimal point (they must parse as int keys),
+/// others to 4 significant digits (the text is the value the platform gets).
+std::string generated_value_text(double v) {
+  if (std::abs(v) < 9e15 && v == std::round(v)) return fmt::format("{}", std::int64_t(v));
+  return fmt::format("{:.4g}", v);
+}
+
+}  // namespace
+
+std::string SweepParameter::text(std::size_t i) const {
+  if (i >= size()) throw std::out_of_range("SweepParameter::text");
+  switch (form) {
+    case Form::kListed:
+      return listed[i].Scalar();
+    case Form::kLinear:
+      return generated_value_text(from + double(i) * step);
+    case Form::kLog:
+      return generated_value_text(
+          i + 1 == count ? to : from * std::pow(to / from, double(i) / double(count - 1)));
+  }
+  return {};
+}
+
+nlohmann::json SweepParameter::to_json() const {
+  switch (form) {
+    case Form::kListed: {
+      nlohmann::json texts = nlohmann::json::array();
+      for (const YAML::Node& v : listed) texts.push_back(v.Scalar());
+      return texts;
+    }
+    case Form::kLinear:
+      return {{"range", {{"from", from}, {"to", to}, {"step", step}}}};
+    case Form::kLog:
+      return {{"log_range", {{"from", from}, {"to", to}, {"points", count}}}};
+  }
+  return nullptr;
+}
+
 double grid_size(const SweepSpec& spec) {
   double grid = 1;  // a double: the product of a few large counts must not wrap
-  for (const SweepParameter& p : spec.parameters) grid *= double(p.values.size());
+  for (const SweepParameter& p : spec.parameters) grid *= double(p.size());
   return grid;
 }
 
@@ -232,36 +272,31 @@ SweepPoints::SweepPoints(const SweepSpec& spec) : spec_(&spec) {
     size_ = static_cast<std::size_t>(grid);
     return;
   }
-  // Distinct grid points: one value per parameter drawn uniformly (top 53 bits of the stream
-  // scaled to the count), duplicates drawn again. At most 10^6 (the spec's cap), so the draws
-  // are kept; the grid itself is never enumerated.
-  const auto want = static_cast<std::size_t>(std::min(double(spec.samples), grid));
-  std::uint64_t state = spec.seed;
-  std::set<std::vector<std::size_t>> seen;
-  while (drawn_.size() < want) {
-    std::vector<std::size_t> choice;
-    for (const SweepParameter& p : spec.parameters) {
-      const double u = double(splitmix64(state) >> 11) * 0x1.0p-53;
-      choice.push_back(std::min(p.values.size() - 1, std::size_t(u * double(p.values.size()))));
+  // Distinct grid points without storing them: the first `samples` indices of a seeded
+  // permutation of the grid (IndexPermutation); the grid itself is never enumerated.
+  IndexPermutation::Index exact = 1;  // the grid's size, exact (a double rounds beyond 2^53)
+  for (const SweepParameter& p : spec.parameters) {
+    if (exact > IndexPermutation::kMaxSize / p.size()) {
+      throw InputError({spec.file}, "parameters",
+                       fmt::format("the grid has {:.4g} points (random sampling indexes at most "
+                                   "2^126)",
+                                   grid));
     }
-    if (seen.insert(choice).second) drawn_.push_back(std::move(choice));
+    exact *= p.size();
   }
-  size_ = drawn_.size();
+  size_ = static_cast<std::size_t>(std::min(double(spec.samples), grid));
+  draws_.emplace(exact, spec.seed);
 }
 
 SweepPoint SweepPoints::at(std::size_t index) const {
   if (index >= size_) throw std::out_of_range("SweepPoints::at");
   SweepPoint point;
   point.index = index;
-  if (spec_->random) {
-    point.choice = drawn_[index];
-    return point;
-  }
   point.choice.assign(spec_->parameters.size(), 0);
-  std::size_t rest = index;
+  IndexPermutation::Index rest = draws_ ? (*draws_)(index) : index;
   for (std::size_t p = spec_->parameters.size(); p-- > 0;) {  // last parameter fastest
-    point.choice[p] = rest % spec_->parameters[p].values.size();
-    rest /= spec_->parameters[p].values.size();
+    point.choice[p] = static_cast<std::size_t>(rest % spec_->parameters[p].size());
+    rest /= spec_->parameters[p].size();
   }
   return point;
 }
@@ -269,16 +304,19 @@ SweepPoint SweepPoints::at(std::size_t index) const {
 std::size_t SweepPoints::grid_index(const std::vector<std::size_t>& choice) const {
   std::size_t index = 0;
   for (std::size_t p = 0; p < spec_->parameters.size(); ++p) {
-    index = index * spec_->parameters[p].values.size() + choice.at(p);
+    index = index * spec_->parameters[p].size() + choice.at(p);
   }
   return index;
 }
 
 InputPlace parameter_value_place(const SweepSpec& spec, std::size_t p, std::size_t v) {
   const SweepParameter& param = spec.parameters.at(p);
-  if (const int line = yaml_line(param.values.at(v)); line > 0) return {spec.file, line};
+  if (v >= param.size()) throw std::out_of_range("parameter_value_place");
+  if (param.form == SweepParameter::Form::kListed) {
+    if (const int line = yaml_line(param.listed[v]); line > 0) return {spec.file, line};
+  }
   if (param.line == 0) return {spec.file};
-  return {spec.file, param.line, fmt::format("parameters.{} = {}", param.key, param.texts[v])};
+  return {spec.file, param.line, fmt::format("parameters.{} = {}", param.key, param.text(v))};
 }
 
 Platform sweep_platform(const SweepSpec& spec, const SweepPoint& point) {
@@ -295,8 +333,7 @@ Platform sweep_platform(const SweepSpec& spec, const SweepPoint& point,
   for (std::size_t p = spec.workload_parameters; p < spec.parameters.size(); ++p) {
     const SweepParameter& param = spec.parameters[p];
     // A fresh node with the value's text (errors then take their place from the origin).
-    const YAML::Node& value = param.values[point.choice[p]];
-    source.set(param.key, value.IsScalar() ? YAML::Node(value.Scalar()) : YAML::Clone(value),
+    source.set(param.key, YAML::Node(param.text(point.choice[p])),
                parameter_value_place(spec, p, point.choice[p]));
   }
   // A traced workload that states its precision makes the design's: the units compute at it

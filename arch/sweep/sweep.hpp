@@ -33,24 +33,40 @@
 #include <vector>
 
 #include "arch/platform/platform.hpp"
+#include "arch/sweep/index_permutation.hpp"
 #include "arch/sweep/workload.hpp"
 #include "common/input_error.hpp"
 #include "workloads/trace/records.hpp"
 
 namespace edx::arch {
 
-/// One swept platform key and its values, as YAML scalars (each keeps its spec line when it was
-/// written there; generated ones print integers without a decimal point).
+/// One swept key and its values: listed in the spec (`values: [...]`, each node keeps its line),
+/// or generated on demand from a range, so that a range of 10^5 values costs no more memory or
+/// time to read than one of two (issue 45):
+///   range:     v_i = from + i·step,                    i = 0 .. count−1
+///   log_range: v_i = from · (to/from)^(i/(count−1)),   v_{count−1} = to exactly
 struct SweepParameter {
+  enum class Form { kListed, kLinear, kLog };
   std::string key;  ///< dotted platform key, e.g. "backend.units.gemm.block"
-  std::vector<YAML::Node> values;
-  std::vector<std::string> texts;  ///< the values as text (tables, CSV)
-  int line = 0;                    ///< of the key in the spec
+  int line = 0;     ///< of the key in the spec
+  Form form = Form::kListed;
+  std::vector<YAML::Node> listed;     ///< kListed: the spec's value nodes
+  double from = 0, to = 0, step = 0;  ///< a range's (step: kLinear only)
+  std::size_t count = 0;              ///< a range's number of values
+
+  std::size_t size() const { return form == Form::kListed ? listed.size() : count; }
+  /// Value i as text (tables, CSV, the platform): a listed value as written; a generated one
+  /// as an integer without a decimal point, or to 4 significant digits.
+  std::string text(std::size_t i) const;
+  /// As the spec wrote it: the listed texts, or {"range": {from, to, step}} /
+  /// {"log_range": {from, to, points}}.
+  nlohmann::json to_json() const;
 };
 
 struct SweepObjective {
   std::string metric;
   bool maximize = false;
+  int line = 0;  ///< of the metric in the spec
 };
 
 /// A bound on a metric: absolute (min and/or max), or relative to a reference workload point:
@@ -125,17 +141,20 @@ std::vector<ReferenceRow> sweep_spec_reference();
 inline constexpr double kMaxSweepPoints = 1e6;
 /// Most workload points (traces) a sweep may have.
 inline constexpr double kMaxWorkloadPoints = 1e4;
-/// Largest grid a search (or random sampling) may index: 2^53, every index exact as a double.
+/// Largest grid a search may index: 2^53, every index exact as a double (pagmo's genes).
 inline constexpr double kMaxSearchGrid = 9007199254740992.0;
+/// Largest grid random sampling may index: 2^126 (IndexPermutation's domain).
+inline constexpr double kMaxRandomGrid = 8.507059173023462e37;
 
 /// Points of the full grid (the product of the parameters' value counts), as a double.
 double grid_size(const SweepSpec& spec);
 
 /// The design points, enumerated lazily: the full grid (index -> values, last parameter
-/// fastest), or `samples` distinct grid points drawn with the spec's seed (a splitmix64 stream:
-/// the same seed gives the same points; only the draws are stored). A search (nsga2) indexes
-/// the full grid and visits the points it chooses. Memory does not grow with the grid. Throws
-/// when a grid sweep has more than 10^6 points.
+/// fastest), or `samples` distinct grid points drawn with the spec's seed (point i is grid point
+/// perm(i) of a seeded permutation, IndexPermutation: the same seed gives the same points on any
+/// machine, and nothing is stored). A search (nsga2) indexes the full grid and visits the points
+/// it chooses. Memory does not grow with the grid or the samples. Throws when a grid sweep has
+/// more than 10^6 points.
 class SweepPoints {
  public:
   explicit SweepPoints(const SweepSpec& spec);  ///< `spec` must outlive this
@@ -147,7 +166,7 @@ class SweepPoints {
  private:
   const SweepSpec* spec_;
   std::size_t size_ = 0;
-  std::vector<std::vector<std::size_t>> drawn_;  ///< random sampling: the draws
+  std::optional<IndexPermutation> draws_;  ///< random sampling: grid index of point i
 };
 
 /// Where the spec wrote value `v` of parameter `p`: its line, or for a generated value (a range's)
@@ -165,7 +184,8 @@ Platform sweep_platform(const SweepSpec& spec, const SweepPoint& point, const Pl
 /// e2e_speedup, lut, ff, dsp, bram (shared totals), lut_util, ff_util, dsp_util, bram_util,
 /// resources (the largest utilization, 1 = the whole device).
 double sweep_metric(const nlohmann::json& summary, const std::string& metric);
-/// Whether `metric` names a metric (a JSON pointer is checked when it is evaluated).
+/// Whether `metric` names a metric: a name, or a well-formed JSON pointer (RFC 6901; whether the
+/// summary has a number there is known when it is evaluated).
 bool is_sweep_metric(const std::string& metric);
 
 /// Accuracy metrics: ATE RMSE (m) of the point's trace, over all its estimates (`ate_rmse`) or

@@ -84,8 +84,8 @@ SweepPoint workload_point(const SweepSpec& spec, std::size_t w) {
   SweepPoint point;
   point.choice.assign(spec.parameters.size(), 0);
   for (std::size_t p = spec.workload_parameters; p-- > 0;) {
-    point.choice[p] = w % spec.parameters[p].values.size();
-    w /= spec.parameters[p].values.size();
+    point.choice[p] = w % spec.parameters[p].size();
+    w /= spec.parameters[p].size();
   }
   return point;
 }
@@ -109,8 +109,7 @@ SweepContext::SweepContext(const SweepSpec& spec_in, const SweepOptions& options
   // One workload per combination of the workload.* values, in grid order; each resolved (a bad
   // value is an error before any work, naming the parameter).
   std::size_t count = 1;
-  for (std::size_t p = 0; p < spec.workload_parameters; ++p)
-    count *= spec.parameters[p].values.size();
+  for (std::size_t p = 0; p < spec.workload_parameters; ++p) count *= spec.parameters[p].size();
   for (std::size_t w = 0; w < count; ++w) {
     const SweepPoint point = workload_point(spec, w);
     Workload workload;

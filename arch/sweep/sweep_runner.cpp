@@ -20,6 +20,7 @@
 #include <memory>
 #include <set>
 #include <stdexcept>
+#include <thread>
 #include <utility>
 
 #include "arch/results/results_db.hpp"
@@ -83,14 +84,23 @@ void evaluate(const SweepSpec& spec, const nlohmann::json& summary, const nlohma
   r.constraints.clear();
   r.feasible = true;
   r.bottleneck = bottleneck_of(summary);
-  for (const SweepObjective& o : spec.objectives) {
-    r.objectives.push_back(point_metric(summary, accuracy, o.metric));
+  // A metric the summary lacks (a JSON pointer to no number) is the spec's error, at its line.
+  const auto metric_at = [&](const std::string& metric, int line, const std::string& key) {
+    try {
+      return point_metric(summary, accuracy, metric);
+    } catch (const std::runtime_error& e) {
+      throw InputError({spec.file, line}, key, e.what());
+    }
+  };
+  for (std::size_t i = 0; i < spec.objectives.size(); ++i) {
+    const SweepObjective& o = spec.objectives[i];
+    r.objectives.push_back(metric_at(o.metric, o.line, fmt::format("objectives[{}]", i)));
     r.metrics[o.metric] = metric_json(r.objectives.back());
     r.feasible = r.feasible && !std::isnan(r.objectives.back());
   }
   for (std::size_t c = 0; c < spec.constraints.size(); ++c) {
     const SweepConstraint& con = spec.constraints[c];
-    const double v = point_metric(summary, accuracy, con.metric);
+    const double v = metric_at(con.metric, con.line, fmt::format("constraints[{}]", c));
     r.metrics[con.metric] = metric_json(v);
     double bounded = v;
     if (con.relative()) {
@@ -289,7 +299,17 @@ class SweepMaster {
                     ? sweep_engine::make_mpi_executor(context)
                     : std::make_unique<sweep_engine::LocalExecutor>(context, options_.jobs);
   }
-  ~SweepMaster() { executor_->finish(); }
+  /// Claims this process still holds (a failed or limited run) go with it.
+  ~SweepMaster() {
+    executor_->finish();
+    try {
+      SQLite::Statement drop(db_, "DELETE FROM run_claims WHERE pid = ? AND host = ?");
+      drop.bind(1, static_cast<std::int64_t>(::getpid()));
+      drop.bind(2, host_);
+      drop.exec();
+    } catch (const SQLite::Exception&) {
+    }
+  }
 
   /// Runs every point (a grid or samples) or the search, to the end or the limit; the finished
   /// points go to out.points in point order; returns whether the limit stopped it.
@@ -378,22 +398,79 @@ class SweepMaster {
     return r;
   }
 
-  /// A point whose trace is ready: read back from the database, or queued for simulation.
+  /// Whether a run is stored, or may be simulated by this process.
+  enum class RunState { kStored, kClaimed, kBusy };
+
+  /// Looks the run up and, when it is not stored and `claim`, claims it for this process
+  /// (run_claims), in one IMMEDIATE transaction, so that two sweeps on the database never both
+  /// simulate it: kBusy when another live process of this host holds the claim (that sweep
+  /// stores the run; this one waits for it). A claim of a process that is gone is taken over;
+  /// one of another host is not honoured (its process cannot be checked): both then simulate
+  /// the run, which is stored once. `summary` gets a stored run's summary.
+  RunState claim_run(const std::string& run_id, bool claim, nlohmann::json& summary) {
+    SQLite::Transaction t(db_, SQLite::TransactionBehavior::IMMEDIATE);
+    const std::vector<results::RunRow> stored =
+        results::select_rows(db_, results::runs_table(), {"run_id = ?1", {run_id}, ""});
+    if (!stored.empty()) {
+      summary = stored.front().summary;
+      return RunState::kStored;
+    }
+    if (!claim) return RunState::kClaimed;  // the limit stops the sweep before it simulates
+    for (const results::RunClaimRow& c :
+         results::select_rows(db_, results::run_claims_table(), {"run_id = ?1", {run_id}, ""})) {
+      const auto pid = static_cast<pid_t>(c.pid);
+      if (c.host == host_ && pid != ::getpid() && sweep_engine::process_running(pid)) {
+        return RunState::kBusy;
+      }
+    }
+    const std::string now = db_.execAndGet("SELECT datetime('now')").getString();
+    results::insert_rows(
+        db_, results::run_claims_table(),
+        {{out_.sweep_id, run_id, static_cast<std::int64_t>(::getpid()), host_, now}}, true);
+    t.commit();
+    return RunState::kClaimed;
+  }
+
+  /// This process's claim on a run, removed in the caller's transaction (the run is stored).
+  void drop_claim(const std::string& run_id) {
+    SQLite::Statement drop(db_, "DELETE FROM run_claims WHERE run_id = ? AND pid = ? AND host = ?");
+    drop.bind(1, run_id);
+    drop.bind(2, static_cast<std::int64_t>(::getpid()));
+    drop.bind(3, host_);
+    drop.exec();
+  }
+
+  /// A point whose trace is ready: read back from the database, queued for simulation, or
+  /// waiting for another sweep that is simulating its run.
   void consider(std::size_t index, std::size_t w) {
     auto platform = std::make_shared<const Platform>(context_.platform(index));
     SweepPointResult r = point_result(index);
     r.run_id = run_id_of(fnv1a_hex(platform->to_json().dump()), states_[w].trace_hash);
-    const std::vector<results::RunRow> stored =
-        results::select_rows(db_, results::runs_table(), {"run_id = ?1", {r.run_id}, ""});
-    if (!stored.empty()) {
-      evaluate_point(stored.front().summary, r);
-      finish(std::move(r), {});
-    } else if (simulations_ >= limit_) {
+    nlohmann::json summary;
+    switch (claim_run(r.run_id, simulations_ < limit_, summary)) {
+      case RunState::kStored:
+        evaluate_point(summary, r);
+        finish(std::move(r), {});
+        return;
+      case RunState::kBusy:
+        elsewhere_.push_back({index, w});
+        return;
+      case RunState::kClaimed:
+        break;
+    }
+    if (simulations_ >= limit_) {
       limit_reached_ = true;
     } else {
       ++simulations_;
       ready_.push_back(SweepTask{SweepTask::Kind::kSimulate, w, index, std::move(platform)});
     }
+  }
+
+  /// Points whose run another sweep is simulating, considered again after a pause: each is then
+  /// stored (evaluated from the database), or its claim is gone (simulated here).
+  void wait_for_other_sweeps() {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    for (const auto& [index, w] : std::exchange(elsewhere_, {})) consider(index, w);
   }
 
   /// The accuracy of workload point `w`'s trace (computed once, from the trace).
@@ -494,11 +571,19 @@ class SweepMaster {
     if (r.result) {
       p.run_id = run_id_of(r.result->config_hash, r.result->trace_hash);
       evaluate_point(r.result->to_json(), p);
-      finish(std::move(p), [&] { write_results(db_, result_rows(*r.result, options_.per_frame)); });
+      const std::string run_id = p.run_id;
+      finish(std::move(p), [&] {
+        write_results(db_, result_rows(*r.result, options_.per_frame));
+        drop_claim(run_id);
+      });
     } else {
       p.run_id = r.rows.at("run_id").get<std::string>();
       evaluate_point(r.rows.at("summary"), p);
-      finish(std::move(p), [&] { import_run_rows(db_, r.rows); });
+      const std::string run_id = p.run_id;
+      finish(std::move(p), [&] {
+        import_run_rows(db_, r.rows);
+        drop_claim(run_id);
+      });
     }
   }
 
@@ -540,6 +625,10 @@ class SweepMaster {
       start_tasks(count, index_at, cursor);
       if (in_flight_ == 0) {
         if (cursor < count && !limit_reached_) continue;
+        if (!elsewhere_.empty()) {
+          wait_for_other_sweeps();
+          continue;
+        }
         break;
       }
       SweepTaskResult r = executor_->wait();
@@ -589,6 +678,8 @@ class SweepMaster {
   std::deque<SweepTask> ready_;       // simulations to start
   std::deque<std::size_t> to_trace_;  // workload points to trace
   std::size_t in_flight_ = 0;
+  std::vector<std::pair<std::size_t, std::size_t>> elsewhere_;  // (point, workload) waiting
+  const std::string host_ = sweep_engine::this_host();
 };
 
 /// The run of a sweep (docs/SWEEPS.md "How a sweep runs"): checks, the database opened and

@@ -143,49 +143,39 @@ struct ConstraintEntry {
   }
 };
 
-/// Text of a generated value: integers without a decimal point (they must parse as int keys),
-/// others to 4 significant digits (the text is the value the platform gets).
-std::string value_text(double v) {
-  if (std::abs(v) < 9e15 && v == std::round(v)) return fmt::format("{}", std::int64_t(v));
-  return fmt::format("{:.4g}", v);  // generated values: 4 significant digits
-}
-
 /// from + i·step for i = 0 .. floor((to − from)/step) (a relative 1e-9 slack keeps `to`).
-std::vector<double> linear_values(const std::string& where, const std::string& key,
-                                  const YAML::Node& node) {
+void read_linear_range(const std::string& where, const std::string& key, const YAML::Node& node,
+                       SweepParameter& p) {
   LinearRange r;
   read_map(where, key, node, "{from, to, step}", LinearRange::fields(), r);
   if (!(r.step > 0) || r.to < r.from) fail(where, node, key, "expected step > 0 and to >= from");
   // The count as a double first: (to - from) / step may overflow any integer (or be inf).
-  const double count = std::floor((r.to - r.from) / r.step * (1 + 1e-12) + 1e-9);
-  if (!(count < 100000)) {
+  const double last = std::floor((r.to - r.from) / r.step * (1 + 1e-12) + 1e-9);
+  if (!(last < 100000)) {
     fail(where, node, key,
-         std::isfinite(count) ? fmt::format("{:.4g} values (at most 100000)", count + 1)
-                              : std::string("more than 100000 values"));
+         std::isfinite(last) ? fmt::format("{:.4g} values (at most 100000)", last + 1)
+                             : std::string("more than 100000 values"));
   }
-  std::vector<double> values;
-  for (std::size_t i = 0; i <= static_cast<std::size_t>(count); ++i) {
-    values.push_back(r.from + double(i) * r.step);
-  }
-  return values;
+  p.form = SweepParameter::Form::kLinear;
+  p.from = r.from;
+  p.to = r.to;
+  p.step = r.step;
+  p.count = static_cast<std::size_t>(last) + 1;
 }
 
 /// Geometric: from · (to/from)^(i/(points−1)), i = 0 .. points−1 (both ends exact).
-std::vector<double> log_values(const std::string& where, const std::string& key,
-                               const YAML::Node& node) {
+void read_log_range(const std::string& where, const std::string& key, const YAML::Node& node,
+                    SweepParameter& p) {
   LogRange r;
   read_map(where, key, node, "{from, to, points}", LogRange::fields(), r);
   if (!(r.from > 0) || !(r.to > 0) || r.points < 2 || r.points != std::round(r.points) ||
       r.points > 100000) {
     fail(where, node, key, "expected from > 0, to > 0 and an integer number of points >= 2");
   }
-  const auto n = static_cast<std::size_t>(r.points);
-  std::vector<double> values;
-  for (std::size_t i = 0; i < n; ++i) {
-    values.push_back(i + 1 == n ? r.to
-                                : r.from * std::pow(r.to / r.from, double(i) / double(n - 1)));
-  }
-  return values;
+  p.form = SweepParameter::Form::kLog;
+  p.from = r.from;
+  p.to = r.to;
+  p.count = static_cast<std::size_t>(r.points);
 }
 
 /// `parameters.<key>: {values: [..]}` or a range of either kind.
@@ -209,17 +199,14 @@ SweepParameter read_parameter(const std::string& where, const YAML::Node& key_no
     }
     for (const YAML::Node& v : values) {
       if (!v.IsScalar()) fail(where, v, prefix + ".values", "expected scalar values");
-      p.values.push_back(v);
-      p.texts.push_back(v.Scalar());
+      p.listed.push_back(v);
     }
     return p;
   }
-  const std::vector<double> generated =
-      spec["range"] ? linear_values(where, prefix + ".range", spec["range"])
-                    : log_values(where, prefix + ".log_range", spec["log_range"]);
-  for (double v : generated) {
-    p.texts.push_back(value_text(v));
-    p.values.push_back(YAML::Node(p.texts.back()));
+  if (spec["range"]) {
+    read_linear_range(where, prefix + ".range", spec["range"], p);
+  } else {
+    read_log_range(where, prefix + ".log_range", spec["log_range"], p);
   }
   return p;
 }
@@ -279,7 +266,7 @@ void read_parameters(YamlFields& top, SweepSpec& s) {
   }
   s.workload_parameters = s.parameters.size();
   double workload_points = 1;
-  for (const SweepParameter& p : s.parameters) workload_points *= double(p.values.size());
+  for (const SweepParameter& p : s.parameters) workload_points *= double(p.size());
   if (workload_points > kMaxWorkloadPoints) {
     top.fail("parameters",
              fmt::format("the workload.* parameters make {:.4g} workload points (at most 10^4: "
@@ -346,6 +333,7 @@ void read_objectives(YamlFields& top, SweepSpec& s) {
     objective.maximize = bool(o["maximize"]);
     const YAML::Node metric = objective.maximize ? o["maximize"] : o["minimize"];
     objective.metric = metric.IsScalar() ? metric.Scalar() : "";
+    objective.line = yaml_line(metric);
     if (!is_sweep_metric(objective.metric)) {
       fail(s.file, metric, key,
            fmt::format("unknown metric '{}' (docs/SWEEPS.md lists them)", objective.metric));
@@ -460,17 +448,33 @@ void check_grid_size(YamlFields& top, const SweepSpec& s) {
     top.fail("parameters", fmt::format("the grid has {:.4g} points (a search indexes at most 2^53)",
                                        grid_size(s)));
   }
+  if (s.random && grid_size(s) > kMaxRandomGrid) {
+    top.fail("parameters",
+             fmt::format("the grid has {:.4g} points (random sampling indexes at most 2^126)",
+                         grid_size(s)));
+  }
 }
 
-/// Every point must make a valid platform: each parameter's values checked on the base (loaded
-/// once; each check on a copy of it).
+/// Most values of one parameter checked on the base when the spec is read.
+constexpr std::size_t kValuesCheckedAtRead = 256;
+
+/// Every value must make a valid platform: each parameter's values checked on the base (loaded
+/// once; each check on a copy of it, about 1 ms). A parameter of at most 256 values has every
+/// value checked; a longer one 256 values spread evenly over it, both ends included, so that
+/// reading a spec costs the same for any range size (issue 45); its other values are checked
+/// when their point's platform is made, with the same one-line error naming the value.
 void check_values_on_base(const SweepSpec& s) {
   const PlatformSource base = PlatformSource::load(s.base);
   for (std::size_t p = s.workload_parameters; p < s.parameters.size(); ++p) {
-    for (std::size_t v = 0; v < s.parameters[p].values.size(); ++v) {
+    const std::size_t n = s.parameters[p].size();
+    const std::size_t checked = std::min(n, kValuesCheckedAtRead);
+    for (std::size_t j = 0; j < checked; ++j) {
       SweepPoint point;
       point.choice.assign(s.parameters.size(), 0);
-      point.choice[p] = v;
+      // v_j = round(j (n−1)/(checked−1)): every index when checked == n, else both ends.
+      point.choice[p] = checked == n ? j
+                                     : static_cast<std::size_t>(std::llround(
+                                           double(j) * double(n - 1) / double(checked - 1)));
       sweep_platform(s, point, base);
     }
   }

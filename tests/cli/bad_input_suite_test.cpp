@@ -181,7 +181,7 @@ std::vector<BadInputCase> cases() {
        },
        "'{edx}' export '{dir}/r.db' --table runs --out '{dir}/x.csv'", 1,
        "edx: error: {dir}/r.db: results schema version -3 (user_version) is not one edx writes "
-       "(0 to 5)"},
+       "(0 to 6)"},
       {"c3_export_of_a_newer_schema_version",
        [](const fs::path& d) {
          results_db(d, "r.db");
@@ -189,7 +189,7 @@ std::vector<BadInputCase> cases() {
              .exec("PRAGMA user_version = 99");
        },
        "'{edx}' export '{dir}/r.db' --table runs --out '{dir}/x.csv'", 1,
-       "edx: error: {dir}/r.db: results schema version 99 is newer than this edx reads (5); use a "
+       "edx: error: {dir}/r.db: results schema version 99 is newer than this edx reads (6); use a "
        "newer edx"},
       // 4. A failing command leaves nothing behind.
       {"c4_host_cost_fit_onto_its_own_trace",

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "arch/sweep/index_permutation.hpp"
 #include "bench/stretch.hpp"
 #include "tests/arch/backend/backend_test_support.hpp"
 #include "tests/arch/sweep/sweep_fixture.hpp"
@@ -109,6 +110,13 @@ constexpr const char* kBase =
     "backend: {clock_mhz: 100, spm_bytes: 67108864, units: {gemm: {block: 2}}}\n"
     "scheduler: {policy: oracle, training_fraction: 0}\n";
 
+/// A parameter's values as text, in order.
+std::vector<std::string> texts_of(const SweepParameter& p) {
+  std::vector<std::string> texts;
+  for (std::size_t i = 0; i < p.size(); ++i) texts.push_back(p.text(i));
+  return texts;
+}
+
 SweepSpec spec_of(const edx::testing::TempDir& dir, const std::string& body) {
   write(dir.path() / "base.yaml", kBase);
   return SweepSpec::parse("base: base.yaml\n" + body, "s.yaml", dir.path());
@@ -125,8 +133,14 @@ TEST(SweepSpec, GridRangesAndLogRanges) {
                               "objectives: [{minimize: e2e_latency_mean}]\n");
   EXPECT_EQ(s.name, "s");
   ASSERT_EQ(s.parameters.size(), 3u);
-  EXPECT_THAT(s.parameters[1].texts, ::testing::ElementsAre("100", "125", "150", "175", "200"));
-  EXPECT_THAT(s.parameters[2].texts, ::testing::ElementsAre("1", "10", "100"));
+  EXPECT_THAT(texts_of(s.parameters[1]), ::testing::ElementsAre("100", "125", "150", "175", "200"));
+  EXPECT_THAT(texts_of(s.parameters[2]), ::testing::ElementsAre("1", "10", "100"));
+  // The spec as run records a range as written, a list as its texts.
+  EXPECT_EQ(s.to_json()["parameters"]["backend.clock_mhz"].dump(),
+            R"({"range":{"from":100.0,"step":25.0,"to":200.0}})");
+  EXPECT_EQ(s.to_json()["parameters"]["link.bandwidth_gb_per_s"].dump(),
+            R"({"log_range":{"from":1.0,"points":3,"to":100.0}})");
+  EXPECT_EQ(s.to_json()["parameters"]["backend.units.gemm.block"].dump(), R"(["1","2","4"])");
   const SweepPoints grid(s);
   ASSERT_EQ(grid.size(), 3u * 5u * 3u);
   // Last parameter fastest: point 4 = (0, 1, 1); the last point = (2, 4, 2).
@@ -142,7 +156,71 @@ TEST(SweepSpec, GridRangesAndLogRanges) {
   const SweepSpec frac = spec_of(dir,
                                  "parameters:\n  link.bandwidth_gb_per_s: {range: {from: 1.2, to: "
                                  "2.0, step: 0.2}}\nobjectives: [{maximize: fps}]\n");
-  EXPECT_THAT(frac.parameters[0].texts, ::testing::ElementsAre("1.2", "1.4", "1.6", "1.8", "2"));
+  EXPECT_THAT(texts_of(frac.parameters[0]),
+              ::testing::ElementsAre("1.2", "1.4", "1.6", "1.8", "2"));
+}
+
+TEST(SweepSpec, IndexPermutationIsABijectionFixedByItsSeed) {
+  // Sizes from 1 up, around powers of 4 and odd: perm(0..n-1) covers 0..n-1 exactly once.
+  for (std::uint64_t n :
+       std::vector<std::uint64_t>{1, 2, 3, 4, 5, 7, 8, 9, 63, 64, 65, 300, 4097}) {
+    for (std::uint64_t seed : {0ull, 1ull, 12345ull}) {
+      const IndexPermutation perm(n, seed);
+      std::vector<bool> hit(n, false);
+      for (std::uint64_t i = 0; i < n; ++i) {
+        const auto j = static_cast<std::uint64_t>(perm(i));
+        ASSERT_LT(j, n);
+        EXPECT_FALSE(hit[j]) << "n " << n << " seed " << seed << " index " << i;
+        hit[j] = true;
+      }
+    }
+  }
+  // The same seed, the same order; another seed, another order; not the identity.
+  const IndexPermutation a(1000, 7), b(1000, 7), c(1000, 8);
+  std::size_t same_as_c = 0, fixed = 0;
+  for (std::uint64_t i = 0; i < 1000; ++i) {
+    EXPECT_EQ(static_cast<std::uint64_t>(a(i)), static_cast<std::uint64_t>(b(i)));
+    same_as_c += a(i) == c(i);
+    fixed += a(i) == i;
+  }
+  EXPECT_LT(same_as_c, 20u);  // a random pair of permutations agrees at about 1 index
+  EXPECT_LT(fixed, 20u);
+  // Domains beyond 2^64: indices stay below the size; 2^126 is the largest.
+  const IndexPermutation::Index huge = IndexPermutation::kMaxSize - 3;
+  const IndexPermutation big(huge, 1);
+  for (std::uint64_t i = 0; i < 100; ++i) EXPECT_TRUE(big(i) < huge);
+  EXPECT_THROW(IndexPermutation(IndexPermutation::kMaxSize + 1, 1), std::invalid_argument);
+  EXPECT_THROW(IndexPermutation(0, 1), std::invalid_argument);
+}
+
+TEST(SweepSpec, LongParametersAreReadLazilyAndCheckedWhereTheirPointIsMade) {
+  edx::testing::TempDir dir;
+  // A range of 10^5 values is three numbers, not 10^5 values: its values are computed.
+  const SweepSpec range = spec_of(dir,
+                                  "parameters:\n  link.bandwidth_gb_per_s: {range: {from: 1, to: "
+                                  "100000, step: 1}}\nobjectives: [{maximize: fps}]\n");
+  ASSERT_EQ(range.parameters[0].size(), 100000u);
+  EXPECT_EQ(range.parameters[0].text(99999), "100000");
+  EXPECT_EQ(range.parameters[0].text(41), "42");
+  EXPECT_THROW(range.parameters[0].text(100000), std::out_of_range);
+  // Both ends are checked when the spec is read...
+  EXPECT_THAT(error_of([&] {
+                spec_of(dir,
+                        "parameters:\n  backend.clock_mhz: {range: {from: -256, to: 0, step: "
+                        "1}}\nobjectives: [{maximize: fps}]\n");
+              }),
+              HasSubstr("s.yaml:3 (parameters.backend.clock_mhz = -256): backend.clock_mhz: "
+                        "expected a number in (0, 1000], got '-256'"));
+  // ... and a list of 257 values is checked at 256 of them, spread evenly (index 128 skipped):
+  // a bad value there is refused where its point's platform is made, naming its line.
+  std::string values;
+  for (int i = 0; i < 257; ++i) values += fmt::format("{}{}", i ? ", " : "", i == 128 ? -5 : 100);
+  const SweepSpec listed = spec_of(dir, "parameters:\n  backend.clock_mhz: {values: [" + values +
+                                            "]}\nobjectives: [{maximize: fps}]\n");
+  const SweepPoints points(listed);
+  EXPECT_NO_THROW(sweep_platform(listed, points.at(127)));
+  EXPECT_EQ(error_of([&] { sweep_platform(listed, points.at(128)); }),
+            "s.yaml:3: backend.clock_mhz: expected a number in (0, 1000], got '-5'");
 }
 
 TEST(SweepSpec, RandomSamplingIsDistinctAndReproducible) {
@@ -213,6 +291,14 @@ TEST(SweepSpec, BadInputIsOneLineWithFileLineAndKey) {
   EXPECT_EQ(err("parameters:\n  backend.units.gemm.block: {values: [1]}\nobjectives: [{minimize: "
                 "speed}]\n"),
             "s.yaml:4: objectives[0]: unknown metric 'speed' (docs/SWEEPS.md lists them)");
+  // A key under one of the base's values is the spec's error, not the base's.
+  EXPECT_EQ(err("parameters:\n  backend.spm_bytes.x: {values: [1]}\n" + obj),
+            "s.yaml:3: backend.spm_bytes.x: 'backend.spm_bytes' is a value of the platform, not a "
+            "map of keys");
+  // A JSON pointer must be well formed ('~' escapes only 0 and 1, RFC 6901).
+  EXPECT_EQ(err("parameters:\n  backend.units.gemm.block: {values: [1]}\nobjectives: [{minimize: "
+                "/a~2}]\n"),
+            "s.yaml:4: objectives[0]: unknown metric '/a~2' (docs/SWEEPS.md lists them)");
   EXPECT_EQ(err("paramters: {}\n" + obj),
             "s.yaml:2: paramters: unknown key (expected one of: name, description, base, trace, "
             "workload, parameters, sampling, objectives, constraints)");
@@ -362,6 +448,85 @@ TEST(Sweep, OneProcessRunsASweepOnADatabaseAtATime) {
   EXPECT_EQ(run_sweep(spec, options).skipped, 2u);
   SQLite::Database db(options.db.string());
   EXPECT_EQ(db.execAndGet("SELECT count(*) FROM sweep_locks").getInt(), 0);
+}
+
+TEST(Sweep, AMetricTheSummaryLacksIsTheSpecsErrorAtItsLine) {
+  edx::testing::TempDir dir;
+  write_sweep_trace(dir.path() / "t.db");
+  const SweepSpec spec = spec_of(dir,
+                                 "trace: t.db\n"
+                                 "parameters:\n  backend.units.gemm.block: {values: [1]}\n"
+                                 "objectives: [{minimize: dsp}]\n"
+                                 "constraints:\n  - {metric: /accelerated/no_such, max: 1}\n");
+  SweepOptions options;
+  options.db = dir.path() / "r.db";
+  EXPECT_EQ(error_of([&] { run_sweep(spec, options); }),
+            "s.yaml:7: constraints[0]: metric '/accelerated/no_such': the run summary has no "
+            "number at /accelerated/no_such");
+}
+
+TEST(Sweep, TwoSweepsNeedingOneRunSimulateItOnce) {
+  edx::testing::TempDir dir;
+  write_sweep_trace(dir.path() / "t.db");
+  const auto spec_named = [&](const std::string& name, const std::string& blocks) {
+    return spec_of(dir, "name: " + name +
+                            "\ntrace: t.db\nparameters:\n  backend.units.gemm.block: " +
+                            "{values: [" + blocks + "]}\nobjectives: [{minimize: dsp}]\n");
+  };
+  SweepOptions options;
+  options.db = dir.path() / "r.db";
+  ASSERT_EQ(run_sweep(spec_named("first", "8"), options).computed, 1u);
+  // The run id of block 2, from a sweep into another database.
+  SweepOptions probe_options;
+  probe_options.db = dir.path() / "probe.db";
+  const SweepOutcome probe = run_sweep(spec_named("probe", "2"), probe_options);
+  ASSERT_EQ(probe.points.size(), 1u);
+  const std::string run_of_2 = probe.points[0].run_id;
+  char host[256] = {};
+  ASSERT_EQ(::gethostname(host, sizeof host - 1), 0);
+  const auto claim_by = [&](pid_t pid, const std::filesystem::path& path) {
+    SQLite::Database db(path.string(), SQLite::OPEN_READWRITE);
+    SQLite::Statement put(db,
+                          "INSERT OR REPLACE INTO run_claims (run_id, sweep_id, pid, host, since) "
+                          "VALUES (?, 'other', ?, ?, 'then')");
+    put.bind(1, run_of_2);
+    put.bind(2, static_cast<std::int64_t>(pid));
+    put.bind(3, std::string(host));
+    put.exec();
+  };
+  // A live sweep (a child) has claimed block 2's run: this sweep waits for it and reads the run
+  // the child stores, instead of simulating it too.
+  int go[2];
+  ASSERT_EQ(::pipe(go), 0);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    char byte = 0;
+    const bool told = ::read(go[0], &byte, 1) == 1;
+    ::usleep(300000);  // the parent's sweep is waiting by now
+    const SweepOutcome o = run_sweep(spec_named("other", "2"), options);
+    ::_exit(told && o.computed == 1 ? 0 : 1);
+  }
+  claim_by(child, options.db);
+  ASSERT_EQ(::write(go[1], "x", 1), 1);
+  const SweepOutcome both = run_sweep(spec_named("blocks", "1, 2"), options);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the child's sweep failed";
+  EXPECT_EQ(both.computed, 1u);  // block 1
+  EXPECT_EQ(both.skipped, 1u);   // block 2: the child's run
+  // A claim of a process that is gone is taken over; every claim goes when its sweep ends.
+  const pid_t gone = ::fork();
+  if (gone == 0) ::_exit(0);
+  ::waitpid(gone, nullptr, 0);
+  SweepOptions fresh;
+  fresh.db = dir.path() / "fresh.db";
+  ASSERT_EQ(run_sweep(spec_named("first", "8"), fresh).computed, 1u);
+  claim_by(gone, fresh.db);
+  EXPECT_EQ(run_sweep(spec_named("blocks", "1, 2"), fresh).computed, 2u);
+  for (const std::filesystem::path& path : {options.db, fresh.db}) {
+    SQLite::Database db(path.string());
+    EXPECT_EQ(db.execAndGet("SELECT count(*) FROM run_claims").getInt(), 0) << path;
+  }
 }
 
 // ---- the example sweeps (not run by default: EDX_SWEEP_TRACE=vio.db, ~1 min) ----
