@@ -45,11 +45,13 @@ struct EventRecord {
 
 /// Awaiter of sim.delay(), sim.delay_until() and sim.cycles(): suspends until an absolute time.
 /// Always suspends (a zero delay yields to the events already queued for the current time).
+/// sim.advance() and sim.advance_cycles(): the same, except that when nothing else can happen
+/// until that time it moves the clock there in place (Simulator::advance).
 class TimerAwaiter {
  public:
-  TimerAwaiter(Simulator& sim, Time when, Priority priority) noexcept
-      : sim_(&sim), when_(when), priority_(priority) {}
-  bool await_ready() const noexcept { return false; }
+  TimerAwaiter(Simulator& sim, Time when, Priority priority, bool in_place = false) noexcept
+      : sim_(&sim), when_(when), priority_(priority), in_place_(in_place) {}
+  bool await_ready() const;  ///< not noexcept: advance's test may grow the queue's near heap
   template <class Promise>
   void await_suspend(std::coroutine_handle<Promise> handle) const;
   void await_resume() const noexcept {}
@@ -58,6 +60,7 @@ class TimerAwaiter {
   Simulator* sim_;
   Time when_;
   Priority priority_;
+  bool in_place_;
 };
 
 /// The events of an all_of / any_of wait, written `{e1, e2, ...}` (Event lvalues) or given as a
@@ -161,16 +164,37 @@ class Simulator {
   /// `co_await sim.delay(d)`: resume `duration` ps from now. Throws std::overflow_error when
   /// now() + duration reaches kTimeMax (reserved; no event can be scheduled there).
   TimerAwaiter delay(Time duration, Priority priority = 0) {
-    if (duration >= kTimeMax - now_) [[unlikely]] {
-      throw_time_overflow(duration);
-    }
-    return TimerAwaiter(*this, now_ + duration, priority);
+    return TimerAwaiter(*this, delay_end(duration), priority);
   }
   /// `co_await sim.delay_until(t)`: resume at absolute time t (>= now()).
   TimerAwaiter delay_until(Time when, Priority priority = 0);
   /// `co_await sim.cycles(clock, n)`: resume at the n-th rising edge of `clock` strictly after
   /// now (n >= 1); n = 0 resumes at the first edge at or after now.
   TimerAwaiter cycles(const ClockDomain& clock, std::uint64_t n, Priority priority = 0);
+
+  /// `co_await sim.advance(d)`: the same outcome as `co_await sim.delay(d)`, with no event when
+  /// nothing else can happen until now() + d: no event is queued at or before it, it is within
+  /// the run's limit, no stop() or exception is pending, nothing waits for the end of the current
+  /// event (a finished process's frame), and no event log or hook is on. Then the process would
+  /// be the next to run, at now() + d, so now() moves there and the process goes on in place (no
+  /// other process runs in between, so every outcome is the same; the event it skips is neither
+  /// counted by events_processed() nor logged). Otherwise it is delay(d).
+  TimerAwaiter advance(Time duration, Priority priority = 0) {
+    return TimerAwaiter(*this, delay_end(duration), priority, true);
+  }
+  /// `co_await sim.advance_cycles(clock, n)`: cycles(clock, n) as advance() is delay().
+  TimerAwaiter advance_cycles(const ClockDomain& clock, std::uint64_t n, Priority priority = 0) {
+    return TimerAwaiter(*this, edge_time(clock, n), priority, true);
+  }
+  /// advance()'s test: true (and now() set to `when`) when nothing else can happen until `when`.
+  bool try_advance_in_place(Time when) {
+    if (!running_ || tracing_ || stop_requested_ || after_dispatch_ || when > run_limit_) {
+      return false;
+    }
+    if (queue_.next_time() <= when) return false;
+    now_ = when;
+    return true;
+  }
 
   /// `co_await sim.join(h)`: same as `co_await h`.
   JoinAwaiter join(ProcessHandle handle) const noexcept { return handle.operator co_await(); }
@@ -240,6 +264,16 @@ class Simulator {
 
   static constexpr std::uint64_t kSequenceLimit = std::uint64_t{1} << 48;
 
+  /// now() + duration; throws std::overflow_error when that reaches kTimeMax (delay's check).
+  Time delay_end(Time duration) const {
+    if (duration >= kTimeMax - now_) [[unlikely]] {
+      throw_time_overflow(duration);
+    }
+    return now_ + duration;
+  }
+  /// The time cycles(clock, n) resumes at; throws std::overflow_error at kTimeMax.
+  Time edge_time(const ClockDomain& clock, std::uint64_t n) const;
+
   void schedule(Time when, Priority priority, void* target, detail::ProcessRecord* process,
                 const Event* event) {
     const std::uint64_t sequence = next_sequence_++;
@@ -284,6 +318,10 @@ class Simulator {
   std::function<void(const EventRecord&)> hook_;
   std::unordered_map<std::uint64_t, Label> labels_;  ///< sequence -> label, only while tracing
 };
+
+inline bool TimerAwaiter::await_ready() const {
+  return in_place_ && sim_->try_advance_in_place(when_);
+}
 
 template <class Promise>
 void TimerAwaiter::await_suspend(std::coroutine_handle<Promise> handle) const {

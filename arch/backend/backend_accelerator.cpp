@@ -35,7 +35,7 @@ sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::stri
     const sim::ClockDomain& clock = *clocks_[t.unit];
     const sim::Time issued = sim_->now();
     // An op issued between its unit's clock edges starts on the next one.
-    if (clock.next_edge(sim_->now()) != sim_->now()) co_await sim_->cycles(clock, 0);
+    if (clock.next_edge(sim_->now()) != sim_->now()) co_await sim_->advance_cycles(clock, 0);
     std::vector<sim::Lease> leases;
     leases.push_back(co_await unit.acquire());
     // Every other copy free now shares the op's work.
@@ -47,7 +47,7 @@ sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::stri
     const int copies = static_cast<int>(leases.size());
     const std::int64_t cycles = copies == t.copies ? t.cycles : op_cycles(t.op, copies, config_);
     const sim::Time begin = sim_->now();
-    if (cycles > 0) co_await sim_->cycles(clock, static_cast<std::uint64_t>(cycles));
+    if (cycles > 0) co_await sim_->advance_cycles(clock, static_cast<std::uint64_t>(cycles));
     if (times.ps != nullptr) {
       // Run: the op's planned cycles from its start edge; the rest of its time waited.
       const sim::Time planned_end =

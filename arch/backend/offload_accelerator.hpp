@@ -110,7 +110,9 @@ class OffloadAccelerator : public Component {
   /// Its resources that work, draw power and report utilization, in a fixed order
   /// ("gemm", "decomposition", ...; the system names them "backend.<name>").
   virtual std::vector<std::string> resource_names() const = 0;
-  /// `kernel` (its recorded ops, or those derived from its sizes) on this accelerator.
+  /// `kernel` (its recorded ops, or those derived from its sizes) on this accelerator. Reads the
+  /// kernel's name, m, n, k, detail and its ops' kinds, sizes, flags and batches only, never a
+  /// host time: the system model plans each shape once and shares the plan (system_model.cpp).
   virtual std::unique_ptr<const OffloadPlan> plan(const trace::KernelRecord& kernel) const = 0;
   /// A planner for one run (alive while this accelerator is); the default calls plan().
   virtual std::unique_ptr<OffloadPlanner> planner() const {

@@ -31,9 +31,9 @@ Process run_task(Simulator& sim, const sim::ClockDomain& clock, Resource& unit, 
                  TaskSpan& span) {
   for (const ProcessHandle& handle : after) co_await handle;
   Lease lease = co_await unit.acquire();
-  if (clock.next_edge(sim.now()) != sim.now()) co_await sim.cycles(clock, 0);
+  if (clock.next_edge(sim.now()) != sim.now()) co_await sim.advance_cycles(clock, 0);
   span.start = sim.now();
-  if (span.cycles > 0) co_await sim.cycles(clock, static_cast<std::uint64_t>(span.cycles));
+  if (span.cycles > 0) co_await sim.advance_cycles(clock, static_cast<std::uint64_t>(span.cycles));
   span.end = sim.now();
 }
 
@@ -87,7 +87,7 @@ FrontendAccelerator::FrontendAccelerator(sim::Simulator& sim, const FrontendConf
 sim::Task<void> FrontendAccelerator::run_frame(FrontendFrameTiming& timing, LinkModel* link) {
   Simulator& sim = *sim_;
   // A frame starts on a clock edge: its latency does not depend on when the previous one ended.
-  if (clock_.next_edge(sim.now()) != sim.now()) co_await sim.cycles(clock_, 0);
+  if (clock_.next_edge(sim.now()) != sim.now()) co_await sim.advance_cycles(clock_, 0);
   std::vector<TaskSpan>& s = timing.tasks;
   const auto at = [&](Task task, Image image) -> TaskSpan& {
     return s[find_span(s, task, image, timing.frame_id)];

@@ -88,8 +88,8 @@ struct FrameTransfers {
   nlohmann::json to_json() const;
 };
 
-/// Inputs and results of one accelerable kernel; throws std::runtime_error for an unknown
-/// accelerable kernel or negative sizes.
+/// Inputs and results of one accelerable kernel (from its name, sizes, detail and ops' sizes, never
+/// a host time); throws std::runtime_error for an unknown accelerable kernel or negative sizes.
 KernelTransfer kernel_transfer(const trace::KernelRecord& kernel, const FrameTransferConfig& config,
                                const KernelMatrixFormat& format);
 

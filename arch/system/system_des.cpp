@@ -383,7 +383,7 @@ class SystemSimulation {
     const sim::Time asked = sim_.now();
     sim::Lease device = co_await device_.acquire();
     const sim::Time begin = sim_.now();
-    co_await sim_.delay(ms_to_time(ms));
+    co_await sim_.advance(ms_to_time(ms));
     causes[CauseLayout::kCoprocessor + CauseLayout::kWait] += begin - asked;
     causes[CauseLayout::kCoprocessor] += sim_.now() - begin;
   }
@@ -396,7 +396,7 @@ class SystemSimulation {
     const sim::Time asked = sim_.now();
     sim::Lease core = co_await cores_.acquire();
     const sim::Time begin = sim_.now();
-    co_await sim_.delay(ms_to_time(ms));
+    co_await sim_.advance(ms_to_time(ms));
     causes[CauseLayout::kHost + CauseLayout::kWait] += begin - asked;
     causes[CauseLayout::kHost] += sim_.now() - begin;
     frames_[f].host_busy_ms += ms;
@@ -420,7 +420,7 @@ class SystemSimulation {
     } else {
       // On an idle accelerator: its plan's compute time, split by resource.
       const sim::Time compute = sim::seconds(o.plan->compute_s);
-      co_await sim_.delay(compute);
+      co_await sim_.advance(compute);
       attribute_compute(*o.plan, compute, causes);
     }
     if (o.spill_write_bytes > 0 || !contention_) {
@@ -439,7 +439,7 @@ class SystemSimulation {
     if (contention_) {
       co_await link_->transfer(bytes, direction, label(o, suffix));
     } else {
-      co_await sim_.delay(idle);
+      co_await sim_.advance(idle);
     }
     split_transfer(causes, cause, sim_.now() - asked, idle);
   }

@@ -43,7 +43,7 @@ struct OffloadWork {
   const OffloadPlan* plan = nullptr;  ///< its plan on the offload accelerator
   std::int64_t input_bytes = 0;       ///< transfer 2
   std::int64_t output_bytes = 0;      ///< transfer 3
-  std::string label;                  ///< "f<frame> <kernel>"
+  std::string label;  ///< "f<frame> <kernel>" (names timeline spans; may be empty without one)
   /// Out of core (docs/MODEL.md, "SPM spills"): DRAM bytes its ops read before the units run
   /// and write after them, on the link (the accelerator's path to DRAM); 0 when it fits.
   std::int64_t spill_read_bytes = 0, spill_write_bytes = 0;

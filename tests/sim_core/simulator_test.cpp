@@ -363,6 +363,66 @@ TEST(Simulator, CyclesWaitsForClockEdges) {
   EXPECT_EQ(seen, (std::vector<Time>{20000, 26667, 26667, 33334}));
 }
 
+// advance(): alone in the queue, the process goes on in place (no event); the times are
+// delay()'s and cycles()'s.
+TEST(Simulator, AdvanceAloneMovesTheClockWithoutAnEvent) {
+  Simulator sim;
+  const ClockDomain clock("fpga", 150.0);  // edges at ceil(20000 n / 3) ps
+  std::vector<Time> seen;
+  auto body = [&]() -> Process {
+    co_await sim.advance(ns(5));
+    seen.push_back(sim.now());
+    co_await sim.advance_cycles(clock, 1);
+    seen.push_back(sim.now());  // edge 1 after 5000: edge 1 = 6667
+    co_await sim.advance(1);
+    co_await sim.advance_cycles(clock, 0);
+    seen.push_back(sim.now());  // next edge 2: ceil(13333.33) = 13334
+  };
+  sim.spawn(body(), "p");
+  sim.run();
+  EXPECT_EQ(seen, (std::vector<Time>{5000, 6667, 13334}));
+  EXPECT_EQ(sim.now(), 13334u);
+  EXPECT_EQ(sim.events_processed(), 1u);  // the start only
+}
+
+// With another event queued before or at its time, advance() waits as delay() does: the
+// same order of work as delay() gives (an event at the same time that was queued first runs
+// first), and the resumption is an event.
+TEST(Simulator, AdvanceWaitsWhenAnotherEventComesFirst) {
+  for (const bool in_place : {false, true}) {
+    SCOPED_TRACE(in_place);
+    Simulator sim;
+    Trace trace;
+    const auto step = [&](std::string name, Time d) -> Process {
+      co_await (in_place ? sim.advance(d) : sim.delay(d));
+      trace.emplace_back(name + "1", sim.now());
+      co_await (in_place ? sim.advance(d) : sim.delay(d));
+      trace.emplace_back(name + "2", sim.now());
+    };
+    sim.spawn(step("b", ns(10)));  // b at 10 and 20
+    sim.spawn(step("a", ns(10)));  // a at 10 (after b: queued later) and 20
+    sim.spawn(wait_and_log(sim, trace, "c", ns(15), 0));
+    sim.run();
+    const Trace expected = {
+        {"b1", 10000}, {"a1", 10000}, {"c", 15000}, {"b2", 20000}, {"a2", 20000}};
+    EXPECT_EQ(trace, expected);
+    EXPECT_EQ(sim.events_processed(), 8u);  // 3 starts, a and b each twice, c once
+  }
+}
+
+// With an event log on, advance() is delay(): every resumption is an event and is logged.
+TEST(Simulator, AdvanceIsAnEventWhileLogging) {
+  Simulator sim;
+  sim.enable_event_log();
+  auto body = [&]() -> Process { co_await sim.advance(ns(5)); };
+  sim.spawn(body(), "p");
+  sim.run();
+  EXPECT_EQ(sim.now(), 5000u);
+  EXPECT_EQ(sim.events_processed(), 2u);
+  ASSERT_EQ(sim.event_log().size(), 2u);
+  EXPECT_EQ(sim.event_log()[1].time, 5000u);
+}
+
 TEST(Simulator, RejectsBadArguments) {
   Simulator sim;
   EXPECT_THROW(sim.spawn(Process{}), std::invalid_argument);

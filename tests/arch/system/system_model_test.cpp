@@ -208,6 +208,30 @@ TEST(SystemModel, NeverAndAlwaysPolicies) {
   EXPECT_TRUE(always.decisions[1].offloaded);
 }
 
+// Invocations of one shape (name, sizes, detail, ops without host times) share their plan and
+// transfers; each keeps its own host time; an op of another size is another shape.
+TEST(SystemModel, InvocationsOfOneShapeShareTheirCostsOnly) {
+  std::vector<trace::FrameTrace> frames = {frame(0, BackendMode::Registration, 10'000'000),
+                                           frame(1, BackendMode::Registration, 10'000'000)};
+  trace::KernelRecord wide = projection(100, 1'000'000);
+  wide.ops[0].n = 200;  // gemm 3 x 200 x 4: ⌈3/2⌉·⌈200/2⌉ tiles x 8 cycles = 1600 cycles
+  trace::KernelRecord again = projection(100, 2'000'000);
+  again.ops[0].host_ns = 123;  // another op host time: the same shape
+  frames[0].kernels = {projection(100, 6'000'000), wide};
+  frames[1].kernels = {again};
+  const SystemResult r = simulate_system(test_platform("always"), frames, kMeta, "t.db");
+  ASSERT_EQ(r.decisions.size(), 3u);
+  const std::vector<double> compute = {kCompute0Ms, 2 * kCompute0Ms, kCompute0Ms};
+  const std::vector<double> host = {12.0, 2.0, 4.0};  // host scale 2
+  for (std::size_t i = 0; i < 3; ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_NEAR(r.decisions[i].compute_ms, compute[i], 1e-12);
+    EXPECT_NEAR(r.decisions[i].transfer_ms, kTransfer0Ms, 1e-9);  // from m = 100 points
+    EXPECT_NEAR(r.decisions[i].host_ms, host[i], 1e-12);
+    EXPECT_TRUE(r.decisions[i].offloaded);
+  }
+}
+
 TEST(SystemModel, KernelThatDoesNotFitTheSpmSpillsToDram) {
   Platform p = test_platform("always");
   // Frame 0's gemm 3x100x4 needs (12 + 400 + 300) x 8 = 5696 B.
