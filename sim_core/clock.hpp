@@ -46,7 +46,7 @@ class ClockDomain {
   /// See period_numerator().
   std::uint64_t period_denominator() const { return period_den_; }
 
-  /// Time of rising edge n: ceil(n * period) ps. Edge 0 is at time 0. Throws std::overflow_error
+  /// Time of rising edge n: ceil(n * period) ps. Edge 0 is at time 0. Throws TimeRangeError
   /// when the edge lies beyond kTimeMax.
   Time time_of_cycles(std::uint64_t n) const;
   /// Number of complete cycles (rising edges) in (0, t]: floor(t / period).

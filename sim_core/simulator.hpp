@@ -161,7 +161,7 @@ class Simulator {
   /// std::invalid_argument for an empty or already started Process.
   ProcessHandle spawn(Process process, std::string name = {});
 
-  /// `co_await sim.delay(d)`: resume `duration` ps from now. Throws std::overflow_error when
+  /// `co_await sim.delay(d)`: resume `duration` ps from now. Throws TimeRangeError when
   /// now() + duration reaches kTimeMax (reserved; no event can be scheduled there).
   TimerAwaiter delay(Time duration, Priority priority = 0) {
     return TimerAwaiter(*this, delay_end(duration), priority);
@@ -264,14 +264,14 @@ class Simulator {
 
   static constexpr std::uint64_t kSequenceLimit = std::uint64_t{1} << 48;
 
-  /// now() + duration; throws std::overflow_error when that reaches kTimeMax (delay's check).
+  /// now() + duration; throws TimeRangeError when that reaches kTimeMax (delay's check).
   Time delay_end(Time duration) const {
     if (duration >= kTimeMax - now_) [[unlikely]] {
       throw_time_overflow(duration);
     }
     return now_ + duration;
   }
-  /// The time cycles(clock, n) resumes at; throws std::overflow_error at kTimeMax.
+  /// The time cycles(clock, n) resumes at; throws TimeRangeError at kTimeMax.
   Time edge_time(const ClockDomain& clock, std::uint64_t n) const;
 
   void schedule(Time when, Priority priority, void* target, detail::ProcessRecord* process,

@@ -210,7 +210,7 @@ TEST(SweepSpec, LongParametersAreReadLazilyAndCheckedWhereTheirPointIsMade) {
                         "1}}\nobjectives: [{maximize: fps}]\n");
               }),
               HasSubstr("s.yaml:3 (parameters.backend.clock_mhz = -256): backend.clock_mhz: "
-                        "expected a number in (0, 1000], got '-256'"));
+                        "expected a number in [0.001, 1000], got '-256'"));
   // ... and a list of 257 values is checked at 256 of them, spread evenly (index 128 skipped):
   // a bad value there is refused where its point's platform is made, naming its line.
   std::string values;
@@ -220,7 +220,7 @@ TEST(SweepSpec, LongParametersAreReadLazilyAndCheckedWhereTheirPointIsMade) {
   const SweepPoints points(listed);
   EXPECT_NO_THROW(sweep_platform(listed, points.at(127)));
   EXPECT_EQ(error_of([&] { sweep_platform(listed, points.at(128)); }),
-            "s.yaml:3: backend.clock_mhz: expected a number in (0, 1000], got '-5'");
+            "s.yaml:3: backend.clock_mhz: expected a number in [0.001, 1000], got '-5'");
 }
 
 TEST(SweepSpec, RandomSamplingIsDistinctAndReproducible) {
