@@ -1652,7 +1652,12 @@ ReportResult write_report(const ResultsData& data, const ReportOptions& options)
     throw std::runtime_error(fmt::format("{}: exists and is not a directory", out.string()));
   }
   const fs::path parent = out.parent_path();
-  fs::create_directories(parent);
+  std::error_code error;
+  fs::create_directories(parent, error);
+  if (error) {
+    throw std::runtime_error(fmt::format("{}: cannot create its folder {} ({})", out.string(),
+                                         parent.string(), error.message()));
+  }
   const fs::path stage = parent / fmt::format(".{}.tmp-{}", out.filename().string(), ::getpid());
   fs::remove_all(stage);
   fs::create_directories(stage);

@@ -525,6 +525,16 @@ std::vector<BadInputCase> cases() {
        "edx: error: {dir}/t.db: is a directory (expected a trace file, written by edx trace)"},
       {"c7_missing_trace_file", none, "'{edx}' simulate --config '{car}' --trace '{dir}/none.db'",
        1, "edx: error: {dir}/none.db: no such trace file"},
+      {"c7_trace_out_under_a_file", [](const fs::path& d) { write(d, "afile", "x"); },
+       "'{edx}' trace --mix paper --frames 8 --resolution 320x240 --out '{dir}/afile/t.db'", 1,
+       "edx: error: {dir}/afile/t.db: directory {dir}/afile is a file, not a directory"},
+      {"c7_report_out_under_a_file",
+       [](const fs::path& d) {
+         write(d, "afile", "x");
+         results_db(d, "r.db");
+       },
+       "'{edx}' report '{dir}/r.db' --out '{dir}/afile/report'", 1,
+       "edx: error: {dir}/afile/report: cannot create its folder {dir}/afile (Not a directory)"},
       {"c7_missing_dataset_folder", none,
        "'{edx}' trace --dataset '{dir}/none' --format euroc --out '{dir}/t.db'", 1,
        "edx: error: {dir}/none: dataset folder not found"},

@@ -44,6 +44,11 @@ void TraceWriter::check_output(const std::filesystem::path& path, bool overwrite
     throw std::runtime_error(
         fmt::format("{}: output exists (refusing to overwrite; use --force)", path.string()));
   }
+  if (path.has_parent_path() && !fs::is_directory(path.parent_path())) {
+    throw std::runtime_error(fmt::format(
+        "{}: directory {} {}", path.string(), path.parent_path().string(),
+        fs::exists(path.parent_path()) ? "is a file, not a directory" : "does not exist"));
+  }
 }
 
 TraceWriter::TraceWriter(std::filesystem::path path, TraceMeta meta, TraceWriterOptions options)
@@ -55,10 +60,6 @@ TraceWriter::TraceWriter(std::filesystem::path path, TraceMeta meta, TraceWriter
       throw std::runtime_error(
           fmt::format("{}: trace metadata lacks key '{}'", path_.string(), key));
     }
-  }
-  if (path_.has_parent_path() && !fs::exists(path_.parent_path())) {
-    throw std::runtime_error(fmt::format("{}: directory {} does not exist", path_.string(),
-                                         path_.parent_path().string()));
   }
   temp_path_ = path_;
   temp_path_ += fmt::format(".tmp-{}", ::getpid());
