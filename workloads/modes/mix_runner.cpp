@@ -352,16 +352,11 @@ void prepare_mix_data(const MixRunOptions& options, const MixProgress& progress)
   if (needs_registration(options.plan)) load_or_train_vocabulary(options, progress);
 }
 
-MixRunSummary run_mix(const MixRunOptions& requested, const MixProgress& progress) {
-  const auto run_start = std::chrono::steady_clock::now();
-  MixRunOptions options = requested;
-  options.vio.precision = options.slam.precision = options.precision;
-  const frontend::TracingThreads threads(options.frontend.parallel_images);
-  options.frontend.validate();
-  options.mode_switch.validate();
-  options.vio.validate();
-  options.slam.validate();
-  trace::TraceWriter::check_output(options.out, options.overwrite);  // before any work
+namespace {
+
+/// run_mix after its checks: the data, the vocabulary, then every segment into one trace.
+MixRunSummary run_mix_in(const MixRunOptions& options, const MixProgress& progress,
+                         std::chrono::steady_clock::time_point run_start) {
   const MixPlan& plan = options.plan;
   prepare_mix_data(options, progress);
   std::shared_ptr<const bow::Vocabulary> vocabulary;
@@ -383,6 +378,30 @@ MixRunSummary run_mix(const MixRunOptions& requested, const MixProgress& progres
   summary.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
   return summary;
+}
+
+}  // namespace
+
+MixRunSummary run_mix(const MixRunOptions& requested, const MixProgress& progress) {
+  const auto run_start = std::chrono::steady_clock::now();
+  MixRunOptions options = requested;
+  options.vio.precision = options.slam.precision = options.precision;
+  const frontend::TracingThreads threads(options.frontend.parallel_images);
+  options.frontend.validate();
+  options.mode_switch.validate();
+  options.vio.validate();
+  options.slam.validate();
+  trace::TraceWriter::check_output(options.out, options.overwrite);  // before any work
+  // A run that fails leaves nothing half written: a data folder this run created goes with it
+  // (a folder that was there before is a cache of earlier runs and stays as it is).
+  const bool data_dir_is_new = !fs::exists(options.data_dir);
+  try {
+    return run_mix_in(options, progress, run_start);
+  } catch (...) {
+    std::error_code ignored;
+    if (data_dir_is_new) fs::remove_all(options.data_dir, ignored);
+    throw;
+  }
 }
 
 namespace {

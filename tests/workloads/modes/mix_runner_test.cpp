@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <stdexcept>
 
 #include "tests/support/temp_dir.hpp"
@@ -51,6 +52,30 @@ TEST(MixRunner, PaperMixSwitchesModesByScenario) {
   EXPECT_EQ(frames[63].frame.mode, trace::BackendMode::Registration);
   EXPECT_TRUE(frames[63].frame.map_available);
   EXPECT_FALSE(frames[40].frame.map_available);
+}
+
+/// A run refused after it generated its worlds (here by a vocabulary file that is not one)
+/// removes the data folder it created and writes no trace; a folder that was there stays.
+TEST(MixRunner, ARefusedRunLeavesNoDataFolderItCreated) {
+  const edx::testing::TempDir dir;
+  const std::filesystem::path vocabulary = dir.path() / "bad.bin";
+  std::ofstream(vocabulary) << "garbage\n";
+  MixRunOptions options;
+  options.plan = make_mix("paper", 8, {160, 120}, 1);
+  options.vocabulary = vocabulary;
+  options.out = dir.path() / "mix.db";
+  options.data_dir = dir.path() / "new-data";
+  EXPECT_THROW(run_mix(options), std::runtime_error);
+  EXPECT_FALSE(std::filesystem::exists(options.data_dir));
+  EXPECT_FALSE(std::filesystem::exists(options.out));
+
+  options.data_dir = dir.path() / "old-data";
+  std::filesystem::create_directories(options.data_dir);
+  EXPECT_THROW(run_mix(options), std::runtime_error);
+  // The worlds generated into an existing folder stay: it is a cache across runs.
+  EXPECT_TRUE(std::filesystem::exists(
+      segment_mav0(options.plan, options.plan.segments[0], options.data_dir)));
+  EXPECT_FALSE(std::filesystem::exists(options.out));
 }
 
 }  // namespace
