@@ -74,10 +74,13 @@ const Table<RunRow>& runs_table() {
        column("trace", &R::trace, "", "the trace file as given").not_null(),
        column("frames", &R::frames, "", "frames simulated").not_null(),
        column("policy", &R::policy, "", "the offload scheduler's policy").not_null(),
-       column("config_json", &R::config, "", "the platform as JSON, every key resolved").not_null(),
+       column("config_json", &R::config, "", "the platform as JSON, every key resolved")
+           .not_null()
+           .json_object({}),
        column("summary_json", &R::summary, "",
               "the run's summary: what `edx simulate --json` prints under `system`")
-           .not_null()});
+           .not_null()
+           .json_object({"baseline", "accelerated", "comparison", "resources"})});
   return table;
 }
 

@@ -91,6 +91,24 @@ nlohmann::json json_of(const Value& v) {
   }
 }
 
+void check_json_object(const nlohmann::json& json, const std::vector<std::string>& keys) {
+  const auto expected = [&] {
+    return keys.empty()
+               ? std::string("a JSON object")
+               : fmt::format("a JSON object holding the objects {}", fmt::join(keys, ", "));
+  };
+  if (!json.is_object()) {
+    throw std::runtime_error(fmt::format("expected {}, got JSON {}", expected(), json.type_name()));
+  }
+  for (const std::string& key : keys) {
+    if (!json.contains(key) || !json[key].is_object()) {
+      throw std::runtime_error(fmt::format(
+          "expected {}, got {} '{}'", expected(),
+          json.contains(key) ? fmt::format("JSON {} under", json[key].type_name()) : "no", key));
+    }
+  }
+}
+
 }  // namespace detail
 
 namespace {
@@ -194,7 +212,7 @@ void insert_values(SQLite::Database& db, const TableSpec& table, const std::vect
 }
 
 std::vector<ValueRow> select_values(SQLite::Database& db, const TableSpec& table,
-                                    const Query& query) {
+                                    const Query& query, std::vector<std::int64_t>* rowids) {
   const std::vector<std::string> have = existing_columns(db, table.name);
   std::vector<std::string> selected;  // the declared columns the table has
   std::vector<int> position;          // per declared column: its index in the SELECT, or -1
@@ -215,6 +233,7 @@ std::vector<ValueRow> select_values(SQLite::Database& db, const TableSpec& table
   while (q.executeStep()) {
     ValueRow row(table.columns.size());
     const std::int64_t rowid = q.getColumn(static_cast<int>(selected.size())).getInt64();
+    if (rowids) rowids->push_back(rowid);
     for (std::size_t i = 0; i < table.columns.size(); ++i) {
       if (position[i] >= 0) {
         row[i] = read(q.getColumn(position[i]), table.columns[i], table.name, rowid);

@@ -9,7 +9,8 @@
 //   double        REAL     a value that is not finite is NULL; NULL reads as NaN
 //   integer, bool INTEGER  NULL reads as 0 (false)
 //   std::string   TEXT     in a nullable column "" is NULL; NULL reads as ""
-//   json          TEXT     the JSON text (dump()); NULL reads as JSON null, bad JSON is an error
+//   json          TEXT     the JSON text (dump()); NULL reads as JSON null, bad JSON is an error,
+//                          and so is JSON of another shape than .json_object() declares
 // A column a database lacks (written before that column existed) reads as NULL.
 #include <cmath>
 #include <cstdint>
@@ -17,6 +18,7 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -82,7 +84,16 @@ struct Column {
   ColumnSpec spec;
   std::function<Value(const Row&)> get;
   std::function<void(Row&, const Value&)> set;
+  /// JSON columns: the shape .json_object() declares, shared with `set` (null: any JSON).
+  std::shared_ptr<std::optional<std::vector<std::string>>> json_shape;
 
+  /// A JSON column whose every cell is an object holding each of `keys` as an object: a cell of
+  /// another shape reads as a corrupted database (a summary a report would otherwise show as
+  /// zeros or "not found").
+  Column json_object(std::vector<std::string> keys) && {
+    *json_shape = std::move(keys);
+    return std::move(*this);
+  }
   Column not_null() && {
     spec.not_null = true;
     return std::move(*this);
@@ -108,6 +119,8 @@ double real_of(const Value& v);
 std::int64_t integer_of(const Value& v);
 std::string text_of(const Value& v);
 nlohmann::json json_of(const Value& v);
+/// Throws unless `json` is an object holding each of `keys` as an object.
+void check_json_object(const nlohmann::json& json, const std::vector<std::string>& keys);
 }  // namespace detail
 
 /// Column `name` stored in `member` of Row (double, an integer type, bool, std::string or
@@ -138,7 +151,11 @@ Column<Row> column(std::string name, T Row::*member, std::string unit, std::stri
   } else if constexpr (std::is_same_v<T, nlohmann::json>) {
     c.spec.type = ColumnType::kText;
     c.get = [member](const Row& r) -> Value { return (r.*member).dump(); };
-    c.set = [member](Row& r, const Value& v) { r.*member = detail::json_of(v); };
+    c.json_shape = std::make_shared<std::optional<std::vector<std::string>>>();
+    c.set = [member, shape = c.json_shape](Row& r, const Value& v) {
+      r.*member = detail::json_of(v);
+      if (*shape) detail::check_json_object(r.*member, **shape);
+    };
   } else {
     static_assert(std::is_same_v<T, std::string>, "a column holds a number, text or JSON");
     c.spec.type = ColumnType::kText;
@@ -165,13 +182,17 @@ struct Table {
     for (const Column<Row>& c : columns) out.push_back(c.get(row));
     return out;
   }
-  /// Fills `row` from `values` (the table's column order); errors name "table.column".
-  void fill(Row& row, const ValueRow& values) const {
+  /// Fills `row` from `values` (the table's column order; `rowid` names the row in errors): a
+  /// cell that does not read (bad JSON, JSON of another shape) is a corrupted database, an
+  /// error naming table, column and row as the cell checks of select_values do.
+  void fill(Row& row, const ValueRow& values, std::int64_t rowid) const {
     for (std::size_t i = 0; i < columns.size(); ++i) {
       try {
         columns[i].set(row, values.at(i));
       } catch (const std::exception& e) {
-        throw std::runtime_error(spec.name + "." + columns[i].spec.name + ": " + e.what());
+        throw std::runtime_error("table " + spec.name + ", column " + columns[i].spec.name +
+                                 ", row " + std::to_string(rowid) + ": " + e.what() +
+                                 " (a corrupted results database)");
       }
     }
   }
@@ -203,9 +224,10 @@ std::unique_ptr<SQLite::Database> open_for_reading(const std::filesystem::path& 
 void insert_values(SQLite::Database& db, const TableSpec& table, const std::vector<ValueRow>& rows,
                    bool replace = false);
 /// The rows `query` selects, each in the table's column order, NULL for a column the database's
-/// table lacks.
+/// table lacks; `rowids`, when given, receives each row's rowid.
 std::vector<ValueRow> select_values(SQLite::Database& db, const TableSpec& table,
-                                    const Query& query = {});
+                                    const Query& query = {},
+                                    std::vector<std::int64_t>* rowids = nullptr);
 
 template <class Row>
 void insert_rows(SQLite::Database& db, const Table<Row>& table, const std::vector<Row>& rows,
@@ -219,10 +241,10 @@ void insert_rows(SQLite::Database& db, const Table<Row>& table, const std::vecto
 template <class Row>
 std::vector<Row> select_rows(SQLite::Database& db, const Table<Row>& table,
                              const Query& query = {}) {
-  std::vector<Row> rows;
-  for (const ValueRow& values : select_values(db, table.spec, query)) {
-    table.fill(rows.emplace_back(), values);
-  }
+  std::vector<std::int64_t> rowids;
+  const std::vector<ValueRow> values = select_values(db, table.spec, query, &rowids);
+  std::vector<Row> rows(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) table.fill(rows[i], values[i], rowids[i]);
   return rows;
 }
 

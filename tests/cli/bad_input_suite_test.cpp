@@ -173,6 +173,17 @@ std::vector<BadInputCase> cases() {
        "'{edx}' report '{dir}/r.db' --out '{dir}/report'", 1,
        "edx: error: {dir}/r.db: table latency, column mean, row 1: expected a finite number, got "
        "text 'fast' (a corrupted results database)"},
+      // Valid JSON of another shape in a run's summary: an error, not "not found" or zeros.
+      {"c3_check_of_a_summary_of_another_shape",
+       [](const fs::path& d) {
+         results_db(d, "r.db");
+         SQLite::Database((d / "r.db").string(), SQLite::OPEN_READWRITE)
+             .exec("UPDATE runs SET summary_json = '{\"x\": 1}'");
+       },
+       "'{edx}' check --results '{dir}/r.db'", 1,
+       "edx: error: {dir}/r.db: table runs, column summary_json, row 1: expected a JSON object "
+       "holding the objects baseline, accelerated, comparison, resources, got no 'baseline' (a "
+       "corrupted results database)"},
       {"c3_export_of_a_negative_schema_version",
        [](const fs::path& d) {
          results_db(d, "r.db");

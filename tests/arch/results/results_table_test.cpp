@@ -114,8 +114,47 @@ TEST(ResultsTable, BadJsonIsAnErrorNamingTheColumn) {
     select_rows(db, sample_table());
     FAIL() << "no error";
   } catch (const std::runtime_error& e) {
-    EXPECT_THAT(e.what(), HasSubstr("samples.extra: not JSON"));
+    EXPECT_THAT(e.what(), HasSubstr("table samples, column extra, row 1: not JSON"));
   }
+}
+
+/// A JSON column declared .json_object(keys) reads only objects holding those keys as objects;
+/// any other shape is an error naming table, column and row.
+TEST(ResultsTable, JsonOfAnotherShapeIsAnErrorNamingTableColumnAndRow) {
+  struct Shaped {
+    std::string id;
+    nlohmann::json summary;
+  };
+  TableSpec spec;
+  spec.name = "shaped";
+  spec.doc = "Shaped.";
+  static const Table<Shaped> table(
+      spec, {column("id", &Shaped::id, "", "its name").not_null(),
+             column("summary", &Shaped::summary, "", "JSON").json_object({"a", "b"})});
+  const auto error_of = [](const std::string& json) -> std::string {
+    SQLite::Database db = memory();
+    create_or_upgrade(db, table.spec);
+    SQLite::Statement insert(db, "INSERT INTO shaped (id, summary) VALUES ('x', ?1)");
+    insert.bind(1, json);
+    insert.exec();
+    try {
+      const std::vector<Shaped> rows = select_rows(db, table);
+      EXPECT_EQ(rows.size(), 1u);
+      EXPECT_EQ(rows[0].summary["b"]["n"], 2);
+      return "";
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+  };
+  EXPECT_EQ(error_of(R"({"a": {}, "b": {"n": 2}, "c": 3})"), "");
+  const std::string prefix =
+      "table shaped, column summary, row 1: expected a JSON object holding "
+      "the objects a, b, got ";
+  const std::string suffix = " (a corrupted results database)";
+  EXPECT_EQ(error_of("[1, 2]"), prefix + "JSON array" + suffix);
+  EXPECT_EQ(error_of(R"("text")"), prefix + "JSON string" + suffix);
+  EXPECT_EQ(error_of(R"({"a": {}})"), prefix + "no 'b'" + suffix);
+  EXPECT_EQ(error_of(R"({"a": {}, "b": 5})"), prefix + "JSON number under 'b'" + suffix);
 }
 
 TEST(ResultsTable, ACorruptedCellIsAnErrorNamingTableColumnAndRow) {

@@ -27,8 +27,13 @@ std::string fixture_sql() {
 /// A run of today's writer: one offload row with a spill.
 RunRows new_run() {
   RunRows rows;
-  rows.run = {run_id_of("c2", "t2"),    "c2",           "t2", "new", "t.db", 1, "oracle",
-              nlohmann::json::object(), {{"frames", 1}}};
+  const nlohmann::json summary = {{"frames", 1},
+                                  {"baseline", nlohmann::json::object()},
+                                  {"accelerated", nlohmann::json::object()},
+                                  {"comparison", nlohmann::json::object()},
+                                  {"resources", nlohmann::json::object()}};
+  rows.run = {run_id_of("c2", "t2"),    "c2",   "t2", "new", "t.db", 1, "oracle",
+              nlohmann::json::object(), summary};
   rows.frame_rows.push_back({rows.run.run_id, "accelerated", 0, "vio", 1, 2, 3, 1, 1, 0.5});
   rows.offload.push_back({rows.run.run_id, 0, 0, "kalman_gain", 40, 2.0, 1.5, 1.0, 0.25, false,
                           false, true, 0.25, 4096});
@@ -44,7 +49,8 @@ TEST(ResultsUpgrade, AVersion3DatabaseGainsTheNewColumnsAndKeepsItsRows) {
     db.exec(fixture_sql());
     db.exec(
         "INSERT INTO runs VALUES ('c1-t1', 'c1', 't1', 'old', 'o.db', 1, 'regression', '{}', "
-        "'{\"frames\": 1}');"
+        "'{\"frames\": 1, \"baseline\": {}, \"accelerated\": {}, \"comparison\": {}, "
+        "\"resources\": {}}');"
         "INSERT INTO frames VALUES ('c1-t1', 'baseline', 0, 'slam', 4, 5, 9, 9, 0, 1.25);"
         "INSERT INTO offload VALUES ('c1-t1', 0, 0, 'projection', 10, 1.0, NULL, 0.5, 0.1, 0, 1, "
         "0);"
