@@ -2,10 +2,12 @@
 // one-line error (naming the file and the line or key) or the reported skip.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "tests/workloads/datasets/tiny_datasets.hpp"
 #include "workloads/datasets/dataset.hpp"
+#include "workloads/datasets/image_io.hpp"
 
 namespace edx::datasets {
 namespace {
@@ -305,6 +307,42 @@ TEST(ResolutionParsing, AcceptsWidthByHeightOnly) {
   for (const char* bad : {"640", "640x", "x480", "640x-480", "0x480", "640X480", "64.0x48"}) {
     EXPECT_CONTAINS(error_of([&] { parse_resolution(bad); }), "expected WIDTHxHEIGHT") << bad;
   }
+}
+
+/// A truncated or damaged PNG is our one error naming the file (libpng printed a line of its own
+/// before, "libpng error: Read Error"); an intact one decodes as cv::imread decodes it.
+TEST(ReadGrayImage, ATruncatedOrDamagedPngIsOneErrorNamingTheFile) {
+  const TempFolder folder("png");
+  cv::Mat image(48, 64, CV_8U);
+  cv::randu(image, 0, 255);
+  const fs::path good = folder.path() / "good.png";
+  ASSERT_TRUE(cv::imwrite(good.string(), image));
+  std::vector<unsigned char> bytes;
+  cv::imencode(".png", image, bytes);
+  const cv::Mat decoded = read_gray_image(good);
+  EXPECT_EQ(cv::norm(decoded, cv::imread(good.string(), cv::IMREAD_GRAYSCALE), cv::NORM_INF), 0);
+  EXPECT_EQ(cv::norm(decoded, image, cv::NORM_INF), 0);
+
+  const auto write_bytes = [&](const std::string& name, const std::vector<unsigned char>& b) {
+    std::ofstream(folder.path() / name, std::ios::binary)
+        .write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+    return folder.path() / name;
+  };
+  // Cut inside the image data (IDAT), and cut just before the final IEND chunk.
+  const fs::path cut = write_bytes("cut.png", {bytes.begin(), bytes.begin() + 100});
+  EXPECT_EQ(error_of([&] { read_gray_image(cut); }),
+            cut.string() + ": truncated PNG (100 bytes; the chunk at byte 33 declares " +
+                std::to_string(bytes.size() - 33 - 12 - 12) + " bytes of data)");
+  const fs::path no_end = write_bytes("no_end.png", {bytes.begin(), bytes.end() - 12});
+  EXPECT_EQ(error_of([&] { read_gray_image(no_end); }), no_end.string() + ": truncated PNG (" +
+                                                            std::to_string(bytes.size() - 12) +
+                                                            " bytes, ends before its IEND chunk)");
+  // One flipped bit in the image data: its chunk's CRC-32 no longer holds.
+  std::vector<unsigned char> flipped = bytes;
+  flipped[60] ^= 0x10;
+  const fs::path damaged = write_bytes("damaged.png", flipped);
+  EXPECT_EQ(error_of([&] { read_gray_image(damaged); }),
+            damaged.string() + ": damaged PNG (the IDAT chunk at byte 33 fails its CRC)");
 }
 
 }  // namespace
