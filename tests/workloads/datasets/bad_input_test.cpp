@@ -343,6 +343,18 @@ TEST(ReadGrayImage, ATruncatedOrDamagedPngIsOneErrorNamingTheFile) {
   const fs::path damaged = write_bytes("damaged.png", flipped);
   EXPECT_EQ(error_of([&] { read_gray_image(damaged); }),
             damaged.string() + ": damaged PNG (the IDAT chunk at byte 33 fails its CRC)");
+  // Every cut and every flipped byte is refused with one line (error_of checks it); a cut
+  // inside the 8-byte signature is not a PNG for OpenCV either.
+  for (std::size_t size = 0; size < bytes.size(); size += 13) {
+    const fs::path file = write_bytes("cut_any.png", {bytes.begin(), bytes.begin() + size});
+    EXPECT_NE(error_of([&] { read_gray_image(file); }), "") << "cut at " << size;
+  }
+  for (std::size_t at = 0; at < bytes.size(); at += 11) {
+    std::vector<unsigned char> changed = bytes;
+    changed[at] ^= 0x01;
+    const fs::path file = write_bytes("flip_any.png", changed);
+    EXPECT_NE(error_of([&] { read_gray_image(file); }), "") << "flip at " << at;
+  }
 }
 
 }  // namespace
