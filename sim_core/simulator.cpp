@@ -255,7 +255,7 @@ void Simulator::throw_schedule_error(Time when) {
   if (when == kTimeMax) {
     throw TimeRangeError("edx::sim::Simulator: cannot schedule at kTimeMax (reserved)");
   }
-  throw TimeRangeError("edx::sim::Simulator: more than 2^48 events scheduled");
+  throw EventCountError("more than 2^48 events scheduled in one simulation");
 }
 
 }  // namespace edx::sim

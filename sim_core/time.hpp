@@ -21,6 +21,13 @@ class TimeRangeError : public std::overflow_error {
   using std::overflow_error::overflow_error;
 };
 
+/// One simulation scheduled more events than the event queue numbers (2^48, event_queue.hpp):
+/// like TimeRangeError, a run longer than the model holds, said by the model in its inputs' words.
+class EventCountError : public std::length_error {
+ public:
+  using std::length_error::length_error;
+};
+
 namespace detail {
 /// value * scale, throwing TimeRangeError instead of wrapping around.
 constexpr Time scaled(std::uint64_t value, std::uint64_t scale, const char* overflow_message) {

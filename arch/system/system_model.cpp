@@ -619,6 +619,11 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
         "a trace count or platform value beyond what the model takes (docs/RELIABILITY.md, "
         "\"Input limits\")",
         trace_path, frames.size(), platform.file.empty() ? platform.name : platform.file));
+  } catch (const sim::EventCountError&) {
+    throw std::runtime_error(fmt::format(
+        "{}: simulating its {} frames on {} schedules more than the 2^48 events one simulation "
+        "holds: a trace too long for one run",
+        trace_path, frames.size(), platform.file.empty() ? platform.name : platform.file));
   }
 }
 
