@@ -125,6 +125,7 @@ FrontendFrameTiming prepare_frontend_frame(const trace::FrameTrace& frame,
   FrontendFrameTiming timing;
   timing.frame_id = frame.frame.frame_id;
   timing.transfer_bytes = frontend_transfer(frame, transfers).frontend_to_host();
+  timing.tasks.reserve(frame.tasks.size());
   for (const trace::TaskRecord& task : frame.tasks) {
     timing.tasks.push_back({task.task, task.image, task_cycles(task, level0_pixels, config), 0, 0});
   }
@@ -134,18 +135,17 @@ FrontendFrameTiming prepare_frontend_frame(const trace::FrameTrace& frame,
                     timing.frame_id));
   }
   // Check the graph's rows exist before simulating (errors name the frame).
-  for (const auto& [task, image] : std::vector<std::pair<Task, Image>>{{Task::FD, Image::Left},
-                                                                       {Task::IF, Image::Left},
-                                                                       {Task::FD, Image::Right},
-                                                                       {Task::IF, Image::Right},
-                                                                       {Task::DC, Image::Left},
-                                                                       {Task::LSS, Image::Left},
-                                                                       {Task::FC, Image::Left},
-                                                                       {Task::FC, Image::Right},
-                                                                       {Task::MO, Image::Stereo},
-                                                                       {Task::DR, Image::Stereo}}) {
-    find_span(timing.tasks, task, image, timing.frame_id);
-  }
+  static constexpr std::array<std::pair<Task, Image>, 10> kGraph = {{{Task::FD, Image::Left},
+                                                                     {Task::IF, Image::Left},
+                                                                     {Task::FD, Image::Right},
+                                                                     {Task::IF, Image::Right},
+                                                                     {Task::DC, Image::Left},
+                                                                     {Task::LSS, Image::Left},
+                                                                     {Task::FC, Image::Left},
+                                                                     {Task::FC, Image::Right},
+                                                                     {Task::MO, Image::Stereo},
+                                                                     {Task::DR, Image::Stereo}}};
+  for (const auto& [task, image] : kGraph) find_span(timing.tasks, task, image, timing.frame_id);
   return timing;
 }
 
