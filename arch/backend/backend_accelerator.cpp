@@ -36,15 +36,16 @@ sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::stri
     const sim::Time issued = sim_->now();
     // An op issued between its unit's clock edges starts on the next one.
     if (clock.next_edge(sim_->now()) != sim_->now()) co_await sim_->advance_cycles(clock, 0);
-    std::vector<sim::Lease> leases;
-    leases.push_back(co_await unit.acquire());
-    // Every other copy free now shares the op's work.
-    while (leases.size() < unit.capacity()) {
-      sim::Lease more = unit.try_acquire();
-      if (!more) break;
-      leases.push_back(std::move(more));
+    sim::Lease first = co_await unit.acquire();
+    // Every other copy free now shares the op's work (a unit of one copy, the usual, allocates
+    // no list).
+    std::vector<sim::Lease> more;
+    while (1 + more.size() < unit.capacity()) {
+      sim::Lease copy = unit.try_acquire();
+      if (!copy) break;
+      more.push_back(std::move(copy));
     }
-    const int copies = static_cast<int>(leases.size());
+    const int copies = static_cast<int>(1 + more.size());
     const std::int64_t cycles = copies == t.copies ? t.cycles : op_cycles(t.op, copies, config_);
     const sim::Time begin = sim_->now();
     if (cycles > 0) co_await sim_->advance_cycles(clock, static_cast<std::uint64_t>(cycles));
@@ -74,6 +75,9 @@ sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::stri
                        {"spm_bytes", t.spm_bytes},
                        {"spill_bytes", t.spill.bytes()}});
     }
+    // The copies go back in the order they were taken.
+    first.release();
+    more.clear();
   }
   kernels_.add();
   latency_us_.add(sim::to_us(sim_->now() - start));

@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 
+#include "arch/system/system_model.hpp"
 #include "sim_core/stats.hpp"
 #include "workloads/trace/validate.hpp"
 
@@ -162,6 +163,13 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   with_timeline.link = platform.link;
   with_timeline.transfers = platform.transfers;
   const FrontendSimResult overlapped = simulate_frontend(frames, level0, pipelined, with_timeline);
+  auto prepared = std::make_shared<std::vector<FrontendStudy::PreparedFrame>>(frames.size());
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    FrontendStudy::PreparedFrame& p = (*prepared)[f];
+    p.timing = prepare_frontend_frame(frames[f], level0, platform.frontend, platform.transfers);
+    p.activity = frontend_activity(frames[f], platform.frontend, &p.task_activity);
+  }
+  study.prepared_frames = std::move(prepared);
 
   std::vector<double> accel, fe, sm, tm;
   for (const FrontendFrameTiming& t : one_at_a_time.frames) {

@@ -2,6 +2,7 @@
 // The frontend comparison of the paper's Sec. VII-C for one platform and trace: the CPU
 // baseline (trace host times scaled to the target CPU) against the accelerator model, latency
 // and its FE/SM/TM breakdown, throughput without and with FE/SM pipelining, unit utilizations.
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "arch/cost/energy.hpp"
 #include "arch/frontend/frontend_model.hpp"
 #include "arch/frontend/memory_plan.hpp"
 #include "arch/host/frontend_graph.hpp"
@@ -61,6 +63,19 @@ struct FrontendStudy {
   std::vector<double> frame_pipelined_end_ms;     ///< end of each frame, frames back to back with
                                                   ///< FE/SM pipelining (from the first start)
   std::vector<std::int64_t> frame_results_bytes;  ///< transfer (1), FPGA -> host
+  /// A frame's accelerated frontend as the system model reads it: its rows for the DES
+  /// (prepare_frontend_frame: task cycles, transfer-1 bytes) and its work for the energy model
+  /// (frontend_activity, in all and by task). They read only the frame and what
+  /// frontend_study_key covers (frontend, transfers, resolution), so the sweep points sharing a
+  /// study share them instead of making them again (shared: a copy of the study is cheap).
+  struct PreparedFrame {
+    FrontendFrameTiming timing;
+    cost::FrameActivity activity;
+    std::array<cost::FrameActivity, 7> task_activity{};
+  };
+  /// Per frame, in trace order; null in a study not made by study_frontend (then the system
+  /// model makes them itself).
+  std::shared_ptr<const std::vector<PreparedFrame>> prepared_frames;
   nlohmann::json to_json() const;
 };
 

@@ -105,22 +105,26 @@ void split_transfer(sim::Time* row, std::size_t run_cause, sim::Time took, sim::
 }
 
 /// The predecessors of a frontend task in the graph of frontend_model.hpp (DR after MO; MO after
-/// both FC; FC after FD of its image; LSS after DC; DC after IF(L)).
-std::vector<std::pair<trace::Task, trace::Image>> frontend_predecessors(trace::Task task,
-                                                                        trace::Image image) {
+/// both FC; FC after FD of its image; LSS after DC; DC after IF(L)): at most two, the first
+/// `count` of `tasks` (no list allocated: this runs for every task on a frame's critical path).
+struct FrontendPredecessors {
+  std::array<std::pair<trace::Task, trace::Image>, 2> tasks{};
+  std::size_t count = 0;
+};
+FrontendPredecessors frontend_predecessors(trace::Task task, trace::Image image) {
   using trace::Image;
   using trace::Task;
   switch (task) {
     case Task::DR:
-      return {{Task::MO, Image::Stereo}};
+      return {{{{Task::MO, Image::Stereo}}}, 1};
     case Task::MO:
-      return {{Task::FC, Image::Left}, {Task::FC, Image::Right}};
+      return {{{{Task::FC, Image::Left}, {Task::FC, Image::Right}}}, 2};
     case Task::FC:
-      return {{Task::FD, image}};
+      return {{{{Task::FD, image}}}, 1};
     case Task::LSS:
-      return {{Task::DC, Image::Left}};
+      return {{{{Task::DC, Image::Left}}}, 1};
     case Task::DC:
-      return {{Task::IF, Image::Left}};
+      return {{{{Task::IF, Image::Left}}}, 1};
     default:
       return {};
   }
@@ -144,8 +148,9 @@ void attribute_frontend(const FrontendFrameTiming& t, sim::Time origin, sim::Tim
     const std::size_t cause = CauseLayout::frontend(task->task);
     row[cause] += task->end - task->start;
     const TaskSpan* last = nullptr;
-    for (const auto& [p_task, p_image] : frontend_predecessors(task->task, task->image)) {
-      const TaskSpan& p = span_of(p_task, p_image);
+    const FrontendPredecessors before = frontend_predecessors(task->task, task->image);
+    for (std::size_t i = 0; i < before.count; ++i) {
+      const TaskSpan& p = span_of(before.tasks[i].first, before.tasks[i].second);
       if (last == nullptr || p.end > last->end) last = &p;
     }
     row[cause + CauseLayout::kWait] += task->start - (last != nullptr ? last->end : origin);

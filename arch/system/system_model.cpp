@@ -81,6 +81,14 @@ class KernelShapeMemo {
   std::unordered_map<const trace::KernelRecord*, Costs, ShapeHash, SameShape> costs_;
 };
 
+/// The study's prepared frames when it has them for these `frames` (FrontendStudy::
+/// prepared_frames), else nullptr.
+const FrontendStudy::PreparedFrame* prepared_frames(const FrontendStudy& study,
+                                                    std::size_t frames) {
+  const auto& prepared = study.prepared_frames;
+  return prepared != nullptr && prepared->size() == frames ? prepared->data() : nullptr;
+}
+
 /// JSON has no infinity: a kernel that cannot be offloaded has no accelerator time (null).
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
 
@@ -287,6 +295,7 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
                            const SystemSimOptions& options) {
   const PlatformHostTimes& host = r.frontend.accelerated_host_times();
   const std::int64_t level0 = static_cast<std::int64_t>(r.frontend.width) * r.frontend.height;
+  const FrontendStudy::PreparedFrame* prepared = prepared_frames(r.frontend, frames.size());
   // The accelerated variant's work (the baseline's fields are run_baseline_des's).
   std::vector<SystemFrameWork> work(frames.size());
   std::size_t next = 0;  // index into decisions
@@ -294,7 +303,9 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
     const trace::FrameTrace& frame = frames[f];
     SystemFrameWork& w = work[f];
     w.frame_id = frame.frame.frame_id;
-    w.frontend = prepare_frontend_frame(frame, level0, platform.frontend, platform.transfers);
+    w.frontend = prepared != nullptr
+                     ? prepared[f].timing
+                     : prepare_frontend_frame(frame, level0, platform.frontend, platform.transfers);
     const std::vector<double>& kernel_ms = host.kernel_ms[f];
     std::vector<bool> offloaded;
     for (std::size_t k = 0; k < frame.kernels.size(); ++k) {
@@ -701,6 +712,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   const std::int64_t extra_dram = r.frontend.memory.extra_dram_bytes_per_frame;
   std::size_t next = 0;  // index into decisions (frame order)
   const std::size_t backend_resources = platform.backend->resource_names().size();
+  const FrontendStudy::PreparedFrame* prepared = prepared_frames(r.frontend, frames.size());
   std::vector<double> cpu_fe_end;
   double cpu_fe_clock = 0;
   for (std::size_t f = 0; f < frames.size(); ++f) {
@@ -725,7 +737,12 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     FrameResult acc = base;
     acc.frontend_ms = r.frontend.frame_accel_ms[f];
     std::array<cost::FrameActivity, 7> task_activity;
-    acc.activity = frontend_activity(frame, platform.frontend, &task_activity);
+    if (prepared != nullptr) {
+      acc.activity = prepared[f].activity;
+      task_activity = prepared[f].task_activity;
+    } else {
+      acc.activity = frontend_activity(frame, platform.frontend, &task_activity);
+    }
     acc.activity.fpga_present = true;
     acc.activity.dram_bytes = double(extra_dram);
     acc.activity.link_bytes = double(r.frontend.frame_results_bytes[f]);

@@ -54,6 +54,21 @@ TEST(ClockDomain, OneHundredFiftyMegahertzHasNoDrift) {
   EXPECT_EQ(clock.next_edge(6668), 13334u);
 }
 
+// Either side of 2^64 for the products n * 20000 and t * 3 (150 MHz): the 64-bit path below, the
+// 128-bit one above, the same rounding rule (values by exact integer arithmetic).
+TEST(ClockDomain, ProductsEitherSideOfTwoToTheSixtyFourRoundAlike) {
+  const ClockDomain clock("fpga", 150.0);
+  // n0 = floor((2^64 - 1) / 20000): n0 * 20000 = 18446744073709540000 fits in 64 bits.
+  const std::uint64_t n0 = 922'337'203'685'477;
+  EXPECT_EQ(clock.time_of_cycles(n0), 6'148'914'691'236'513'334u);      // ceil(.../3)
+  EXPECT_EQ(clock.time_of_cycles(n0 + 1), 6'148'914'691'236'520'000u);  // 128-bit, exact
+  // t * 3 fits for the first edge, not for the second.
+  EXPECT_EQ(clock.cycles_in(6'148'914'691'236'513'334u), n0);
+  EXPECT_EQ(clock.cycles_in(6'148'914'691'236'520'000u), n0 + 1);
+  EXPECT_EQ(clock.cycles_in(6'148'914'691'236'519'999u), n0);
+  EXPECT_EQ(clock.next_edge(6'148'914'691'236'513'335u), 6'148'914'691'236'520'000u);
+}
+
 // 333 MHz: period 10^6 / 333 ps = 3003.003 ps.
 TEST(ClockDomain, ThreeHundredThirtyThreeMegahertz) {
   const ClockDomain clock("backend", 333.0);

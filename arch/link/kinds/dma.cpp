@@ -19,6 +19,8 @@
 // W = max(G + s, wire free), its arrival D = W + w + L and the slot's next free time are already
 // determined: the DES books them then, with no process per chunk; a transfer waits only for
 // its grants and its last arrival (tests/arch/link: the same schedule as a process per chunk).
+// A transfer that starts on an idle link and ends before anything else can happen is booked
+// whole in the closed form above (book_idle: no chunk loop, no event).
 // A half-duplex link has one wire and one DMA engine (one set of K slots) for both directions.
 //
 // Bandwidths in GB/s are decimal (10^9 bytes/s). Wire times are whole picoseconds: the chunk at
@@ -33,6 +35,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -42,6 +45,14 @@
 
 namespace edx::arch {
 namespace {
+
+/// std::llround(x) for 0 <= x < 2^63, inline (the library call was a tenth of the link's DES):
+/// i = trunc(x), then up when x - i >= 1/2. x - i is exact (x < 1: i = 0; x >= 1: i >= x / 2,
+/// Sterbenz; x >= 2^52: x is whole and x - i = 0), so halves go away from zero as llround's do.
+std::int64_t round_nonnegative(double x) {
+  const auto i = static_cast<std::int64_t>(x);
+  return x - static_cast<double>(i) >= 0.5 ? i + 1 : i;
+}
 
 /// Nanoseconds (double) to the nearest picosecond.
 sim::Time ns_to_time(double value_ns) {
@@ -136,7 +147,7 @@ class DmaLink final : public Link {
             "the simulated time range (2^63 ps, 107 days)",
             bandwidth_gb_per_s, bytes, picoseconds * 1e-12));
       }
-      return static_cast<sim::Time>(std::llround(picoseconds));
+      return static_cast<sim::Time>(round_nonnegative(picoseconds));
     }
     /// True when wire_time(bytes) does not throw (wire time monotone in bytes: then no smaller
     /// count throws either).
@@ -301,6 +312,12 @@ class DmaModel final : public LinkModel {
     const std::int64_t n = (bytes + chunk_size - 1) / chunk_size;  // chunks
     std::vector<sim::Time>& slots = *l.slot_free;
     const auto k = static_cast<std::int64_t>(slots.size());
+    if (const std::optional<sim::Time> end = book_idle(l, n, bytes)) {
+      // Nothing else is due before the end: the clock moves there without an event.
+      if (*end > begin) co_await sim_->advance(*end - begin);
+      finish(l, direction, bytes, begin, label);
+      co_return;
+    }
     // The transfer's time t: now, or a grant it went on to without an event because nothing
     // else can happen until the horizon (Simulator::quiet_horizon: a long transfer alone on the
     // link books its chunks in one event instead of one per slot it waits for).
@@ -347,15 +364,7 @@ class DmaModel final : public LinkModel {
     // At the last arrival, or at t when the transfer went on past now without waiting.
     const sim::Time end = std::max(last_arrival, run.t);
     if (end > sim_->now()) co_await sim_->delay_until(end);
-    l.bytes.add(static_cast<std::uint64_t>(bytes));
-    l.transfers.add();
-    l.latency_us.add(sim::to_us(sim_->now() - begin));
-    if (timeline_ != nullptr) {
-      timeline_->span(direction == Direction::HostToFpga ? h2c_track_ : c2h_track_,
-                      label.empty() ? fmt::format("{} {} B", to_string(direction), bytes)
-                                    : fmt::format("{} {} B", label, bytes),
-                      begin, sim_->now(), {{"bytes", bytes}});
-    }
+    finish(l, direction, bytes, begin, label);
   }
 
   /// Per direction d: <prefix>.<d>.bytes, .transfers, .chunks (counters), .latency_us
@@ -415,6 +424,65 @@ class DmaModel final : public LinkModel {
     sim::Time wire_done;     ///< wire(offset of its next chunk)
     sim::Time last_arrival;  ///< its latest chunk arrival so far
   };
+
+  /// A transfer's stats and timeline span, at its end.
+  void finish(Lane& l, Direction direction, std::int64_t bytes, sim::Time begin,
+              const std::string& label) {
+    l.bytes.add(static_cast<std::uint64_t>(bytes));
+    l.transfers.add();
+    l.latency_us.add(sim::to_us(sim_->now() - begin));
+    if (timeline_ != nullptr) {
+      timeline_->span(direction == Direction::HostToFpga ? h2c_track_ : c2h_track_,
+                      label.empty() ? fmt::format("{} {} B", to_string(direction), bytes)
+                                    : fmt::format("{} {} B", label, bytes),
+                      begin, sim_->now(), {{"bytes", bytes}});
+    }
+  }
+
+  /// Books a whole transfer of `bytes` (n >= 1 chunks) at once when it starts on an idle link
+  /// (the wire and every slot free by now t) and ends before anything else can happen
+  /// (Simulator::quiet_horizon), as the chunk loop would; returns its end, or nothing when it
+  /// does not (the loop books it). The first K chunks are granted at t, chunk j >= K when chunk
+  /// j - K arrives, and each finds the wire busy past its setup (chunk 0 excepted: the wire
+  /// waits for it): the first K because the wire is busy from t + s on, the later ones by
+  /// slots_never_wait (or there are none: n <= K). So chunk j leaves the wire at
+  ///   E_j = t + s + wire(end_j)   (telescoping the chunks' wire(end) - wire(offset))
+  /// and arrives at A_j = E_j + L; the transfer ends at A_{n-1} = t + s + wire(B) + L. The slots
+  /// end as the loop leaves them: the K smallest (all <= t) replaced in turn by the arrivals of
+  /// the last min(n, K) chunks (their heap order is immaterial: only their values are read).
+  std::optional<sim::Time> book_idle(Lane& l, std::int64_t n, std::int64_t bytes) {
+    std::vector<sim::Time>& slots = *l.slot_free;
+    const auto k = static_cast<std::int64_t>(slots.size());
+    const sim::Time t = sim_->now();
+    if (n < 1 || (!slots_never_wait_ && n > k) || l.wire->free_at > t) return std::nullopt;
+    for (const sim::Time free_at : slots) {
+      if (free_at > t) return std::nullopt;
+    }
+    if (!params_.wire_in_range(bytes)) return std::nullopt;  // the loop throws at its chunk
+    const sim::Time wire = params_.wire_time(bytes);
+    // setup, latency < 10^12 ps and wire < 2^63: the sum does not wrap; horizon >= t.
+    if (setup_ + wire + latency_ > sim_->quiet_horizon() - t) return std::nullopt;
+    const std::int64_t c = params_.dma.chunk_bytes;
+    const sim::Time start = t + setup_;  // E_j = start + wire(end_j)
+    const auto arrival = [&](std::int64_t j) {
+      return start + params_.wire_time(std::min((j + 1) * c, bytes)) + latency_;
+    };
+    if (n >= k) {
+      // Every slot now holds one of the last K arrivals; ascending order is a min-heap.
+      for (std::int64_t i = 0; i < k; ++i) slots[static_cast<std::size_t>(i)] = arrival(n - k + i);
+    } else {
+      const auto later = std::greater<sim::Time>();
+      for (std::int64_t j = 0; j < n; ++j) {
+        std::pop_heap(slots.begin(), slots.end(), later);
+        slots.back() = arrival(j);
+        std::push_heap(slots.begin(), slots.end(), later);
+      }
+    }
+    l.wire->free_at = start + wire;
+    l.wire->busy.add(wire);
+    l.chunks.add(static_cast<std::uint64_t>(n));
+    return start + wire + latency_;
+  }
 
   /// Books chunks a, a + 1, ... of a transfer of `bytes` (n chunks) at once while they run
   /// steadily, as the chunk loop would one by one; returns how many (0: none, the loop books a).

@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -85,6 +86,23 @@ TEST(FrontendModel, OneFrameFollowsTheCriticalPathOfTheTaskGraph) {
   const FrontendSimResult tm =
       simulate_frontend({frame(0, 100, 50, 10, 5, 20, 100)}, 400, unit_config());
   EXPECT_EQ(tm.frames[0].end, sim::ns(10 * (50 + 20 + 900)));
+}
+
+TEST(FrontendModel, TaskRowsInAnyOrderGiveTheSameSchedule) {
+  // The model finds each (task, image) row wherever the trace puts it: rows reversed, the same
+  // 615 cycles and FE/SM/TM spans as above.
+  trace::FrameTrace reversed = frame(0, 100, 50, 10, 5, 20, 30);
+  std::reverse(reversed.tasks.begin(), reversed.tasks.end());
+  const FrontendSimResult r = simulate_frontend({reversed}, 400, unit_config());
+  ASSERT_EQ(r.frames.size(), 1u);
+  EXPECT_EQ(r.frames[0].end, sim::ns(6150));
+  EXPECT_DOUBLE_EQ(r.frames[0].fe_ms, 2.10e-3);
+  EXPECT_DOUBLE_EQ(r.frames[0].sm_ms, 4.05e-3);
+  EXPECT_DOUBLE_EQ(r.frames[0].tm_ms, 2.90e-3);
+  // Each row's span is its own task's: DR (the last row now) ran [215, 615] cycles.
+  EXPECT_EQ(r.frames[0].tasks.front().task, Task::DR);
+  EXPECT_EQ(r.frames[0].tasks.front().start, sim::ns(2150));
+  EXPECT_EQ(r.frames[0].tasks.front().end, sim::ns(6150));
 }
 
 TEST(FrontendModel, PipeliningOverlapsFeatureExtractionWithStereoMatching) {

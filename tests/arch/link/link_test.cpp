@@ -2,6 +2,7 @@
 // map, errors at their line), the idle-link formula, and its DES model under contention.
 #include "arch/link/link.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
@@ -153,6 +154,26 @@ TEST(DmaLinkTiming, WireTimesRoundToPicosecondsOnceATransfer) {
   const auto axi = dma("{preset: axi4, latency_ns: 0, dma: {setup_ns: 0}}");
   EXPECT_EQ(axi->transfer_time(9600), sim::us(8));
   EXPECT_EQ(axi->transfer_time(1200), sim::us(1));
+}
+
+TEST(DmaLinkTiming, WireTimesRoundHalvesAwayFromZeroAsLlroundDoes) {
+  // At 16 GB/s a byte takes 62.5 ps: odd counts end on a half picosecond, which rounds up
+  // (1 B -> 63 ps, 3 B -> 188 ps), even ones are whole (5000 B -> 312500 ps).
+  const auto sixteen = dma("{bandwidth_gb_per_s: 16, latency_ns: 0, dma: {setup_ns: 0}}");
+  EXPECT_EQ(sixteen->transfer_time(1), 63u);
+  EXPECT_EQ(sixteen->transfer_time(3), 188u);
+  EXPECT_EQ(sixteen->transfer_time(5000), 312500u);
+  EXPECT_EQ(des_time(*sixteen, 3), 188u);
+  // One chunk per transfer: T = wire(B) = llround(B x 1000 / GB/s) for every size and rate.
+  for (const double gbps : {7.9, 1.2, 16.0, 3.0, 0.7, 123.456}) {
+    const auto link = dma(fmt::format(
+        "{{bandwidth_gb_per_s: {}, latency_ns: 0, dma: {{setup_ns: 0, chunk_bytes: 1073741824}}}}",
+        gbps));
+    for (std::int64_t bytes = 1; bytes < 5000; bytes += 7) {
+      const auto expected = static_cast<Time>(std::llround(double(bytes) * 1e3 / gbps));
+      ASSERT_EQ(link->transfer_time(bytes), expected) << gbps << " GB/s, " << bytes << " B";
+    }
+  }
 }
 
 TEST(DmaLinkTiming, WireTimeBeyondTheTimeRangeIsAnErrorNamingTheBandwidth) {
@@ -419,6 +440,47 @@ TEST(DmaLinkContention, LongTransfersBookedInStretchesEqualTheChunkProcessModel)
         100, 200, 4096, 8, false},
        {"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 2}}",
         7.9, 500, 1000, 4096, 2, true}});
+}
+
+TEST(DmaLinkContention, TransfersOnAnIdleLinkBookedWholeEqualTheChunkProcessModel) {
+  // Transfers mostly alone on the link (starts spread over 3 ms, up to 600 kB each: 76 us at
+  // 7.9 GB/s, 500 us at 1.2 GB/s), which the dma kind books whole when nothing else can happen
+  // before their end (book_idle), among others that overlap: the same completion times as
+  // chunk processes.
+  expect_booked_equals_chunk_processes(
+      lcg_jobs(4242, 30, 600000, 3000000),
+      {{"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 8}}",
+        7.9, 500, 1000, 4096, 8, true},
+       {"{bandwidth_gb_per_s: 1.2, latency_ns: 100, full_duplex: false, dma: {setup_ns: 200}}", 1.2,
+        100, 200, 4096, 8, false},
+       {"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 2}}",
+        7.9, 500, 1000, 4096, 2, true}});
+}
+
+TEST(DmaLinkStats, TransfersBookedWholeCountTheirChunksAndWireTime) {
+  // One process, three transfers one after the other on an idle link (each booked whole):
+  // 10000 B (3 chunks), 1 MiB (256) and 1 B (1) host to FPGA; the wire carried each for its
+  // wire(B): 1265823 + 132731139 + 127 ps (1 B / 7.9 GB/s = 126.58 ps).
+  sim::Simulator sim;
+  const auto link = dma();
+  const std::unique_ptr<LinkModel> model = link->make_model(sim);
+  std::vector<Time> took;
+  sim.spawn([](LinkModel& l, sim::Simulator& s, std::vector<Time>& out) -> sim::Process {
+    for (const std::int64_t bytes : {10000, 1 << 20, 1}) {
+      const Time begin = s.now();
+      co_await l.transfer(bytes, Direction::HostToFpga);
+      out.push_back(s.now() - begin);
+    }
+  }(*model, sim, took));
+  sim.run();
+  ASSERT_EQ(took.size(), 3u);
+  EXPECT_EQ(took[0], link->transfer_time(10000));
+  EXPECT_EQ(took[1], link->transfer_time(1 << 20));
+  EXPECT_EQ(took[2], link->transfer_time(1));
+  const nlohmann::json j = stats_of(*model);
+  EXPECT_EQ(j["host_to_fpga"]["chunks"], 3 + 256 + 1);
+  EXPECT_EQ(j["host_to_fpga"]["transfers"], 3);
+  EXPECT_EQ(j["host_to_fpga"]["wire_busy_ps"], 1265823 + 132731139 + 127);
 }
 
 }  // namespace

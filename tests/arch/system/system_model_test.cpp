@@ -210,6 +210,41 @@ TEST(SystemModel, NeverAndAlwaysPolicies) {
 
 // Invocations of one shape (name, sizes, detail, ops without host times) share their plan and
 // transfers; each keeps its own host time; an op of another size is another shape.
+TEST(SystemModel, AStudysPreparedFramesAreWhatTheModelWouldMakeAndGiveTheSameResult) {
+  // study_frontend prepares each frame's DES rows and frontend activity once (sweep points that
+  // share the study share them); they equal what simulate_system makes without them, and the
+  // results with and without them are the same to the last bit.
+  const Platform p = test_platform("always");
+  const std::vector<trace::FrameTrace> frames = three_frames();
+  FrontendStudy study = study_frontend(p, frames, kMeta, "t.db");
+  ASSERT_NE(study.prepared_frames, nullptr);
+  ASSERT_EQ(study.prepared_frames->size(), frames.size());
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    SCOPED_TRACE(f);
+    const FrontendStudy::PreparedFrame& prepared = (*study.prepared_frames)[f];
+    const FrontendFrameTiming made =
+        prepare_frontend_frame(frames[f], 40 * 25, p.frontend, p.transfers);
+    EXPECT_EQ(prepared.timing.frame_id, made.frame_id);
+    EXPECT_EQ(prepared.timing.transfer_bytes, made.transfer_bytes);
+    ASSERT_EQ(prepared.timing.tasks.size(), made.tasks.size());
+    for (std::size_t t = 0; t < made.tasks.size(); ++t) {
+      EXPECT_EQ(prepared.timing.tasks[t].task, made.tasks[t].task);
+      EXPECT_EQ(prepared.timing.tasks[t].image, made.tasks[t].image);
+      EXPECT_EQ(prepared.timing.tasks[t].cycles, made.tasks[t].cycles);
+    }
+    std::array<cost::FrameActivity, 7> by_task;
+    const cost::FrameActivity activity = frontend_activity(frames[f], p.frontend, &by_task);
+    EXPECT_EQ(prepared.activity.to_json(), activity.to_json());
+    for (std::size_t t = 0; t < by_task.size(); ++t) {
+      EXPECT_EQ(prepared.task_activity[t].to_json(), by_task[t].to_json()) << t;
+    }
+  }
+  const std::string with = simulate_system(p, frames, kMeta, "t.db", study).to_json().dump();
+  study.prepared_frames = nullptr;
+  const std::string without = simulate_system(p, frames, kMeta, "t.db", study).to_json().dump();
+  EXPECT_EQ(with, without);
+}
+
 TEST(SystemModel, InvocationsOfOneShapeShareTheirCostsOnly) {
   std::vector<trace::FrameTrace> frames = {frame(0, BackendMode::Registration, 10'000'000),
                                            frame(1, BackendMode::Registration, 10'000'000)};
