@@ -30,8 +30,7 @@ nlohmann::json FrameEnergy::to_json() const {
 
 FrameEnergy frame_energy(const FrameActivity& a, const PowerConfig& p, const HostPower& host,
                          const ByteEnergies& b) {
-  a.validate();
-  p.validate();
+  a.validate();  // `p` was validated where its platform was read (PowerConfig::from_yaml)
   FrameEnergy e;
   e.fpga_static_j = a.fpga_present ? p.fpga_static_w * a.frame_s : 0.0;
   e.host_j = p.host_power_scale *

@@ -575,11 +575,13 @@ class SweepMaster {
     SweepPointResult p = point_result(r.task.point);
     p.computed = true;
     if (r.result) {
-      p.run_id = run_id_of(r.result->config_hash, r.result->trace_hash);
-      evaluate_point(r.result->to_json(), p);
+      // The rows hold the run's summary: evaluated from them, it is built once.
+      const results::RunRows rows = result_rows(*r.result, options_.per_frame);
+      p.run_id = rows.run.run_id;
+      evaluate_point(rows.run.summary, p);
       const std::string run_id = p.run_id;
       finish(std::move(p), [&] {
-        write_results(db_, result_rows(*r.result, options_.per_frame));
+        write_results(db_, rows);
         drop_claim(run_id);
       });
     } else {
