@@ -1,7 +1,9 @@
 #include "workloads/frontend/feature_extractor.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
@@ -14,15 +16,11 @@ namespace {
 constexpr int kHalfPatch = kOrbPatchSize / 2;
 constexpr int kFastBorder = 3;  // cv::FAST never reports corners within 3 px of the image edge
 
-/// FAST with non-maximum suppression on `roi` (offset `origin` in the level image); also counts
-/// the segment-test corners before suppression into `candidates`.
+/// FAST with non-maximum suppression on `roi` of `level`, keypoints in the level's pixels; also
+/// counts the segment-test corners before suppression into `candidates`.
 std::vector<cv::KeyPoint> fast_corners(const cv::Mat& level, const cv::Rect& roi, int threshold,
                                        std::int64_t& candidates) {
-  std::vector<cv::KeyPoint> raw, corners;
-  const cv::Mat view = level(roi);
-  cv::FAST(view, raw, threshold, /*nonmaxSuppression=*/false);
-  candidates += static_cast<std::int64_t>(raw.size());
-  cv::FAST(view, corners, threshold, /*nonmaxSuppression=*/true);
+  std::vector<cv::KeyPoint> corners = fast_with_suppression(level(roi), threshold, candidates);
   for (cv::KeyPoint& corner : corners) {
     corner.pt.x += static_cast<float>(roi.x);
     corner.pt.y += static_cast<float>(roi.y);
@@ -65,6 +63,98 @@ cv::Point2f map_through_pixel_centres(cv::Point2f p, cv::Size from, cv::Size to)
 }
 
 }  // namespace
+
+namespace {
+
+/// FAST-9/16's circle: the 16 pixels at distance 3 (Bresenham), in order around it.
+constexpr std::array<std::array<int, 2>, 16> kFastCircle{{{0, 3},
+                                                          {1, 3},
+                                                          {2, 2},
+                                                          {3, 1},
+                                                          {3, 0},
+                                                          {3, -1},
+                                                          {2, -2},
+                                                          {1, -3},
+                                                          {0, -3},
+                                                          {-1, -3},
+                                                          {-2, -2},
+                                                          {-3, -1},
+                                                          {-3, 0},
+                                                          {-3, 1},
+                                                          {-2, 2},
+                                                          {-1, 3}}};
+constexpr int kFastArc = 9;  // contiguous circle pixels a corner needs
+
+/// The FAST score of a segment-test corner at `p` (`circle`: the circle's byte offsets), as
+/// cv::FAST ranks corners for suppression: with d_k = I(p) - I(circle_k), the highest t at which
+/// p is still a corner, t = max(threshold, max over the 16 arcs A of 9 contiguous circle pixels
+/// of max(min_A d, min_A -d)) - 1 (min_A -d = -max_A d). The minima and maxima of every arc come
+/// from doubling windows (2, 4, 8, then the 9th pixel), fixed-length loops the compiler
+/// vectorizes.
+int fast_score(const uchar* p, const std::array<int, 16>& circle, int threshold) {
+  std::array<std::int16_t, 32> d{};  // the circle twice, so that every arc is contiguous
+  for (std::size_t k = 0; k < 16; ++k) {
+    d[k] = d[k + 16] = static_cast<std::int16_t>(p[0] - p[circle[k]]);
+  }
+  std::array<std::int16_t, 24> lo2{}, hi2{};
+  for (std::size_t i = 0; i < 24; ++i) {
+    lo2[i] = std::min(d[i], d[i + 1]);
+    hi2[i] = std::max(d[i], d[i + 1]);
+  }
+  std::array<std::int16_t, 20> lo4{}, hi4{};
+  for (std::size_t i = 0; i < 20; ++i) {
+    lo4[i] = std::min(lo2[i], lo2[i + 2]);
+    hi4[i] = std::max(hi2[i], hi2[i + 2]);
+  }
+  int best = threshold;
+  for (std::size_t i = 0; i < 16; ++i) {
+    const int lo = std::min({lo4[i], lo4[i + 4], d[i + kFastArc - 1]});
+    const int hi = std::max({hi4[i], hi4[i + 4], d[i + kFastArc - 1]});
+    best = std::max({best, lo, -hi});
+  }
+  return best - 1;
+}
+
+}  // namespace
+
+std::vector<cv::KeyPoint> fast_with_suppression(const cv::Mat& image, int threshold,
+                                                std::int64_t& candidates) {
+  std::vector<cv::KeyPoint> raw;
+  cv::FAST(image, raw, threshold, /*nonmaxSuppression=*/false);
+  candidates += static_cast<std::int64_t>(raw.size());
+  threshold = std::clamp(threshold, 0, 255);  // as cv::FAST clamps it
+  std::array<int, 16> circle{};
+  const int step = static_cast<int>(image.step1());
+  for (std::size_t k = 0; k < 16; ++k) circle[k] = kFastCircle[k][0] + kFastCircle[k][1] * step;
+
+  // Scores on a grid of the image (0: no corner; cv::FAST keeps them in 8 bits too), then a
+  // corner stays if its score is strictly above all 8 neighbours'. Corners lie 3 px inside the
+  // image, so every neighbour is on the grid. The raw corners come row by row, x ascending,
+  // cv::FAST's own order with suppression.
+  std::vector<uchar> scores(static_cast<std::size_t>(image.cols) * image.rows, 0);
+  const auto at = [&](int x, int y) {
+    return static_cast<std::size_t>(y) * static_cast<std::size_t>(image.cols) +
+           static_cast<std::size_t>(x);
+  };
+  for (const cv::KeyPoint& k : raw) {
+    const int x = static_cast<int>(k.pt.x), y = static_cast<int>(k.pt.y);
+    scores[at(x, y)] = static_cast<uchar>(fast_score(image.ptr<uchar>(y) + x, circle, threshold));
+  }
+  std::vector<cv::KeyPoint> kept;
+  for (const cv::KeyPoint& k : raw) {
+    const int x = static_cast<int>(k.pt.x), y = static_cast<int>(k.pt.y);
+    const uchar* above = &scores[at(x, y - 1)];
+    const uchar* row = &scores[at(x, y)];
+    const uchar* below = &scores[at(x, y + 1)];
+    const uchar s = row[0];
+    if (s > above[-1] && s > above[0] && s > above[1] && s > row[-1] && s > row[1] &&
+        s > below[-1] && s > below[0] && s > below[1]) {
+      kept.push_back(k);
+      kept.back().response = static_cast<float>(s);
+    }
+  }
+  return kept;
+}
 
 cv::Point2f ImagePyramid::to_level0(cv::Point2f p, std::size_t level) const {
   return map_through_pixel_centres(p, levels.at(level).size(), levels.front().size());

@@ -8,6 +8,7 @@
 // pyramid level they were found on; ImagePyramid::to_level0 / from_level0 convert between a
 // level's pixels and level-0 pixels (pixel centres at integers on every level).
 #include <cstddef>
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <span>
 #include <vector>
@@ -37,6 +38,14 @@ struct ImagePyramid {
   /// Level-`level` position of level-0 position `p` (inverse of to_level0).
   cv::Point2f from_level0(cv::Point2f p, std::size_t level) const;
 };
+
+/// cv::FAST(image, keypoints, threshold, true) (9-of-16 segment test, then 3x3 non-maximum
+/// suppression by FAST score) from one segment-test pass: cv::FAST without suppression, whose
+/// corners are also the count added to `candidates`, then each corner's score (OpenCV's
+/// cornerScore<16>) and the suppression as cv::FAST does them. The same keypoints (position,
+/// size 7, response = score) in the same order, for about half of the segment tests.
+std::vector<cv::KeyPoint> fast_with_suppression(const cv::Mat& image, int threshold,
+                                                std::int64_t& candidates);
 
 /// FD's first stage: the pyramid and, per level, the FAST corners after non-maximum
 /// suppression, ordered for grid spreading (best of every cell first, then second best, ...).
