@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
@@ -14,6 +15,7 @@ namespace edx::frontend {
 namespace {
 
 constexpr int kHalfPatch = kOrbPatchSize / 2;
+constexpr int kDiscLeft = 16;   // the orientation's row loads start 16 px left of the point
 constexpr int kFastBorder = 3;  // cv::FAST never reports corners within 3 px of the image edge
 
 /// FAST with non-maximum suppression on `roi` of `level`, keypoints in the level's pixels; also
@@ -31,23 +33,38 @@ std::vector<cv::KeyPoint> fast_corners(const cv::Mat& level, const cv::Rect& roi
 /// ORB's intensity-centroid orientation (Rublee et al. 2011), as cv::ORB computes it before
 /// its descriptors but does not expose: over the disc of radius 15 around the rounded point,
 /// m10 = sum u I(u, v), m01 = sum v I(u, v), angle = atan2(m01, m10) in degrees [0, 360).
-float intensity_centroid_angle(const cv::Mat& image, cv::Point2f point,
-                               const std::vector<int>& row_half_width) {
-  const uchar* center = &image.at<uchar>(cvRound(point.y), cvRound(point.x));
+/// Row by row over 32 columns (u = -16..15) with the disc's weights (DiscWeights: u, and v, inside
+/// the disc; 0 outside), rows v and -v together: m10 += sum u (I(u, v) + I(u, -v)), m01 += sum
+/// v (I(u, v) - I(u, -v)), in 16-bit products summed in 32 bits (exact, so in any order: the
+/// same moments as the pixel-by-pixel sum). Reads 16 px left of the point: the edge margin
+/// (>= 19) keeps that inside the image.
+float intensity_centroid_angle(const cv::Mat& image, cv::Point2f point, const DiscWeights& disc) {
+  const uchar* center = &image.at<uchar>(cvRound(point.y), cvRound(point.x)) - kDiscLeft;
   const int step = static_cast<int>(image.step1());
-  int m01 = 0, m10 = 0;
-  for (int u = -kHalfPatch; u <= kHalfPatch; ++u) m10 += u * center[u];
-  for (int v = 1; v <= kHalfPatch; ++v) {
-    int row_difference = 0;  // sum over u of I(u, v) - I(u, -v)
-    const int half_width = row_half_width[static_cast<std::size_t>(v)];
-    for (int u = -half_width; u <= half_width; ++u) {
-      const int below = center[u + v * step], above = center[u - v * step];
-      row_difference += below - above;
-      m10 += u * (below + above);
+  cv::v_int32x4 m10 = cv::v_setzero_s32(), m01 = cv::v_setzero_s32();
+  for (int v = 0; v <= kHalfPatch; ++v) {
+    const auto row = static_cast<std::size_t>(v);
+    for (int half = 0; half < 2; ++half) {  // columns u = -16..-1, then 0..15
+      cv::v_uint16x8 below_lo, below_hi, above_lo, above_hi;
+      cv::v_expand(cv::v_load(center + v * step + 16 * half), below_lo, below_hi);
+      cv::v_expand(cv::v_load(center - v * step + 16 * half), above_lo, above_hi);
+      const std::int16_t* u_weight = disc.u[row].data() + 16 * half;
+      const std::int16_t* v_weight = disc.v[row].data() + 16 * half;
+      if (v == 0) {  // the centre row once: its u moment alone
+        m10 += cv::v_dotprod(cv::v_reinterpret_as_s16(below_lo), cv::v_load(u_weight)) +
+               cv::v_dotprod(cv::v_reinterpret_as_s16(below_hi), cv::v_load(u_weight + 8));
+        continue;
+      }
+      m10 += cv::v_dotprod(cv::v_reinterpret_as_s16(below_lo + above_lo), cv::v_load(u_weight)) +
+             cv::v_dotprod(cv::v_reinterpret_as_s16(below_hi + above_hi), cv::v_load(u_weight + 8));
+      m01 += cv::v_dotprod(cv::v_reinterpret_as_s16(below_lo) - cv::v_reinterpret_as_s16(above_lo),
+                           cv::v_load(v_weight)) +
+             cv::v_dotprod(cv::v_reinterpret_as_s16(below_hi) - cv::v_reinterpret_as_s16(above_hi),
+                           cv::v_load(v_weight + 8));
     }
-    m01 += v * row_difference;
   }
-  return cv::fastAtan2(static_cast<float>(m01), static_cast<float>(m10));
+  return cv::fastAtan2(static_cast<float>(cv::v_reduce_sum(m01)),
+                       static_cast<float>(cv::v_reduce_sum(m10)));
 }
 
 }  // namespace
@@ -181,6 +198,16 @@ FeatureExtractor::FeatureExtractor(const FrontendOptions& options) : options_(op
     }
     disc_row_half_width_[static_cast<std::size_t>(v)] = v0;
     ++v0;
+  }
+  for (int v = 0; v <= kHalfPatch; ++v) {
+    const auto row = static_cast<std::size_t>(v);
+    for (int u = -kDiscLeft; u < 32 - kDiscLeft; ++u) {
+      const bool inside = std::abs(u) <= disc_row_half_width_[row];
+      disc_.u[row][static_cast<std::size_t>(u + kDiscLeft)] =
+          static_cast<std::int16_t>(inside ? u : 0);
+      disc_.v[row][static_cast<std::size_t>(u + kDiscLeft)] =
+          static_cast<std::int16_t>(inside ? v : 0);
+    }
   }
 }
 
@@ -441,7 +468,7 @@ void FeatureExtractor::describe_levels(const ImagePyramid& pyramid, const ImageP
       k.pt = pyramid.from_level0(k.pt, level);
       k.octave = 0;
       k.class_id = static_cast<int>(i);
-      k.angle = intensity_centroid_angle(img, k.pt, disc_row_half_width_);
+      k.angle = intensity_centroid_angle(img, k.pt, disc_);
       keypoints[i].angle = k.angle;
       at_level.push_back(k);
     }

@@ -7,6 +7,7 @@
 // Coordinates: keypoints are handed over in level-0 (input image) pixels; KeyPoint::octave is the
 // pyramid level they were found on; ImagePyramid::to_level0 / from_level0 convert between a
 // level's pixels and level-0 pixels (pixel centres at integers on every level).
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <opencv2/core.hpp>
@@ -46,6 +47,12 @@ struct ImagePyramid {
 /// size 7, response = score) in the same order, for about half of the segment tests.
 std::vector<cv::KeyPoint> fast_with_suppression(const cv::Mat& image, int threshold,
                                                 std::int64_t& candidates);
+
+/// Weights of ORB's orientation disc (radius 15) per row v = 0..15 over 32 columns
+/// u = -16..15: u (the x moment's weight) and v (the y moment's) inside the disc, 0 outside.
+struct DiscWeights {
+  std::array<std::array<std::int16_t, 32>, 16> u{}, v{};
+};
 
 /// FD's first stage: the pyramid and, per level, the FAST corners after non-maximum
 /// suppression, ordered for grid spreading (best of every cell first, then second best, ...).
@@ -106,6 +113,7 @@ class FeatureExtractor {
  private:
   FrontendOptions options_;
   std::vector<int> disc_row_half_width_;  ///< ORB's umax: half width of the disc per row
+  DiscWeights disc_;                      ///< the same disc as weights
 };
 
 }  // namespace edx::frontend
