@@ -105,31 +105,25 @@ constexpr int kFastArc = 9;  // contiguous circle pixels a corner needs
 /// The FAST score of a segment-test corner at `p` (`circle`: the circle's byte offsets), as
 /// cv::FAST ranks corners for suppression: with d_k = I(p) - I(circle_k), the highest t at which
 /// p is still a corner, t = max(threshold, max over the 16 arcs A of 9 contiguous circle pixels
-/// of max(min_A d, min_A -d)) - 1 (min_A -d = -max_A d). The minima and maxima of every arc come
-/// from doubling windows (2, 4, 8, then the 9th pixel), fixed-length loops the compiler
-/// vectorizes.
+/// of max(min_A d, min_A -d)) - 1 (min_A -d = -max_A d). The 16 arcs' minima and maxima in two
+/// 8-lane vectors each (lane i: the arc starting at circle pixel i), from d stored twice round.
 int fast_score(const uchar* p, const std::array<int, 16>& circle, int threshold) {
-  std::array<std::int16_t, 32> d{};  // the circle twice, so that every arc is contiguous
+  alignas(16) std::array<std::int16_t, 32> d{};
   for (std::size_t k = 0; k < 16; ++k) {
     d[k] = d[k + 16] = static_cast<std::int16_t>(p[0] - p[circle[k]]);
   }
-  std::array<std::int16_t, 24> lo2{}, hi2{};
-  for (std::size_t i = 0; i < 24; ++i) {
-    lo2[i] = std::min(d[i], d[i + 1]);
-    hi2[i] = std::max(d[i], d[i + 1]);
+  cv::v_int16x8 lo0 = cv::v_load(d.data()), hi0 = lo0;
+  cv::v_int16x8 lo1 = cv::v_load(d.data() + 8), hi1 = lo1;
+  for (int j = 1; j < kFastArc; ++j) {
+    const cv::v_int16x8 a = cv::v_load(d.data() + j), b = cv::v_load(d.data() + 8 + j);
+    lo0 = cv::v_min(lo0, a);
+    hi0 = cv::v_max(hi0, a);
+    lo1 = cv::v_min(lo1, b);
+    hi1 = cv::v_max(hi1, b);
   }
-  std::array<std::int16_t, 20> lo4{}, hi4{};
-  for (std::size_t i = 0; i < 20; ++i) {
-    lo4[i] = std::min(lo2[i], lo2[i + 2]);
-    hi4[i] = std::max(hi2[i], hi2[i + 2]);
-  }
-  int best = threshold;
-  for (std::size_t i = 0; i < 16; ++i) {
-    const int lo = std::min({lo4[i], lo4[i + 4], d[i + kFastArc - 1]});
-    const int hi = std::max({hi4[i], hi4[i + 4], d[i + kFastArc - 1]});
-    best = std::max({best, lo, -hi});
-  }
-  return best - 1;
+  const cv::v_int16x8 zero = cv::v_setzero_s16();
+  const cv::v_int16x8 best = cv::v_max(cv::v_max(lo0, lo1), cv::v_max(zero - hi0, zero - hi1));
+  return std::max(threshold, static_cast<int>(cv::v_reduce_max(best))) - 1;
 }
 
 }  // namespace
@@ -144,29 +138,44 @@ std::vector<cv::KeyPoint> fast_with_suppression(const cv::Mat& image, int thresh
   const int step = static_cast<int>(image.step1());
   for (std::size_t k = 0; k < 16; ++k) circle[k] = kFastCircle[k][0] + kFastCircle[k][1] * step;
 
-  // Scores on a grid of the image (0: no corner; cv::FAST keeps them in 8 bits too), then a
-  // corner stays if its score is strictly above all 8 neighbours'. Corners lie 3 px inside the
-  // image, so every neighbour is on the grid. The raw corners come row by row, x ascending,
-  // cv::FAST's own order with suppression.
-  std::vector<uchar> scores(static_cast<std::size_t>(image.cols) * image.rows, 0);
-  const auto at = [&](int x, int y) {
-    return static_cast<std::size_t>(y) * static_cast<std::size_t>(image.cols) +
-           static_cast<std::size_t>(x);
-  };
-  for (const cv::KeyPoint& k : raw) {
-    const int x = static_cast<int>(k.pt.x), y = static_cast<int>(k.pt.y);
-    scores[at(x, y)] = static_cast<uchar>(fast_score(image.ptr<uchar>(y) + x, circle, threshold));
+  // Each corner's score, then a corner stays if its score is strictly above all 8 neighbours'
+  // (0 where there is no corner; cv::FAST keeps scores in 8 bits too). The raw corners come row
+  // by row, x ascending (cv::FAST's order with suppression too), so a corner's neighbours in the
+  // rows above and below are found by two cursors that only move forward.
+  const std::size_t n = raw.size();
+  std::vector<cv::Point> at(n);
+  std::vector<uchar> scores(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    at[i] = cv::Point(static_cast<int>(raw[i].pt.x), static_cast<int>(raw[i].pt.y));
+    scores[i] =
+        static_cast<uchar>(fast_score(image.ptr<uchar>(at[i].y) + at[i].x, circle, threshold));
   }
+  // Whether every corner of row `y`, columns x-1..x+1, scores below `s`; `cursor` is moved to the
+  // first corner at or after (x - 1, y).
+  const auto below_in_row = [&](std::size_t& cursor, int x, int y, uchar s) {
+    const auto before = [&](std::size_t j) {
+      return at[j].y < y || (at[j].y == y && at[j].x < x - 1);
+    };
+    while (cursor < n && before(cursor)) ++cursor;
+    for (std::size_t j = cursor; j < n && at[j].y == y && at[j].x <= x + 1; ++j) {
+      if (scores[j] >= s) return false;
+    }
+    return true;
+  };
   std::vector<cv::KeyPoint> kept;
-  for (const cv::KeyPoint& k : raw) {
-    const int x = static_cast<int>(k.pt.x), y = static_cast<int>(k.pt.y);
-    const uchar* above = &scores[at(x, y - 1)];
-    const uchar* row = &scores[at(x, y)];
-    const uchar* below = &scores[at(x, y + 1)];
-    const uchar s = row[0];
-    if (s > above[-1] && s > above[0] && s > above[1] && s > row[-1] && s > row[1] &&
-        s > below[-1] && s > below[0] && s > below[1]) {
-      kept.push_back(k);
+  std::size_t above = 0, same = 0, below = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int x = at[i].x, y = at[i].y;
+    const uchar s = scores[i];
+    // s > 0: above a neighbour without a corner (the same test, whatever the neighbours).
+    bool kept_here = s > 0 && below_in_row(above, x, y - 1, s) && below_in_row(below, x, y + 1, s);
+    while (same < n && (at[same].y < y || (at[same].y == y && at[same].x < x - 1))) ++same;
+    for (std::size_t j = same; kept_here && j < n && at[j].y == y && at[j].x <= x + 1; ++j) {
+      // the corner itself is among them
+      if (j != i && scores[j] >= s) kept_here = false;
+    }
+    if (kept_here) {
+      kept.push_back(raw[i]);
       kept.back().response = static_cast<float>(s);
     }
   }
