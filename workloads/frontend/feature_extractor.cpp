@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -488,7 +489,8 @@ void FeatureExtractor::describe_levels(const ImagePyramid& pyramid, const ImageP
       throw std::logic_error("FeatureExtractor::describe: cv::ORB dropped keypoints");
     }
     for (std::size_t j = 0; j < at_level.size(); ++j) {
-      level_descriptors.row(static_cast<int>(j)).copyTo(descriptors.row(at_level[j].class_id));
+      std::memcpy(descriptors.ptr<uchar>(at_level[j].class_id),
+                  level_descriptors.ptr<uchar>(static_cast<int>(j)), 32);  // one 256-bit row
     }
     const std::int64_t pixels = static_cast<std::int64_t>(img.cols) * img.rows;
     fc.pixels += pixels;
