@@ -44,7 +44,9 @@ struct ImagePyramid {
 /// suppression by FAST score) from one segment-test pass: cv::FAST without suppression, whose
 /// corners are also the count added to `candidates`, then each corner's score (OpenCV's
 /// cornerScore<16>) and the suppression as cv::FAST does them. The same keypoints (position,
-/// size 7, response = score) in the same order, for about half of the segment tests.
+/// size 7, response = score) in the same order, for about half of the segment tests. Written
+/// after OpenCV 4.6's fast.cpp (Debian 12); the test EqualsCvFastWithSuppressionOnRealFrames
+/// compares it with cv::FAST on real frames, so an OpenCV that scores or orders otherwise fails.
 std::vector<cv::KeyPoint> fast_with_suppression(const cv::Mat& image, int threshold,
                                                 std::int64_t& candidates);
 
