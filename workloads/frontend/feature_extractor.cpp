@@ -168,12 +168,11 @@ std::vector<cv::KeyPoint> fast_with_suppression(const cv::Mat& image, int thresh
   for (std::size_t i = 0; i < n; ++i) {
     const int x = at[i].x, y = at[i].y;
     const uchar s = scores[i];
-    // s > 0: above a neighbour without a corner (the same test, whatever the neighbours).
+    // cv::FAST compares with 0 where a neighbour has no corner: a kept score is > 0 in any case.
     bool kept_here = s > 0 && below_in_row(above, x, y - 1, s) && below_in_row(below, x, y + 1, s);
     while (same < n && (at[same].y < y || (at[same].y == y && at[same].x < x - 1))) ++same;
     for (std::size_t j = same; kept_here && j < n && at[j].y == y && at[j].x <= x + 1; ++j) {
-      // the corner itself is among them
-      if (j != i && scores[j] >= s) kept_here = false;
+      if (j != i && scores[j] >= s) kept_here = false;  // its own row, itself left out
     }
     if (kept_here) {
       kept.push_back(raw[i]);
