@@ -19,6 +19,7 @@ void add_frontend_bench(CLI::App& app) {
     std::vector<std::string> resolutions{"752x480", "1280x720"};
     std::size_t frames = 60;
     bool json = false;
+    bool serial = false;
   };
   auto args = std::make_shared<Args>();
   CLI::App* sub = app.add_subcommand("frontend", "stereo frontend frames/s per resolution");
@@ -29,6 +30,9 @@ void add_frontend_bench(CLI::App& app) {
       ->check(CLI::Range(6, 100000))
       ->capture_default_str();
   sub->add_flag("--json", args->json, "print only a JSON object");
+  sub->add_flag("--serial", args->serial,
+                "tasks one after another, OpenCV on one thread (as `edx trace` without "
+                "--parallel): every instruction on the calling thread, for profiling");
   sub->callback([args] {
     frontend::FrontendBenchmarkOptions options;
     options.dataset_path = args->dataset;
@@ -38,6 +42,7 @@ void add_frontend_bench(CLI::App& app) {
       options.resolutions.push_back(datasets::parse_resolution(text));
     }
     options.frames = args->frames;
+    options.frontend.parallel_images = !args->serial;
     const auto results = frontend::run_frontend_benchmark(options);
     if (args->json) {
       fmt::print("{}\n", frontend::to_json(results).dump(2));

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "workloads/frontend/stereo_frontend.hpp"
+#include "workloads/frontend/task_timer.hpp"
 
 namespace edx::frontend {
 
@@ -16,6 +17,8 @@ std::vector<FrontendBenchmarkResult> run_frontend_benchmark(const FrontendBenchm
     throw std::runtime_error(fmt::format("benchmark frames = {} (expected more than warmup = {})",
                                          options.frames, options.warmup));
   }
+  // Without parallel_images, OpenCV on the calling thread alone (as tracing does).
+  const TracingThreads threads(options.frontend.parallel_images);
   std::vector<FrontendBenchmarkResult> results;
   for (std::size_t r = 0; r < options.resolutions.size(); ++r) {
     datasets::DatasetOptions dataset_options;

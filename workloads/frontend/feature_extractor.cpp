@@ -1,7 +1,11 @@
 #include "workloads/frontend/feature_extractor.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
@@ -12,17 +16,14 @@ namespace edx::frontend {
 namespace {
 
 constexpr int kHalfPatch = kOrbPatchSize / 2;
+constexpr int kDiscLeft = 16;   // the orientation's row loads start 16 px left of the point
 constexpr int kFastBorder = 3;  // cv::FAST never reports corners within 3 px of the image edge
 
-/// FAST with non-maximum suppression on `roi` (offset `origin` in the level image); also counts
-/// the segment-test corners before suppression into `candidates`.
+/// FAST with non-maximum suppression on `roi` of `level`, keypoints in the level's pixels; also
+/// counts the segment-test corners before suppression into `candidates`.
 std::vector<cv::KeyPoint> fast_corners(const cv::Mat& level, const cv::Rect& roi, int threshold,
                                        std::int64_t& candidates) {
-  std::vector<cv::KeyPoint> raw, corners;
-  const cv::Mat view = level(roi);
-  cv::FAST(view, raw, threshold, /*nonmaxSuppression=*/false);
-  candidates += static_cast<std::int64_t>(raw.size());
-  cv::FAST(view, corners, threshold, /*nonmaxSuppression=*/true);
+  std::vector<cv::KeyPoint> corners = fast_with_suppression(level(roi), threshold, candidates);
   for (cv::KeyPoint& corner : corners) {
     corner.pt.x += static_cast<float>(roi.x);
     corner.pt.y += static_cast<float>(roi.y);
@@ -33,23 +34,38 @@ std::vector<cv::KeyPoint> fast_corners(const cv::Mat& level, const cv::Rect& roi
 /// ORB's intensity-centroid orientation (Rublee et al. 2011), as cv::ORB computes it before
 /// its descriptors but does not expose: over the disc of radius 15 around the rounded point,
 /// m10 = sum u I(u, v), m01 = sum v I(u, v), angle = atan2(m01, m10) in degrees [0, 360).
-float intensity_centroid_angle(const cv::Mat& image, cv::Point2f point,
-                               const std::vector<int>& row_half_width) {
-  const uchar* center = &image.at<uchar>(cvRound(point.y), cvRound(point.x));
+/// Row by row over 32 columns (u = -16..15) with the disc's weights (DiscWeights: u, and v, inside
+/// the disc; 0 outside), rows v and -v together: m10 += sum u (I(u, v) + I(u, -v)), m01 += sum
+/// v (I(u, v) - I(u, -v)), in 16-bit products summed in 32 bits (exact, so in any order: the
+/// same moments as the pixel-by-pixel sum). Reads 16 px left of the point: the edge margin
+/// (>= 19) keeps that inside the image.
+float intensity_centroid_angle(const cv::Mat& image, cv::Point2f point, const DiscWeights& disc) {
+  const uchar* center = &image.at<uchar>(cvRound(point.y), cvRound(point.x)) - kDiscLeft;
   const int step = static_cast<int>(image.step1());
-  int m01 = 0, m10 = 0;
-  for (int u = -kHalfPatch; u <= kHalfPatch; ++u) m10 += u * center[u];
-  for (int v = 1; v <= kHalfPatch; ++v) {
-    int row_difference = 0;  // sum over u of I(u, v) - I(u, -v)
-    const int half_width = row_half_width[static_cast<std::size_t>(v)];
-    for (int u = -half_width; u <= half_width; ++u) {
-      const int below = center[u + v * step], above = center[u - v * step];
-      row_difference += below - above;
-      m10 += u * (below + above);
+  cv::v_int32x4 m10 = cv::v_setzero_s32(), m01 = cv::v_setzero_s32();
+  for (int v = 0; v <= kHalfPatch; ++v) {
+    const auto row = static_cast<std::size_t>(v);
+    for (int half = 0; half < 2; ++half) {  // columns u = -16..-1, then 0..15
+      cv::v_uint16x8 below_lo, below_hi, above_lo, above_hi;
+      cv::v_expand(cv::v_load(center + v * step + 16 * half), below_lo, below_hi);
+      cv::v_expand(cv::v_load(center - v * step + 16 * half), above_lo, above_hi);
+      const std::int16_t* u_weight = disc.u[row].data() + 16 * half;
+      const std::int16_t* v_weight = disc.v[row].data() + 16 * half;
+      if (v == 0) {  // the centre row once: its u moment alone
+        m10 += cv::v_dotprod(cv::v_reinterpret_as_s16(below_lo), cv::v_load(u_weight)) +
+               cv::v_dotprod(cv::v_reinterpret_as_s16(below_hi), cv::v_load(u_weight + 8));
+        continue;
+      }
+      m10 += cv::v_dotprod(cv::v_reinterpret_as_s16(below_lo + above_lo), cv::v_load(u_weight)) +
+             cv::v_dotprod(cv::v_reinterpret_as_s16(below_hi + above_hi), cv::v_load(u_weight + 8));
+      m01 += cv::v_dotprod(cv::v_reinterpret_as_s16(below_lo) - cv::v_reinterpret_as_s16(above_lo),
+                           cv::v_load(v_weight)) +
+             cv::v_dotprod(cv::v_reinterpret_as_s16(below_hi) - cv::v_reinterpret_as_s16(above_hi),
+                           cv::v_load(v_weight + 8));
     }
-    m01 += v * row_difference;
   }
-  return cv::fastAtan2(static_cast<float>(m01), static_cast<float>(m10));
+  return cv::fastAtan2(static_cast<float>(cv::v_reduce_sum(m01)),
+                       static_cast<float>(cv::v_reduce_sum(m10)));
 }
 
 }  // namespace
@@ -65,6 +81,106 @@ cv::Point2f map_through_pixel_centres(cv::Point2f p, cv::Size from, cv::Size to)
 }
 
 }  // namespace
+
+namespace {
+
+/// FAST-9/16's circle: the 16 pixels at distance 3 (Bresenham), in order around it.
+constexpr std::array<std::array<int, 2>, 16> kFastCircle{{{0, 3},
+                                                          {1, 3},
+                                                          {2, 2},
+                                                          {3, 1},
+                                                          {3, 0},
+                                                          {3, -1},
+                                                          {2, -2},
+                                                          {1, -3},
+                                                          {0, -3},
+                                                          {-1, -3},
+                                                          {-2, -2},
+                                                          {-3, -1},
+                                                          {-3, 0},
+                                                          {-3, 1},
+                                                          {-2, 2},
+                                                          {-1, 3}}};
+constexpr int kFastArc = 9;  // contiguous circle pixels a corner needs
+
+/// The FAST score of a segment-test corner at `p` (`circle`: the circle's byte offsets), as
+/// cv::FAST ranks corners for suppression: with d_k = I(p) - I(circle_k), the highest t at which
+/// p is still a corner, t = max(threshold, max over the 16 arcs A of 9 contiguous circle pixels
+/// of max(min_A d, min_A -d)) - 1 (min_A -d = -max_A d). The 16 arcs' minima and maxima in two
+/// 8-lane vectors each (lane i: the arc starting at circle pixel i), from d stored twice round.
+int fast_score(const uchar* p, const std::array<int, 16>& circle, int threshold) {
+  alignas(16) std::array<std::int16_t, 32> d{};
+  for (std::size_t k = 0; k < 16; ++k) {
+    d[k] = d[k + 16] = static_cast<std::int16_t>(p[0] - p[circle[k]]);
+  }
+  cv::v_int16x8 lo0 = cv::v_load(d.data()), hi0 = lo0;
+  cv::v_int16x8 lo1 = cv::v_load(d.data() + 8), hi1 = lo1;
+  for (int j = 1; j < kFastArc; ++j) {
+    const cv::v_int16x8 a = cv::v_load(d.data() + j), b = cv::v_load(d.data() + 8 + j);
+    lo0 = cv::v_min(lo0, a);
+    hi0 = cv::v_max(hi0, a);
+    lo1 = cv::v_min(lo1, b);
+    hi1 = cv::v_max(hi1, b);
+  }
+  const cv::v_int16x8 zero = cv::v_setzero_s16();
+  const cv::v_int16x8 best = cv::v_max(cv::v_max(lo0, lo1), cv::v_max(zero - hi0, zero - hi1));
+  return std::max(threshold, static_cast<int>(cv::v_reduce_max(best))) - 1;
+}
+
+}  // namespace
+
+std::vector<cv::KeyPoint> fast_with_suppression(const cv::Mat& image, int threshold,
+                                                std::int64_t& candidates) {
+  std::vector<cv::KeyPoint> raw;
+  cv::FAST(image, raw, threshold, /*nonmaxSuppression=*/false);
+  candidates += static_cast<std::int64_t>(raw.size());
+  threshold = std::clamp(threshold, 0, 255);  // as cv::FAST clamps it
+  std::array<int, 16> circle{};
+  const int step = static_cast<int>(image.step1());
+  for (std::size_t k = 0; k < 16; ++k) circle[k] = kFastCircle[k][0] + kFastCircle[k][1] * step;
+
+  // Each corner's score, then a corner stays if its score is strictly above all 8 neighbours'
+  // (0 where there is no corner; cv::FAST keeps scores in 8 bits too). The raw corners come row
+  // by row, x ascending (cv::FAST's order with suppression too), so a corner's neighbours in the
+  // rows above and below are found by two cursors that only move forward.
+  const std::size_t n = raw.size();
+  std::vector<cv::Point> at(n);
+  std::vector<uchar> scores(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    at[i] = cv::Point(static_cast<int>(raw[i].pt.x), static_cast<int>(raw[i].pt.y));
+    scores[i] =
+        static_cast<uchar>(fast_score(image.ptr<uchar>(at[i].y) + at[i].x, circle, threshold));
+  }
+  // Whether every corner of row `y`, columns x-1..x+1, scores below `s`; `cursor` is moved to the
+  // first corner at or after (x - 1, y).
+  const auto below_in_row = [&](std::size_t& cursor, int x, int y, uchar s) {
+    const auto before = [&](std::size_t j) {
+      return at[j].y < y || (at[j].y == y && at[j].x < x - 1);
+    };
+    while (cursor < n && before(cursor)) ++cursor;
+    for (std::size_t j = cursor; j < n && at[j].y == y && at[j].x <= x + 1; ++j) {
+      if (scores[j] >= s) return false;
+    }
+    return true;
+  };
+  std::vector<cv::KeyPoint> kept;
+  std::size_t above = 0, same = 0, below = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int x = at[i].x, y = at[i].y;
+    const uchar s = scores[i];
+    // cv::FAST compares with 0 where a neighbour has no corner: a kept score is > 0 in any case.
+    bool kept_here = s > 0 && below_in_row(above, x, y - 1, s) && below_in_row(below, x, y + 1, s);
+    while (same < n && (at[same].y < y || (at[same].y == y && at[same].x < x - 1))) ++same;
+    for (std::size_t j = same; kept_here && j < n && at[j].y == y && at[j].x <= x + 1; ++j) {
+      if (j != i && scores[j] >= s) kept_here = false;  // its own row, itself left out
+    }
+    if (kept_here) {
+      kept.push_back(raw[i]);
+      kept.back().response = static_cast<float>(s);
+    }
+  }
+  return kept;
+}
 
 cv::Point2f ImagePyramid::to_level0(cv::Point2f p, std::size_t level) const {
   return map_through_pixel_centres(p, levels.at(level).size(), levels.front().size());
@@ -91,6 +207,16 @@ FeatureExtractor::FeatureExtractor(const FrontendOptions& options) : options_(op
     }
     disc_row_half_width_[static_cast<std::size_t>(v)] = v0;
     ++v0;
+  }
+  for (int v = 0; v <= kHalfPatch; ++v) {
+    const auto row = static_cast<std::size_t>(v);
+    for (int u = -kDiscLeft; u < 32 - kDiscLeft; ++u) {
+      const bool inside = std::abs(u) <= disc_row_half_width_[row];
+      disc_.u[row][static_cast<std::size_t>(u + kDiscLeft)] =
+          static_cast<std::int16_t>(inside ? u : 0);
+      disc_.v[row][static_cast<std::size_t>(u + kDiscLeft)] =
+          static_cast<std::int16_t>(inside ? v : 0);
+    }
   }
 }
 
@@ -351,7 +477,7 @@ void FeatureExtractor::describe_levels(const ImagePyramid& pyramid, const ImageP
       k.pt = pyramid.from_level0(k.pt, level);
       k.octave = 0;
       k.class_id = static_cast<int>(i);
-      k.angle = intensity_centroid_angle(img, k.pt, disc_row_half_width_);
+      k.angle = intensity_centroid_angle(img, k.pt, disc_);
       keypoints[i].angle = k.angle;
       at_level.push_back(k);
     }
@@ -362,7 +488,8 @@ void FeatureExtractor::describe_levels(const ImagePyramid& pyramid, const ImageP
       throw std::logic_error("FeatureExtractor::describe: cv::ORB dropped keypoints");
     }
     for (std::size_t j = 0; j < at_level.size(); ++j) {
-      level_descriptors.row(static_cast<int>(j)).copyTo(descriptors.row(at_level[j].class_id));
+      std::memcpy(descriptors.ptr<uchar>(at_level[j].class_id),
+                  level_descriptors.ptr<uchar>(static_cast<int>(j)), 32);  // one 256-bit row
     }
     const std::int64_t pixels = static_cast<std::int64_t>(img.cols) * img.rows;
     fc.pixels += pixels;

@@ -7,7 +7,9 @@
 // Coordinates: keypoints are handed over in level-0 (input image) pixels; KeyPoint::octave is the
 // pyramid level they were found on; ImagePyramid::to_level0 / from_level0 convert between a
 // level's pixels and level-0 pixels (pixel centres at integers on every level).
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <span>
 #include <vector>
@@ -36,6 +38,22 @@ struct ImagePyramid {
   cv::Point2f to_level0(cv::Point2f p, std::size_t level) const;
   /// Level-`level` position of level-0 position `p` (inverse of to_level0).
   cv::Point2f from_level0(cv::Point2f p, std::size_t level) const;
+};
+
+/// cv::FAST(image, keypoints, threshold, true) (9-of-16 segment test, then 3x3 non-maximum
+/// suppression by FAST score) from one segment-test pass: cv::FAST without suppression, whose
+/// corners are also the count added to `candidates`, then each corner's score (OpenCV's
+/// cornerScore<16>) and the suppression as cv::FAST does them. The same keypoints (position,
+/// size 7, response = score) in the same order, for about half of the segment tests. Written
+/// after OpenCV 4.6's fast.cpp (Debian 12); the test EqualsCvFastWithSuppressionOnRealFrames
+/// compares it with cv::FAST on real frames, so an OpenCV that scores or orders otherwise fails.
+std::vector<cv::KeyPoint> fast_with_suppression(const cv::Mat& image, int threshold,
+                                                std::int64_t& candidates);
+
+/// Weights of ORB's orientation disc (radius 15) per row v = 0..15 over 32 columns
+/// u = -16..15: u (the x moment's weight) and v (the y moment's) inside the disc, 0 outside.
+struct DiscWeights {
+  std::array<std::array<std::int16_t, 32>, 16> u{}, v{};
 };
 
 /// FD's first stage: the pyramid and, per level, the FAST corners after non-maximum
@@ -97,6 +115,7 @@ class FeatureExtractor {
  private:
   FrontendOptions options_;
   std::vector<int> disc_row_half_width_;  ///< ORB's umax: half width of the disc per row
+  DiscWeights disc_;                      ///< the same disc as weights
 };
 
 }  // namespace edx::frontend

@@ -6,9 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -65,6 +68,87 @@ TEST(FeatureExtractor, DetectCountsPixelsAndCandidatesPerLevel) {
   EXPECT_GT(corners_found, 500u);
   EXPECT_GT(fd.candidates, static_cast<std::int64_t>(corners_found));
   EXPECT_GT(fd.host_ns, 0);
+}
+
+/// The first `count` images of a folder of PNGs, in name order, grayscale.
+std::vector<cv::Mat> first_images(const std::filesystem::path& folder, std::size_t count) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.path().extension() == ".png") files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<cv::Mat> images;
+  for (std::size_t i = 0; i < std::min(count, files.size()); ++i) {
+    images.push_back(cv::imread(files[i].string(), cv::IMREAD_GRAYSCALE));
+  }
+  return images;
+}
+
+TEST(FastWithSuppression, ScoresAHandMadeCornerByItsWeakestArcPixel) {
+  // Centre 100 on a 100 background, circle pixels 0..8 (9 contiguous: (0,3) clockwise to
+  // (0,-3)) at 70: d = 30 on the arc, 0 elsewhere, so at threshold 20 the score is 30 - 1.
+  cv::Mat image(11, 11, CV_8U, cv::Scalar(100));
+  const int circle[9][2] = {{0, 3},  {1, 3},  {2, 2},  {3, 1}, {3, 0},
+                            {3, -1}, {2, -2}, {1, -3}, {0, -3}};
+  for (const auto& o : circle) image.at<uchar>(5 + o[1], 5 + o[0]) = 70;
+  image.at<uchar>(5 + 3, 5 + 1) = 75;  // the arc's weakest pixel: d = 25, score 24
+  std::int64_t candidates = 0;
+  const std::vector<cv::KeyPoint> kept = fast_with_suppression(image, 20, candidates);
+  const auto centre = std::find_if(kept.begin(), kept.end(),
+                                   [](const cv::KeyPoint& k) { return k.pt == cv::Point2f(5, 5); });
+  ASSERT_NE(centre, kept.end());
+  EXPECT_EQ(centre->response, 24.f);
+  EXPECT_EQ(centre->size, 7.f);
+  std::vector<cv::KeyPoint> raw;
+  cv::FAST(image, raw, 20, false);
+  EXPECT_EQ(candidates, static_cast<std::int64_t>(raw.size()));
+}
+
+TEST(FastWithSuppression, EqualsCvFastWithSuppressionOnRealFrames) {
+  // EuRoC and KITTI frames, whole and in ROIs (odd offsets and sizes, as the grid's retries
+  // cut them), at the frontend's thresholds and others: the same keypoints in the same order,
+  // and the candidates are cv::FAST's corners without suppression.
+  const std::filesystem::path data(EDX_SHARED_DATA_DIR);
+  std::vector<cv::Mat> images =
+      first_images(data / "euroc_v101_micro" / "mav0" / "cam0" / "data", 3);
+  for (const cv::Mat& image :
+       first_images(data / "kitti_odometry_excerpt" / "sequences" / "01" / "image_0", 2)) {
+    images.push_back(image);
+  }
+  ASSERT_EQ(images.size(), 5u);
+  std::size_t compared = 0;
+  for (const cv::Mat& image : images) {
+    ASSERT_FALSE(image.empty());
+    cv::Mat half;
+    cv::resize(image, half, image.size() / 2, 0, 0, cv::INTER_LINEAR_EXACT);
+    for (const cv::Mat* source : std::array<const cv::Mat*, 2>{&image, &half}) {
+      const cv::Size size = source->size();
+      const std::vector<cv::Rect> rois = {
+          cv::Rect({0, 0}, size), cv::Rect(16, 16, size.width - 32, size.height - 32),
+          cv::Rect(41, 23, 70, 38), cv::Rect(size.width - 100, 7, 99, 51), cv::Rect(3, 5, 8, 9)};
+      for (const cv::Rect& roi : rois) {
+        for (const int threshold : {5, 7, 20, 40}) {
+          const cv::Mat view = (*source)(roi);
+          std::vector<cv::KeyPoint> expected, raw;
+          cv::FAST(view, expected, threshold, true);
+          cv::FAST(view, raw, threshold, false);
+          std::int64_t candidates = 0;
+          const std::vector<cv::KeyPoint> ours = fast_with_suppression(view, threshold, candidates);
+          EXPECT_EQ(candidates, static_cast<std::int64_t>(raw.size()));
+          ASSERT_EQ(ours.size(), expected.size()) << roi << " threshold " << threshold;
+          for (std::size_t i = 0; i < ours.size(); ++i) {
+            EXPECT_EQ(ours[i].pt, expected[i].pt) << i;
+            EXPECT_EQ(ours[i].response, expected[i].response) << i;
+            EXPECT_EQ(ours[i].size, expected[i].size) << i;
+            EXPECT_EQ(ours[i].angle, expected[i].angle) << i;
+            EXPECT_EQ(ours[i].octave, expected[i].octave) << i;
+          }
+          compared += ours.size();
+        }
+      }
+    }
+  }
+  EXPECT_GT(compared, 10000u);
 }
 
 TEST(FeatureExtractor, SelectKeepsBudgetMarginAndDistance) {
@@ -155,7 +239,7 @@ TEST(FeatureExtractor, AnglesEqualCvOrbsAndDescriptorsAreOrbsOnTheFilteredImage)
   orb->compute(filtered, given, expected);
   ASSERT_EQ(descriptors.rows, expected.rows);
   for (std::size_t i = 0; i < ours.size(); ++i) {
-    EXPECT_NEAR(ours[i].angle, orb_keypoints[i].angle, 1e-3) << i;
+    EXPECT_EQ(ours[i].angle, orb_keypoints[i].angle) << i;  // the same moments, exactly
     EXPECT_EQ(cv::norm(descriptors.row(static_cast<int>(i)), expected.row(static_cast<int>(i)),
                        cv::NORM_HAMMING),
               0)

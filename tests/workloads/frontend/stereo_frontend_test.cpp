@@ -1,5 +1,6 @@
 // The whole frontend on a textured plane with known disparity and motion: quality, track ids,
-// the ten task rows and their counts, determinism, and refusal of bad images.
+// the ten task rows and their counts, determinism, and refusal of bad images; the frontend
+// benchmark's serial mode.
 #include "workloads/frontend/stereo_frontend.hpp"
 
 #include <gmock/gmock.h>
@@ -7,10 +8,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <vector>
 
 #include "tests/workloads/frontend/plane_scene.hpp"
+#include "workloads/frontend/benchmark.hpp"
 
 namespace edx::frontend {
 namespace {
@@ -244,6 +247,38 @@ TEST(StereoFrontend, RejectsBadOptionsAndCamera) {
   EXPECT_THROW(StereoFrontend(bad, {400, 0.1}), std::runtime_error);
   EXPECT_THROW(StereoFrontend({}, {400, 0.0}), std::runtime_error);
   EXPECT_THROW(StereoFrontend({}, {-1, 0.1}), std::runtime_error);
+}
+
+// run_frontend_benchmark's serial mode (`edx-bench frontend --serial`) does the same work as the
+// parallel one, counts its span as its CPU time, and gives OpenCV's threads back.
+FrontendBenchmarkOptions euroc_options(bool parallel) {
+  FrontendBenchmarkOptions options;
+  options.dataset_path = std::filesystem::path(EDX_SHARED_DATA_DIR) / "euroc_v101_micro";
+  options.format = datasets::DatasetFormat::kEuroc;
+  options.resolutions = {{320, 240}};
+  options.frames = 9;
+  options.warmup = 3;
+  options.frontend.parallel_images = parallel;
+  return options;
+}
+
+TEST(FrontendBenchmark, SerialDoesTheParallelWorkOnOneThread) {
+  cv::setNumThreads(2);
+  const int threads = cv::getNumThreads();
+  const auto serial = run_frontend_benchmark(euroc_options(false));
+  EXPECT_EQ(cv::getNumThreads(), threads);  // OpenCV's setting back after the serial run
+  const auto parallel = run_frontend_benchmark(euroc_options(true));
+  ASSERT_EQ(serial.size(), 1u);
+  ASSERT_EQ(parallel.size(), 1u);
+  EXPECT_EQ(serial[0].frames, 6u);
+  // The same features, tracks and matches per frame: the same work either way.
+  EXPECT_GT(serial[0].left_keypoints, 100);
+  EXPECT_EQ(serial[0].left_keypoints, parallel[0].left_keypoints);
+  EXPECT_EQ(serial[0].stereo_matches, parallel[0].stereo_matches);
+  EXPECT_EQ(serial[0].tracked, parallel[0].tracked);
+  // One thread: each frame's span is its CPU time.
+  EXPECT_GT(serial[0].cpu_fps, 0);
+  EXPECT_DOUBLE_EQ(serial[0].span_fps, serial[0].cpu_fps);
 }
 
 }  // namespace
