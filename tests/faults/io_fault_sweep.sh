@@ -286,9 +286,11 @@ for cmd in $commands; do
   rm -rf "$d"
   mkdir -p "$d/out"
   setup "$cmd" "$d/out"
+  # Bounded like the faulted runs, so that a hang fails naming its run rather than ctest's timeout.
   env EDX_FAULT_PATH="$d/out" EDX_FAULT_REPORT="$d/faults" LD_PRELOAD="$preload" \
-    $(command_of "$cmd" "$d/out") >"$d/stdout" 2>"$d/stderr" ||
-    { echo "io_fault_sweep.sh: the clean $cmd failed: $(cat "$d/stderr")" >&2; exit 1; }
+    timeout 120 $(command_of "$cmd" "$d/out") >"$d/stdout" 2>"$d/stderr" ||
+    { echo "io_fault_sweep.sh: the clean $cmd failed (exit $?; 124: over 120 s):" \
+        "$(cat "$d/stderr")" >&2; exit 1; }
   digest "$cmd" "$d/out" >"$work/clean-$cmd.digest"
   bytes=$(awk '/^exit /{for(i=2;i<=NF;++i){split($i,kv,"=");if(kv[1]=="bytes")s+=kv[2]}}END{print s+0}' "$d/faults")
   syncs=$(awk '/^exit /{for(i=2;i<=NF;++i){split($i,kv,"=");if(kv[1]=="fsyncs")s+=kv[2]}}END{print s+0}' "$d/faults")

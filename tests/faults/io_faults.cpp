@@ -5,7 +5,7 @@
 // renameat, renameat2, link and linkat (std::filesystem's renames and hard links into place). Calls
 // made inside libc itself (stdio's fwrite) do not pass through the dynamic linker and are not seen.
 //
-// Environment (read once, at the first wrapped call):
+// Environment (read once, when the library is loaded):
 //   EDX_FAULT_PATH=DIR     only files under DIR (the path of /proc/self/fd/FD, or a rename's or
 //                          link's either argument) are counted or failed; unset: nothing is.
 //   EDX_FAULT_OPS=LIST     the operation classes that fail, comma-separated: write (write, pwrite,
@@ -66,6 +66,32 @@ F next(const char* name) {
   return reinterpret_cast<F>(dlsym(RTLD_NEXT, name));
 }
 
+/// libc's own entry points, resolved when the library is loaded (before any thread or fork of
+/// the process): a wrapper called in the child of a multi-threaded fork (mpirun starting its
+/// ranks) must take neither the dynamic linker's lock (dlsym) nor a static's guard, which another
+/// thread of the parent may have held at the fork. A call before the load (another library's
+/// constructor) resolves its entry itself.
+struct Real {
+  ssize_t (*write)(int, const void*, size_t) = nullptr;
+  ssize_t (*pwrite)(int, const void*, size_t, off_t) = nullptr;
+  ssize_t (*pwrite64)(int, const void*, size_t, off64_t) = nullptr;
+  ssize_t (*writev)(int, const struct iovec*, int) = nullptr;
+  int (*fsync)(int) = nullptr;
+  int (*fdatasync)(int) = nullptr;
+  int (*rename)(const char*, const char*) = nullptr;
+  int (*renameat)(int, const char*, int, const char*) = nullptr;
+  int (*renameat2)(int, const char*, int, const char*, unsigned) = nullptr;
+  int (*link)(const char*, const char*) = nullptr;
+  int (*linkat)(int, const char*, int, const char*, int) = nullptr;
+};
+Real real;
+
+template <typename F>
+F resolved(F& slot, const char* name) {
+  if (!slot) slot = next<F>(name);
+  return slot;
+}
+
 int parse_errno(const char* text) {
   if (!text || !*text || std::strcmp(text, "ENOSPC") == 0) return ENOSPC;
   if (std::strcmp(text, "EIO") == 0) return EIO;
@@ -100,6 +126,27 @@ void init() {
 State& get() {
   pthread_once(&once, init);
   return *state;
+}
+
+/// At load: the environment read and libc's entry points resolved while the process has one
+/// thread, and `lock` held across fork (taken before, released after in parent and child), so
+/// that a child never starts with the lock another thread held (a write of the child would wait
+/// for it forever: the clean MPI sweep's one hang, 2026-11-29).
+__attribute__((constructor)) void load() {
+  get();
+  resolved(real.write, "write");
+  resolved(real.pwrite, "pwrite");
+  resolved(real.pwrite64, "pwrite64");
+  resolved(real.writev, "writev");
+  resolved(real.fsync, "fsync");
+  resolved(real.fdatasync, "fdatasync");
+  resolved(real.rename, "rename");
+  resolved(real.renameat, "renameat");
+  resolved(real.renameat2, "renameat2");
+  resolved(real.link, "link");
+  resolved(real.linkat, "linkat");
+  pthread_atfork([] { pthread_mutex_lock(&lock); }, [] { pthread_mutex_unlock(&lock); },
+                 [] { pthread_mutex_unlock(&lock); });
 }
 
 /// Appends one line to the report (or stderr), bypassing the wrappers.
@@ -233,28 +280,28 @@ __attribute__((destructor)) void report_exit() {
 extern "C" {
 
 ssize_t write(int fd, const void* buffer, size_t size) {
-  static const auto real = next<ssize_t (*)(int, const void*, size_t)>("write");
-  return guarded_write("write", fd, size, [&](std::size_t n) { return real(fd, buffer, n); });
+  const auto call = resolved(real.write, "write");
+  return guarded_write("write", fd, size, [&](std::size_t n) { return call(fd, buffer, n); });
 }
 
 ssize_t pwrite(int fd, const void* buffer, size_t size, off_t offset) {
-  static const auto real = next<ssize_t (*)(int, const void*, size_t, off_t)>("pwrite");
+  const auto call = resolved(real.pwrite, "pwrite");
   return guarded_write("pwrite", fd, size,
-                       [&](std::size_t n) { return real(fd, buffer, n, offset); });
+                       [&](std::size_t n) { return call(fd, buffer, n, offset); });
 }
 
 ssize_t pwrite64(int fd, const void* buffer, size_t size, off64_t offset) {
-  static const auto real = next<ssize_t (*)(int, const void*, size_t, off64_t)>("pwrite64");
+  const auto call = resolved(real.pwrite64, "pwrite64");
   return guarded_write("pwrite64", fd, size,
-                       [&](std::size_t n) { return real(fd, buffer, n, offset); });
+                       [&](std::size_t n) { return call(fd, buffer, n, offset); });
 }
 
 ssize_t writev(int fd, const struct iovec* iov, int count) {
-  static const auto real = next<ssize_t (*)(int, const struct iovec*, int)>("writev");
+  const auto call = resolved(real.writev, "writev");
   std::size_t size = 0;
   for (int i = 0; i < count; ++i) size += iov[i].iov_len;
   return guarded_write("writev", fd, size, [&](std::size_t n) -> ssize_t {
-    if (n == size) return real(fd, iov, count);
+    if (n == size) return call(fd, iov, count);
     // A short write: the leading n bytes of the vector.
     struct iovec part[64];
     int parts = 0;
@@ -263,52 +310,52 @@ ssize_t writev(int fd, const struct iovec* iov, int count) {
       if (part[parts].iov_len > n) part[parts].iov_len = n;
       n -= part[parts].iov_len;
     }
-    return real(fd, part, parts);
+    return call(fd, part, parts);
   });
 }
 
 int fsync(int fd) {
-  static const auto real = next<int (*)(int)>("fsync");
+  const auto call = resolved(real.fsync, "fsync");
   const std::string path = fd_path(fd);
   if (call_fails(kFsync, "fsync", path, {})) return -1;
-  return real(fd);
+  return call(fd);
 }
 
 int fdatasync(int fd) {
-  static const auto real = next<int (*)(int)>("fdatasync");
+  const auto call = resolved(real.fdatasync, "fdatasync");
   const std::string path = fd_path(fd);
   if (call_fails(kFsync, "fdatasync", path, {})) return -1;
-  return real(fd);
+  return call(fd);
 }
 
 int rename(const char* from, const char* to) {
-  static const auto real = next<int (*)(const char*, const char*)>("rename");
+  const auto call = resolved(real.rename, "rename");
   if (call_fails(kRename, "rename", absolute(AT_FDCWD, from), absolute(AT_FDCWD, to))) return -1;
-  return real(from, to);
+  return call(from, to);
 }
 
 int renameat(int from_dir, const char* from, int to_dir, const char* to) {
-  static const auto real = next<int (*)(int, const char*, int, const char*)>("renameat");
+  const auto call = resolved(real.renameat, "renameat");
   if (call_fails(kRename, "renameat", absolute(from_dir, from), absolute(to_dir, to))) return -1;
-  return real(from_dir, from, to_dir, to);
+  return call(from_dir, from, to_dir, to);
 }
 
 int renameat2(int from_dir, const char* from, int to_dir, const char* to, unsigned flags) {
-  static const auto real = next<int (*)(int, const char*, int, const char*, unsigned)>("renameat2");
+  const auto call = resolved(real.renameat2, "renameat2");
   if (call_fails(kRename, "renameat2", absolute(from_dir, from), absolute(to_dir, to))) return -1;
-  return real(from_dir, from, to_dir, to, flags);
+  return call(from_dir, from, to_dir, to, flags);
 }
 
 int link(const char* from, const char* to) {
-  static const auto real = next<int (*)(const char*, const char*)>("link");
+  const auto call = resolved(real.link, "link");
   if (call_fails(kRename, "link", absolute(AT_FDCWD, from), absolute(AT_FDCWD, to))) return -1;
-  return real(from, to);
+  return call(from, to);
 }
 
 int linkat(int from_dir, const char* from, int to_dir, const char* to, int flags) {
-  static const auto real = next<int (*)(int, const char*, int, const char*, int)>("linkat");
+  const auto call = resolved(real.linkat, "linkat");
   if (call_fails(kRename, "linkat", absolute(from_dir, from), absolute(to_dir, to))) return -1;
-  return real(from_dir, from, to_dir, to, flags);
+  return call(from_dir, from, to_dir, to, flags);
 }
 
 }  // extern "C"
