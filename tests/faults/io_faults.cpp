@@ -86,6 +86,20 @@ struct Real {
 };
 Real real;
 
+/// Set while this thread runs a wrapper's own code. A signal handler that writes (OpenMPI's and
+/// libevent's handlers write to a pipe; mpirun catches SIGCHLD as its ranks end) and interrupts a
+/// wrapper of its thread goes straight to libc: it must not wait for the lock its own thread
+/// holds, nor allocate while the thread may be inside malloc (mpirun hung so once, 2026-11-29).
+__attribute__((tls_model("initial-exec"))) thread_local bool inside = false;
+
+/// Marks the wrapper's code of this thread (see `inside`).
+struct Inside {
+  Inside() { inside = true; }
+  ~Inside() { inside = false; }
+  Inside(const Inside&) = delete;
+  Inside& operator=(const Inside&) = delete;
+};
+
 template <typename F>
 F resolved(F& slot, const char* name) {
   if (!slot) slot = next<F>(name);
@@ -226,6 +240,8 @@ std::size_t allowed(State& s, int fd, std::size_t size, bool& matching, bool& fa
 /// The common body of the write wrappers: `call(n)` writes the first n bytes.
 template <typename Call>
 ssize_t guarded_write(const char* op, int fd, std::size_t size, Call call) {
+  if (inside) return call(size);
+  const Inside mark;
   State& s = get();
   pthread_mutex_lock(&lock);
   bool matching = false, fail = false;
@@ -316,6 +332,8 @@ ssize_t writev(int fd, const struct iovec* iov, int count) {
 
 int fsync(int fd) {
   const auto call = resolved(real.fsync, "fsync");
+  if (inside) return call(fd);
+  const Inside mark;
   const std::string path = fd_path(fd);
   if (call_fails(kFsync, "fsync", path, {})) return -1;
   return call(fd);
@@ -323,6 +341,8 @@ int fsync(int fd) {
 
 int fdatasync(int fd) {
   const auto call = resolved(real.fdatasync, "fdatasync");
+  if (inside) return call(fd);
+  const Inside mark;
   const std::string path = fd_path(fd);
   if (call_fails(kFsync, "fdatasync", path, {})) return -1;
   return call(fd);
@@ -330,30 +350,40 @@ int fdatasync(int fd) {
 
 int rename(const char* from, const char* to) {
   const auto call = resolved(real.rename, "rename");
+  if (inside) return call(from, to);
+  const Inside mark;
   if (call_fails(kRename, "rename", absolute(AT_FDCWD, from), absolute(AT_FDCWD, to))) return -1;
   return call(from, to);
 }
 
 int renameat(int from_dir, const char* from, int to_dir, const char* to) {
   const auto call = resolved(real.renameat, "renameat");
+  if (inside) return call(from_dir, from, to_dir, to);
+  const Inside mark;
   if (call_fails(kRename, "renameat", absolute(from_dir, from), absolute(to_dir, to))) return -1;
   return call(from_dir, from, to_dir, to);
 }
 
 int renameat2(int from_dir, const char* from, int to_dir, const char* to, unsigned flags) {
   const auto call = resolved(real.renameat2, "renameat2");
+  if (inside) return call(from_dir, from, to_dir, to, flags);
+  const Inside mark;
   if (call_fails(kRename, "renameat2", absolute(from_dir, from), absolute(to_dir, to))) return -1;
   return call(from_dir, from, to_dir, to, flags);
 }
 
 int link(const char* from, const char* to) {
   const auto call = resolved(real.link, "link");
+  if (inside) return call(from, to);
+  const Inside mark;
   if (call_fails(kRename, "link", absolute(AT_FDCWD, from), absolute(AT_FDCWD, to))) return -1;
   return call(from, to);
 }
 
 int linkat(int from_dir, const char* from, int to_dir, const char* to, int flags) {
   const auto call = resolved(real.linkat, "linkat");
+  if (inside) return call(from_dir, from, to_dir, to, flags);
+  const Inside mark;
   if (call_fails(kRename, "linkat", absolute(from_dir, from), absolute(to_dir, to))) return -1;
   return call(from_dir, from, to_dir, to, flags);
 }
