@@ -412,6 +412,17 @@ void expect_booked_equals_chunk_processes(const Jobs& jobs,
   }
 }
 
+/// Links for long transfers: PCIe-like full duplex with 8 and with 2 requests in flight (slots
+/// that wait: the chunk loop only), and a slow half-duplex link.
+std::vector<ReferenceLink::Spec> long_transfer_links() {
+  return {{"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 8}}",
+           7.9, 500, 1000, 4096, 8, true},
+          {"{bandwidth_gb_per_s: 1.2, latency_ns: 100, full_duplex: false, dma: {setup_ns: 200}}",
+           1.2, 100, 200, 4096, 8, false},
+          {"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 2}}",
+           7.9, 500, 1000, 4096, 2, true}};
+}
+
 TEST(DmaLinkContention, BookedScheduleEqualsTheChunkProcessModel) {
   // Transfers of many sizes started at staggered times in both directions contend for slots
   // and wires; the dma kind's booked chunks must finish exactly when chunk processes would.
@@ -432,14 +443,7 @@ TEST(DmaLinkContention, LongTransfersBookedInStretchesEqualTheChunkProcessModel)
   // overlapping others: the stretches the dma kind books at once (book_steady) must give the
   // same completion times as chunk processes, on links whose slots never wait and on one whose
   // slots do (two outstanding requests: the chunk loop only).
-  expect_booked_equals_chunk_processes(
-      lcg_jobs(777, 14, 1500000, 900000),
-      {{"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 8}}",
-        7.9, 500, 1000, 4096, 8, true},
-       {"{bandwidth_gb_per_s: 1.2, latency_ns: 100, full_duplex: false, dma: {setup_ns: 200}}", 1.2,
-        100, 200, 4096, 8, false},
-       {"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 2}}",
-        7.9, 500, 1000, 4096, 2, true}});
+  expect_booked_equals_chunk_processes(lcg_jobs(777, 14, 1500000, 900000), long_transfer_links());
 }
 
 TEST(DmaLinkContention, TransfersOnAnIdleLinkBookedWholeEqualTheChunkProcessModel) {
@@ -447,14 +451,7 @@ TEST(DmaLinkContention, TransfersOnAnIdleLinkBookedWholeEqualTheChunkProcessMode
   // 7.9 GB/s, 500 us at 1.2 GB/s), which the dma kind books whole when nothing else can happen
   // before their end (book_idle), among others that overlap: the same completion times as
   // chunk processes.
-  expect_booked_equals_chunk_processes(
-      lcg_jobs(4242, 30, 600000, 3000000),
-      {{"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 8}}",
-        7.9, 500, 1000, 4096, 8, true},
-       {"{bandwidth_gb_per_s: 1.2, latency_ns: 100, full_duplex: false, dma: {setup_ns: 200}}", 1.2,
-        100, 200, 4096, 8, false},
-       {"{bandwidth_gb_per_s: 7.9, latency_ns: 500, dma: {setup_ns: 1000, max_outstanding: 2}}",
-        7.9, 500, 1000, 4096, 2, true}});
+  expect_booked_equals_chunk_processes(lcg_jobs(4242, 30, 600000, 3000000), long_transfer_links());
 }
 
 TEST(DmaLinkStats, TransfersBookedWholeCountTheirChunksAndWireTime) {
