@@ -700,10 +700,11 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     }
   }
   OffloadScheduler scheduler(platform.scheduler.policy, platform.scheduler.training_fraction);
-  r.schedule = evaluate_schedule(scheduler, invocations);  // trains the models
+  std::vector<ScheduleDecision> decided;
+  r.schedule = evaluate_schedule(scheduler, invocations, &decided);  // trains the models
   for (std::size_t i = 0; i < invocations.size(); ++i) {
-    r.decisions[i].training = scheduler.in_training(invocations[i]);
-    r.decisions[i].offloaded = scheduler.offload(invocations[i]);
+    r.decisions[i].training = decided[i].training;
+    r.decisions[i].offloaded = decided[i].offloaded;
   }
 
   // Per frame, both variants.
