@@ -308,6 +308,7 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
                      : prepare_frontend_frame(frame, level0, platform.frontend, platform.transfers);
     const std::vector<double>& kernel_ms = host.kernel_ms[f];
     std::vector<bool> offloaded;
+    offloaded.reserve(frame.kernels.size());
     for (std::size_t k = 0; k < frame.kernels.size(); ++k) {
       bool off = false;
       // The decisions list the candidates in trace order (frame ids are unique in a trace).
