@@ -1,5 +1,6 @@
 #include "sim_core/resource.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
@@ -46,9 +47,12 @@ void Resource::book_idle(const Use* uses, std::size_t count) {
   if (count == 0) return;
   bool ok =
       capacity_ == 1 && in_use_ == 0 && waiters_.empty() && uses[0].request <= uses[0].release;
+  Time grant = uses[0].request;  // of the previous use
   for (std::size_t i = 1; ok && i < count; ++i) {
-    ok = uses[i].request >= uses[i - 1].request && uses[i].request <= uses[i].release &&
+    // At most one waiter: asked for once the previous use was granted.
+    ok = uses[i].request >= grant && uses[i].request <= uses[i].release &&
          uses[i].release >= uses[i - 1].release;
+    grant = std::max(uses[i].request, uses[i - 1].release);
   }
   // Between the statistics' last changes and now.
   ok = ok && uses[count - 1].release <= sim_->now() && busy_.last_change() <= uses[0].request &&

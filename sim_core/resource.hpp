@@ -96,8 +96,9 @@ class Resource {
   /// the unit at that release, handed over (busy stays 1); else it took the free unit at its
   /// request. Its grant is then max(request, previous release). Requires one unit, idle with no
   /// waiter, uses in order with request <= release, each asked for no earlier than the previous
-  /// one's request and its release no earlier than the previous one's, every time between the
-  /// statistics' last change and now(); std::logic_error otherwise (nothing recorded).
+  /// one's grant (at most one waiter) and released no earlier than the previous one, every time
+  /// between the statistics' last change and now(); std::logic_error otherwise (nothing
+  /// recorded).
   void book_idle(const Use* uses, std::size_t count);
 
   /// The name given at construction.

@@ -123,6 +123,9 @@ TEST(Resource, BookIdleRefusesABusyUnitAndUnorderedUses) {
     co_await sim.delay(ns(20));
     const Resource::Use backwards[] = {first, early};  // released before the previous one
     EXPECT_THROW(unit.book_idle(backwards, 2), std::logic_error);
+    // Two waiting at once (c asks before b, which waits for a, has the unit).
+    const Resource::Use two_waiting[] = {first, {ns(2), ns(12)}, {ns(3), ns(14)}};
+    EXPECT_THROW(unit.book_idle(two_waiting, 3), std::logic_error);
     const Resource::Use future[] = {{ns(0), ns(30)}};  // released after now
     EXPECT_THROW(unit.book_idle(future, 1), std::logic_error);
     EXPECT_THROW(pair.book_idle(&first, 1), std::logic_error);  // two units
@@ -133,6 +136,7 @@ TEST(Resource, BookIdleRefusesABusyUnitAndUnorderedUses) {
   sim.run();
   EXPECT_EQ(unit.acquisitions(), 1u);  // only the lease: nothing booked
   EXPECT_EQ(unit.busy().integral(), 0.0);
+  EXPECT_EQ(unit.queue().integral(), 0.0);
 }
 
 TEST(Resource, NewcomerCannotOvertakeAWaiter) {

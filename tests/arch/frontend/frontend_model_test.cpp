@@ -223,6 +223,16 @@ TEST(FrontendModel, AFrameAloneInClosedFormEqualsItsTaskProcesses) {
   EXPECT_EQ(dr.end, dr_clock.time_of_cycles(dr_clock.cycles_in(dr.start) + 400));
   // No task process ran: a frame's events are its process's (start, clock edge), not ten more.
   EXPECT_LT(closed.events, des.events / 3);
+  // FC of the right image asking at the very end of the left one's (FD 10 = FC 10 cycles on one
+  // clock: both at 20): the unit is released, then taken again (no wait), as the processes do.
+  const FrontendConfig same_clock = unit_config();
+  const std::vector<trace::FrameTrace> tie = {frame(0, 10, 50, 10, 5, 20, 30)};
+  const AcceleratorRun tie_des = run_accelerator(tie, same_clock, 0, true);
+  const AcceleratorRun tie_closed = run_accelerator(tie, same_clock, 0, false);
+  expect_same_run(tie_des, tie_closed);
+  EXPECT_EQ(tie_closed.frames[0].tasks[6].end, tie_closed.frames[0].tasks[7].start);  // FC L, R
+  EXPECT_EQ(tie_closed.queue[static_cast<std::size_t>(Task::FC)], 0.0);
+  EXPECT_LT(tie_closed.events, tie_des.events);
   // Two buffers: frames overlap (the task processes), the same as with the log on.
   c.pipeline_fe_sm = true;
   expect_same_run(run_accelerator(frames, c, 0, true), run_accelerator(frames, c, 0, false));
