@@ -1,5 +1,6 @@
 #include "sim_core/resource.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
@@ -41,6 +42,40 @@ Resource::Resource(Simulator& sim, std::size_t capacity, std::string name)
 }
 
 Lease Resource::try_acquire() noexcept { return try_take() ? Lease(this) : Lease(); }
+
+void Resource::book_idle(const Use* uses, std::size_t count) {
+  if (count == 0) return;
+  bool ok =
+      capacity_ == 1 && in_use_ == 0 && waiters_.empty() && uses[0].request <= uses[0].release;
+  Time grant = uses[0].request;  // of the previous use
+  for (std::size_t i = 1; ok && i < count; ++i) {
+    // At most one waiter: asked for once the previous use was granted.
+    ok = uses[i].request >= grant && uses[i].request <= uses[i].release &&
+         uses[i].release >= uses[i - 1].release;
+    grant = std::max(uses[i].request, uses[i - 1].release);
+  }
+  // Between the statistics' last changes and now.
+  ok = ok && uses[count - 1].release <= sim_->now() && busy_.last_change() <= uses[0].request &&
+       queue_.last_change() <= uses[0].request;
+  if (!ok) {
+    throw std::logic_error("edx::sim::Resource '" + name_ +
+                           "'::book_idle: expected an idle unit and ordered uses up to now");
+  }
+  // Each step as acquire()/release_unit() makes it: take at the request, or wait and be handed
+  // the unit at the previous release.
+  acquisitions_ += count;
+  busy_.set_at(uses[0].request, 1.0);
+  for (std::size_t i = 1; i < count; ++i) {
+    if (uses[i].request < uses[i - 1].release) {
+      queue_.set_at(uses[i].request, 1.0);
+      queue_.set_at(uses[i - 1].release, 0.0);
+    } else {
+      busy_.set_at(uses[i - 1].release, 0.0);
+      busy_.set_at(uses[i].request, 1.0);
+    }
+  }
+  busy_.set_at(uses[count - 1].release, 0.0);
+}
 
 bool Resource::try_take() noexcept {
   if (in_use_ == capacity_ || !waiters_.empty()) return false;

@@ -84,6 +84,23 @@ class Resource {
   /// A lease if a unit is free and nobody waits, else an empty lease; never suspends.
   Lease try_acquire() noexcept;
 
+  /// One use of a unit computed by its model instead of simulated (book_idle).
+  struct Use {
+    Time request = 0;  ///< asked for the unit
+    Time release = 0;  ///< gave it back
+  };
+  /// Records uses that a model computed for this resource while it could run alone (no other
+  /// process between now and the last release: Simulator::try_advance_in_place), with the
+  /// statistics and counters that acquire() at each request and release at each release would
+  /// have left: a use asked for before the previous one's release waited (queue length 1) and got
+  /// the unit at that release, handed over (busy stays 1); else it took the free unit at its
+  /// request. Its grant is then max(request, previous release). Requires one unit, idle with no
+  /// waiter, uses in order with request <= release, each asked for no earlier than the previous
+  /// one's grant (at most one waiter) and released no earlier than the previous one, every time
+  /// between the statistics' last change and now(); std::logic_error otherwise (nothing
+  /// recorded).
+  void book_idle(const Use* uses, std::size_t count);
+
   /// The name given at construction.
   const std::string& name() const noexcept { return name_; }
   /// Number of units.

@@ -19,6 +19,19 @@ void TimeWeighted::set(double value) {
   max_ = std::max(max_, value);
 }
 
+void TimeWeighted::set_at(Time when, double value) {
+  if (when < last_change_ || when > sim_->now()) {
+    throw std::logic_error("edx::sim::TimeWeighted::set_at(" + std::to_string(when) +
+                           " ps): expected a time between the last change (" +
+                           std::to_string(last_change_) + " ps) and now (" +
+                           std::to_string(sim_->now()) + " ps)");
+  }
+  area_ += current_ * static_cast<double>(when - last_change_);
+  last_change_ = when;
+  current_ = value;
+  max_ = std::max(max_, value);
+}
+
 void TimeWeighted::reset() {
   start_ = last_change_ = sim_->now();
   area_ = 0.0;

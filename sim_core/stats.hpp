@@ -62,6 +62,10 @@ class TimeWeighted {
   void set(double value);
   /// set(current() + delta).
   void add(double delta) { set(current_ + delta); }
+  /// set(value) as if called at `when`, a time already past: for a model that computed a change
+  /// instead of living through it (Resource::book_idle). Requires last change <= when <= now();
+  /// std::logic_error otherwise. The same arithmetic as set(), so the same integral.
+  void set_at(Time when, double value);
   /// Restarts the window at now() keeping the current value (e.g. after a warm-up).
   void reset();
 
@@ -71,6 +75,8 @@ class TimeWeighted {
   double max() const noexcept { return max_; }
   /// Integral of the value over the window, in value x picoseconds.
   double integral() const;
+  /// When the value last changed (set, set_at, reset or construction).
+  Time last_change() const noexcept { return last_change_; }
   /// Length of the window, now() - start.
   Time elapsed() const;
   /// Time-weighted mean integral() / elapsed(); throws std::domain_error for an empty window.

@@ -77,6 +77,91 @@ class SpanIndex {
   std::array<std::size_t, trace::kTasks.size() * kImages> index_{};
 };
 
+/// A frame's task graph in closed form, when it can run alone: every unit of one copy and idle,
+/// every task of at least one cycle, and nothing else due before DR and LSS have finished (then
+/// no other process runs until the frame goes on, Simulator::try_advance_in_place, so the DES's
+/// spans are these). Each task asks for its unit when its predecessors are done (the roots at
+/// `now`), gets it at max(ask, the end of the unit's previous task of the frame: left before
+/// right), starts on the unit clock's next edge and ends `cycles` edges later:
+///   start = next_edge(max(ask, free)),  end = time_of_cycles(cycles_in(start) + cycles).
+/// On success the clock is at max(DR end, LSS end), the spans are filled and the units carry the
+/// uses (Resource::book_idle) and statistics that the task processes would have left; false (and
+/// nothing changed) when the frame cannot run alone.
+bool run_alone(Simulator& sim, const std::vector<std::unique_ptr<sim::ClockDomain>>& clocks,
+               const std::vector<std::unique_ptr<Resource>>& units, std::vector<TaskSpan>& spans,
+               const SpanIndex& index, std::int64_t frame_id) {
+  for (const std::unique_ptr<Resource>& unit : units) {
+    if (unit->capacity() != 1 || unit->in_use() != 0 || unit->queue_length() != 0) return false;
+  }
+  // The graph's rows (run_frame's spawn order), their uses and spans.
+  enum Row : std::size_t { kFdL, kIfL, kFdR, kIfR, kDc, kLss, kFcL, kFcR, kMo, kDr, kRows };
+  static constexpr std::array<std::pair<Task, Image>, kRows> kGraph = {{{Task::FD, Image::Left},
+                                                                        {Task::IF, Image::Left},
+                                                                        {Task::FD, Image::Right},
+                                                                        {Task::IF, Image::Right},
+                                                                        {Task::DC, Image::Left},
+                                                                        {Task::LSS, Image::Left},
+                                                                        {Task::FC, Image::Left},
+                                                                        {Task::FC, Image::Right},
+                                                                        {Task::MO, Image::Stereo},
+                                                                        {Task::DR, Image::Stereo}}};
+  std::array<TaskSpan*, kRows> row{};
+  for (std::size_t r = 0; r < kRows; ++r) {
+    row[r] = &spans[index.at(kGraph[r].first, kGraph[r].second, frame_id)];
+    if (row[r]->cycles <= 0) return false;
+  }
+  std::array<Resource::Use, kRows> use{};
+  std::array<sim::Time, kRows> start{};
+  const auto run = [&](Row r, sim::Time ask, sim::Time free) {
+    const sim::ClockDomain& clock = *clocks[static_cast<std::size_t>(kGraph[r].first)];
+    start[r] = clock.next_edge(std::max(ask, free));
+    use[r] = {ask, clock.time_of_cycles(clock.cycles_in(start[r]) +
+                                        static_cast<std::uint64_t>(row[r]->cycles))};
+  };
+  const sim::Time now = sim.now();
+  try {
+    run(kFdL, now, 0);
+    run(kIfL, now, 0);
+    run(kFdR, now, use[kFdL].release);
+    run(kIfR, now, use[kIfL].release);
+    run(kDc, use[kIfL].release, 0);
+    run(kLss, use[kDc].release, 0);
+    run(kFcL, use[kFdL].release, 0);
+    run(kFcR, use[kFdR].release, use[kFcL].release);
+    run(kMo, std::max(use[kFcL].release, use[kFcR].release), 0);
+    run(kDr, use[kMo].release, 0);
+  } catch (const sim::TimeRangeError&) {
+    return false;  // the DES path raises it where the task does
+  }
+  const sim::Time end = std::max(use[kDr].release, use[kLss].release);
+  for (const Resource::Use& u : use) {
+    if (u.release > end) return false;  // a task outlives the frame (IF of the right image)
+  }
+  if (end == sim::kTimeMax || !sim.try_advance_in_place(end)) return false;
+  for (std::size_t r = 0; r < kRows; ++r) {
+    row[r]->start = start[r];
+    row[r]->end = use[r].release;
+  }
+  // Each unit's uses in its queue order.
+  const auto book = [&](Row first, Row second) {
+    Resource& unit = *units[static_cast<std::size_t>(kGraph[first].first)];
+    if (first == second) {
+      unit.book_idle(&use[first], 1);
+    } else {
+      const std::array<Resource::Use, 2> both = {use[first], use[second]};
+      unit.book_idle(both.data(), both.size());
+    }
+  };
+  book(kFdL, kFdR);
+  book(kIfL, kIfR);
+  book(kFcL, kFcR);
+  book(kMo, kMo);
+  book(kDr, kDr);
+  book(kDc, kDc);
+  book(kLss, kLss);
+  return true;
+}
+
 /// One frame of simulate_frontend, holding its frame buffer.
 Process run_frame(FrontendAccelerator& accelerator, LinkModel* link, FrontendFrameTiming& timing,
                   Lease buffer) {
@@ -118,29 +203,32 @@ sim::Task<void> FrontendAccelerator::run_frame(FrontendFrameTiming& timing, Link
   if (clock_.next_edge(sim.now()) != sim.now()) co_await sim.advance_cycles(clock_, 0);
   std::vector<TaskSpan>& s = timing.tasks;
   const SpanIndex index(s);
-  const auto at = [&](Task task, Image image) -> TaskSpan& {
-    return s[index.at(task, image, timing.frame_id)];
-  };
-  const auto spawn = [&](Task task, Image image, const Predecessors& after) {
-    // The unit's name (short: no allocation a task) names the process in the event log.
-    return sim.spawn(
-        run_task(sim, *clocks_[static_cast<std::size_t>(task)], unit(task), after, at(task, image)),
-        trace::to_string(task));
-  };
-  // Spawn order is the queue order on each unit: the left image before the right one.
-  const ProcessHandle fd_l = spawn(Task::FD, Image::Left, {});
-  const ProcessHandle if_l = spawn(Task::IF, Image::Left, {});
-  const ProcessHandle fd_r = spawn(Task::FD, Image::Right, {});
-  spawn(Task::IF, Image::Right, {});
-  const ProcessHandle dc = spawn(Task::DC, Image::Left, {if_l});
-  const ProcessHandle lss = spawn(Task::LSS, Image::Left, {dc});
-  const ProcessHandle fc_l = spawn(Task::FC, Image::Left, {fd_l});
-  const ProcessHandle fc_r = spawn(Task::FC, Image::Right, {fd_r});
-  const ProcessHandle mo = spawn(Task::MO, Image::Stereo, {fc_l, fc_r});
-  ProcessHandle dr = spawn(Task::DR, Image::Stereo, {mo});
-  ProcessHandle lss_done = lss;
-  co_await dr;
-  co_await lss_done;
+  if (!run_alone(sim, clocks_, units_, s, index, timing.frame_id)) {
+    // The DES: a process per task.
+    const auto at = [&](Task task, Image image) -> TaskSpan& {
+      return s[index.at(task, image, timing.frame_id)];
+    };
+    const auto spawn = [&](Task task, Image image, const Predecessors& after) {
+      // The unit's name (short: no allocation a task) names the process in the event log.
+      return sim.spawn(run_task(sim, *clocks_[static_cast<std::size_t>(task)], unit(task), after,
+                                at(task, image)),
+                       trace::to_string(task));
+    };
+    // Spawn order is the queue order on each unit: the left image before the right one.
+    const ProcessHandle fd_l = spawn(Task::FD, Image::Left, {});
+    const ProcessHandle if_l = spawn(Task::IF, Image::Left, {});
+    const ProcessHandle fd_r = spawn(Task::FD, Image::Right, {});
+    spawn(Task::IF, Image::Right, {});
+    const ProcessHandle dc = spawn(Task::DC, Image::Left, {if_l});
+    const ProcessHandle lss = spawn(Task::LSS, Image::Left, {dc});
+    const ProcessHandle fc_l = spawn(Task::FC, Image::Left, {fd_l});
+    const ProcessHandle fc_r = spawn(Task::FC, Image::Right, {fd_r});
+    const ProcessHandle mo = spawn(Task::MO, Image::Stereo, {fc_l, fc_r});
+    ProcessHandle dr = spawn(Task::DR, Image::Stereo, {mo});
+    ProcessHandle lss_done = lss;
+    co_await dr;
+    co_await lss_done;
+  }
   timing.transfer_start = sim.now();
   if (link != nullptr && timing.transfer_bytes > 0) {
     co_await link->transfer(timing.transfer_bytes, Direction::FpgaToHost);

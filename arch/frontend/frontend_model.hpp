@@ -89,8 +89,10 @@ class FrontendAccelerator {
   /// The unit of a task (its copies).
   sim::Resource& unit(trace::Task task) noexcept { return *units_[static_cast<std::size_t>(task)]; }
   /// Runs a prepared frame's task graph, then its results (transfer 1) over `link` (nullptr:
-  /// the frame ends when DR and LSS do). Fills the spans, transfer_start and end of `timing`,
-  /// which must outlive the task.
+  /// the frame ends when DR and LSS do). The graph runs as a process per task, or in closed form
+  /// when the frame can run alone (its units of one copy and idle, nothing else due before it
+  /// ends: the same spans, unit statistics and order of everything else, without the events). Fills
+  /// the spans, transfer_start and end of `timing`, which must outlive the task.
   sim::Task<void> run_frame(FrontendFrameTiming& timing, LinkModel* link);
 
  private:

@@ -86,6 +86,13 @@ void OffloadScheduler::train(const std::vector<KernelInvocation>& invocations) {
 }
 
 bool OffloadScheduler::offload(const KernelInvocation& k) const {
+  if (policy_ != OffloadPolicy::kRegression) return offload(k, 0, nullptr);
+  const auto it = models_.find(k.kernel);
+  return offload(k, training_end_frame(k.kernel), it != models_.end() ? &it->second : nullptr);
+}
+
+bool OffloadScheduler::offload(const KernelInvocation& k, std::size_t training_end,
+                               const PolynomialModel* model) const {
   switch (policy_) {
     case OffloadPolicy::kNever:
       return false;
@@ -93,11 +100,9 @@ bool OffloadScheduler::offload(const KernelInvocation& k) const {
       return std::isfinite(k.accel_s);  // a kernel no unit can run stays on the host
     case OffloadPolicy::kOracle:
       return k.accel_s < k.host_s;
-    case OffloadPolicy::kRegression: {
-      if (in_training(k)) return false;  // profiled on the host
-      const auto it = models_.find(k.kernel);
-      return it != models_.end() && it->second.predict(k.size) > k.accel_estimate_s;
-    }
+    case OffloadPolicy::kRegression:
+      if (k.frame_index < training_end) return false;  // profiled on the host
+      return model != nullptr && model->predict(k.size) > k.accel_estimate_s;
   }
   return false;
 }
@@ -118,37 +123,55 @@ nlohmann::json KernelScheduleSummary::to_json() const {
 }
 
 std::vector<KernelScheduleSummary> evaluate_schedule(
-    OffloadScheduler& scheduler, const std::vector<KernelInvocation>& invocations) {
+    OffloadScheduler& scheduler, const std::vector<KernelInvocation>& invocations,
+    std::vector<ScheduleDecision>* decisions) {
   scheduler.train(invocations);
-  std::map<std::string, KernelScheduleSummary> by_kernel;
-  std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> eval_samples;
-  std::map<std::string, std::size_t> training_samples;
+  // Per kernel (found once per invocation): its training end and model, its summary over the
+  // evaluation frames (a kernel appears once it has one) and their samples.
+  struct Kernel {
+    std::size_t training_end = 0;
+    const PolynomialModel* model = nullptr;
+    std::size_t training_samples = 0;
+    KernelScheduleSummary summary;
+    std::vector<double> sizes, host_s;
+  };
+  std::map<std::string, Kernel> kernels;
+  if (decisions != nullptr) decisions->reserve(decisions->size() + invocations.size());
   for (const KernelInvocation& k : invocations) {
-    if (scheduler.in_training(k)) {
-      ++training_samples[k.kernel];
+    const auto [it, added] = kernels.try_emplace(k.kernel);
+    Kernel& kernel = it->second;
+    if (added) {
+      kernel.training_end = scheduler.training_end_frame(k.kernel);
+      const auto model = scheduler.models().find(k.kernel);
+      if (model != scheduler.models().end()) kernel.model = &model->second;
+    }
+    const bool training = k.frame_index < kernel.training_end;
+    const bool off = scheduler.offload(k, kernel.training_end, kernel.model);
+    if (decisions != nullptr) decisions->push_back({training, off});
+    if (training) {
+      ++kernel.training_samples;
       continue;
     }
-    KernelScheduleSummary& s = by_kernel[k.kernel];
+    KernelScheduleSummary& s = kernel.summary;
     s.kernel = k.kernel;
     ++s.invocations;
-    const bool off = scheduler.offload(k);
     if (off) ++s.offloaded;
     s.host_only_s += k.host_s;
     s.always_s += k.accel_s;
     s.policy_s += off ? k.accel_s : k.host_s;
     s.oracle_s += std::min(k.accel_s, k.host_s);
-    eval_samples[k.kernel].first.push_back(k.size);
-    eval_samples[k.kernel].second.push_back(k.host_s);
+    kernel.sizes.push_back(k.size);
+    kernel.host_s.push_back(k.host_s);
   }
   std::vector<KernelScheduleSummary> out;
-  for (auto& [kernel, s] : by_kernel) {
-    s.training_samples = training_samples[kernel];
-    const auto model = scheduler.models().find(kernel);
-    s.has_model = model != scheduler.models().end();
+  for (auto& [name, kernel] : kernels) {
+    KernelScheduleSummary& s = kernel.summary;
+    if (s.invocations == 0) continue;  // every invocation in training: not evaluated
+    s.training_samples = kernel.training_samples;
+    s.has_model = kernel.model != nullptr;
     if (s.has_model) {
-      s.r_squared_train = model->second.r_squared;
-      s.r_squared_eval =
-          r_squared(model->second, eval_samples[kernel].first, eval_samples[kernel].second);
+      s.r_squared_train = kernel.model->r_squared;
+      s.r_squared_eval = r_squared(*kernel.model, kernel.sizes, kernel.host_s);
     }
     s.gap_to_oracle = s.oracle_s > 0 ? s.policy_s / s.oracle_s - 1.0 : 0.0;
     out.push_back(s);

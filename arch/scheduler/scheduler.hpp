@@ -68,6 +68,10 @@ class OffloadScheduler {
   /// seen).
   std::size_t training_end_frame(const std::string& kernel) const;
   const std::map<std::string, PolynomialModel>& models() const { return models_; }
+  /// offload(invocation) given its kernel's training_end_frame and model (nullptr: none), found
+  /// by the caller once per kernel.
+  bool offload(const KernelInvocation& invocation, std::size_t training_end,
+               const PolynomialModel* model) const;
 
  private:
   OffloadPolicy policy_;
@@ -93,8 +97,16 @@ struct KernelScheduleSummary {
   nlohmann::json to_json() const;
 };
 
-/// Trains `scheduler` on `invocations` and summarizes every kernel over the evaluation frames.
+/// One invocation's place in the schedule: in the training frames, and the decision.
+struct ScheduleDecision {
+  bool training = false;   ///< OffloadScheduler::in_training
+  bool offloaded = false;  ///< OffloadScheduler::offload
+};
+
+/// Trains `scheduler` on `invocations` and summarizes every kernel over the evaluation frames;
+/// with `decisions`, also each invocation's (in order), as the trained scheduler gives them.
 std::vector<KernelScheduleSummary> evaluate_schedule(
-    OffloadScheduler& scheduler, const std::vector<KernelInvocation>& invocations);
+    OffloadScheduler& scheduler, const std::vector<KernelInvocation>& invocations,
+    std::vector<ScheduleDecision>* decisions = nullptr);
 
 }  // namespace edx::arch

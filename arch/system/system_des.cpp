@@ -49,6 +49,7 @@ std::vector<BackendStep> split_backend(const trace::FrameTrace& frame, double ba
     for (double& g : gaps) g *= host / sum;
   }
   std::vector<BackendStep> steps;
+  steps.reserve(gaps.size() + offloads);  // at most a gap and an offload each
   for (std::size_t g = 0; g < gaps.size(); ++g) {
     if (gaps[g] > 0) steps.push_back({gaps[g], -1});
     if (g < offloads) steps.push_back({0, static_cast<int>(g)});

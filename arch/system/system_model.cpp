@@ -308,6 +308,7 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
                      : prepare_frontend_frame(frame, level0, platform.frontend, platform.transfers);
     const std::vector<double>& kernel_ms = host.kernel_ms[f];
     std::vector<bool> offloaded;
+    offloaded.reserve(frame.kernels.size());
     for (std::size_t k = 0; k < frame.kernels.size(); ++k) {
       bool off = false;
       // The decisions list the candidates in trace order (frame ids are unique in a trace).
@@ -700,10 +701,11 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     }
   }
   OffloadScheduler scheduler(platform.scheduler.policy, platform.scheduler.training_fraction);
-  r.schedule = evaluate_schedule(scheduler, invocations);  // trains the models
+  std::vector<ScheduleDecision> decided;
+  r.schedule = evaluate_schedule(scheduler, invocations, &decided);  // trains the models
   for (std::size_t i = 0; i < invocations.size(); ++i) {
-    r.decisions[i].training = scheduler.in_training(invocations[i]);
-    r.decisions[i].offloaded = scheduler.offload(invocations[i]);
+    r.decisions[i].training = decided[i].training;
+    r.decisions[i].offloaded = decided[i].offloaded;
   }
 
   // Per frame, both variants.

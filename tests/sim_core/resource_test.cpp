@@ -61,6 +61,84 @@ TEST(Resource, ContendedUnitsServeWaitersInArrivalOrder) {
 
 // A unit released while others wait goes to the oldest waiter even if a newcomer asks in the
 // same instant: no barging.
+/// Two uses of a one-unit resource, [request, release) in ns, lived through by processes that
+/// acquire at the request and hold the unit until the release (the second one waits when it asks
+/// before the first's release), or booked afterwards with book_idle: the same statistics.
+struct TwoUses {
+  double busy_integral, busy_max, queue_integral, queue_max;
+  std::uint64_t acquisitions;
+};
+TwoUses two_uses(Resource::Use a, Resource::Use b, bool book) {
+  Simulator sim;
+  Resource unit(sim, 1, "unit");
+  auto hold = [&](Resource::Use u) -> Process {
+    co_await sim.delay_until(u.request);
+    Lease lease = co_await unit.acquire();
+    co_await sim.delay_until(u.release);
+  };
+  auto booker = [&]() -> Process {
+    co_await sim.delay_until(b.release);
+    const Resource::Use uses[] = {a, b};
+    unit.book_idle(uses, 2);
+  };
+  if (book) {
+    sim.spawn(booker());
+  } else {
+    sim.spawn(hold(a));
+    sim.spawn(hold(b));
+  }
+  sim.run_until(b.release + ns(10));
+  EXPECT_EQ(unit.in_use(), 0u);
+  return {unit.busy().integral(), unit.busy().max(), unit.queue().integral(), unit.queue().max(),
+          unit.acquisitions()};
+}
+
+TEST(Resource, BookIdleLeavesTheStatisticsOfAcquireAndRelease) {
+  // Handed over: a [0, 10), b asks at 4 and gets the unit at 10, releases at 15. Busy 15 ns
+  // without a break, queue length 1 over [4, 10).
+  const Resource::Use a{ns(0), ns(10)}, b{ns(4), ns(15)};
+  for (bool book : {false, true}) {
+    const TwoUses u = two_uses(a, b, book);
+    EXPECT_EQ(u.busy_integral, 15.0 * 1000) << book;
+    EXPECT_EQ(u.busy_max, 1.0);
+    EXPECT_EQ(u.queue_integral, 6.0 * 1000) << book;
+    EXPECT_EQ(u.queue_max, 1.0);
+    EXPECT_EQ(u.acquisitions, 2u);
+  }
+  // Apart: b asks at 12 (the unit free since 10) and holds it until 20: busy 18 ns, no queue.
+  for (bool book : {false, true}) {
+    const TwoUses u = two_uses(a, {ns(12), ns(20)}, book);
+    EXPECT_EQ(u.busy_integral, 18.0 * 1000) << book;
+    EXPECT_EQ(u.queue_integral, 0.0) << book;
+    EXPECT_EQ(u.queue_max, 0.0);
+    EXPECT_EQ(u.acquisitions, 2u);
+  }
+}
+
+TEST(Resource, BookIdleRefusesABusyUnitAndUnorderedUses) {
+  Simulator sim;
+  Resource unit(sim, 1, "unit"), pair(sim, 2, "pair");
+  const Resource::Use first{ns(0), ns(10)}, early{ns(0), ns(5)};
+  auto run = [&]() -> Process {
+    co_await sim.delay(ns(20));
+    const Resource::Use backwards[] = {first, early};  // released before the previous one
+    EXPECT_THROW(unit.book_idle(backwards, 2), std::logic_error);
+    // Two waiting at once (c asks before b, which waits for a, has the unit).
+    const Resource::Use two_waiting[] = {first, {ns(2), ns(12)}, {ns(3), ns(14)}};
+    EXPECT_THROW(unit.book_idle(two_waiting, 3), std::logic_error);
+    const Resource::Use future[] = {{ns(0), ns(30)}};  // released after now
+    EXPECT_THROW(unit.book_idle(future, 1), std::logic_error);
+    EXPECT_THROW(pair.book_idle(&first, 1), std::logic_error);  // two units
+    Lease lease = co_await unit.acquire();
+    EXPECT_THROW(unit.book_idle(&first, 1), std::logic_error);  // held
+  };
+  sim.spawn(run());
+  sim.run();
+  EXPECT_EQ(unit.acquisitions(), 1u);  // only the lease: nothing booked
+  EXPECT_EQ(unit.busy().integral(), 0.0);
+  EXPECT_EQ(unit.queue().integral(), 0.0);
+}
+
 TEST(Resource, NewcomerCannotOvertakeAWaiter) {
   Simulator sim;
   Resource unit(sim, 1, "port");

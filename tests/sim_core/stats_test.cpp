@@ -36,6 +36,37 @@ TEST(TimeWeighted, KnownScheduleUtilization) {
   EXPECT_DOUBLE_EQ(busy.current(), 3.0);
 }
 
+TEST(TimeWeighted, SetAtAPastTimeGivesTheSameIntegralAsSetThen) {
+  // 1 over [10, 30) ns and 2 over [40, 50): integral 20 + 20 = 40 ns at 50 ns, max 2.
+  Simulator sim;
+  TimeWeighted live(sim), later(sim);
+  auto schedule = [&]() -> Process {
+    co_await sim.delay(ns(10));
+    live.set(1);
+    co_await sim.delay(ns(20));
+    live.set(0);
+    co_await sim.delay(ns(10));
+    live.set(2);
+    co_await sim.delay(ns(10));
+    live.set(0);
+    // The same changes booked afterwards.
+    later.set_at(ns(10), 1);
+    later.set_at(ns(30), 0);
+    later.set_at(ns(40), 2);
+    later.set_at(ns(50), 0);
+  };
+  sim.spawn(schedule());
+  sim.run_until(ns(60));
+  EXPECT_DOUBLE_EQ(live.integral(), 40.0 * 1000);
+  EXPECT_EQ(later.integral(), live.integral());
+  EXPECT_EQ(later.max(), 2.0);
+  EXPECT_EQ(later.last_change(), ns(50));
+  // Before the last change, or after now: refused.
+  EXPECT_THROW(later.set_at(ns(49), 1), std::logic_error);
+  EXPECT_THROW(later.set_at(ns(61), 1), std::logic_error);
+  EXPECT_EQ(later.integral(), live.integral());
+}
+
 TEST(StatsRegistry, DumpsHierarchicalJsonAndListing) {
   Simulator sim;
   Counter frames;

@@ -142,6 +142,109 @@ TEST(FrontendModel, CameraRateLeavesTheAcceleratorIdleBetweenFrames) {
   EXPECT_NEAR(r.throughput_fps, 1e5, 1e-6);  // the camera's rate
 }
 
+/// Frames through a FrontendAccelerator (a process per frame holding a frame buffer, as
+/// simulate_frontend runs them) with the event log on or off: on, no wait may skip its event, so
+/// every frame runs its task processes; off, a frame that can run alone takes the closed form.
+struct AcceleratorRun {
+  std::vector<FrontendFrameTiming> frames;
+  std::vector<double> busy, queue;  ///< per unit: the integrals
+  std::vector<std::uint64_t> acquisitions;
+  sim::Time end = 0;
+  std::uint64_t events = 0;
+};
+AcceleratorRun run_accelerator(const std::vector<trace::FrameTrace>& frames,
+                               const FrontendConfig& config, sim::Time period, bool log) {
+  sim::Simulator sim;
+  if (log) sim.enable_event_log();
+  FrontendAccelerator accelerator(sim, config);
+  AcceleratorRun r;
+  for (const trace::FrameTrace& f : frames) {
+    r.frames.push_back(prepare_frontend_frame(f, 400, config, {}));
+  }
+  auto frame = [&](FrontendFrameTiming& t, sim::Lease buffer) -> sim::Process {
+    co_await accelerator.run_frame(t, nullptr);
+    buffer.release();
+  };
+  auto dispatch = [&]() -> sim::Process {
+    for (std::size_t f = 0; f < r.frames.size(); ++f) {
+      sim::Lease buffer = co_await accelerator.frame_buffers().acquire();
+      if (period * f > sim.now()) co_await sim.delay_until(period * f);
+      sim.spawn(frame(r.frames[f], std::move(buffer)));
+    }
+  };
+  sim.spawn(dispatch());
+  sim.run();
+  for (Task task : trace::kTasks) {
+    r.busy.push_back(accelerator.unit(task).busy().integral());
+    r.queue.push_back(accelerator.unit(task).queue().integral());
+    r.acquisitions.push_back(accelerator.unit(task).acquisitions());
+  }
+  r.end = sim.now();
+  r.events = sim.events_processed();
+  return r;
+}
+
+void expect_same_run(const AcceleratorRun& a, const AcceleratorRun& b) {
+  ASSERT_EQ(a.frames.size(), b.frames.size());
+  for (std::size_t f = 0; f < a.frames.size(); ++f) {
+    EXPECT_EQ(a.frames[f].transfer_start, b.frames[f].transfer_start) << f;
+    EXPECT_EQ(a.frames[f].end, b.frames[f].end) << f;
+    for (std::size_t i = 0; i < a.frames[f].tasks.size(); ++i) {
+      EXPECT_EQ(a.frames[f].tasks[i].start, b.frames[f].tasks[i].start) << f << " " << i;
+      EXPECT_EQ(a.frames[f].tasks[i].end, b.frames[f].tasks[i].end) << f << " " << i;
+    }
+  }
+  EXPECT_EQ(a.busy, b.busy);
+  EXPECT_EQ(a.queue, b.queue);
+  EXPECT_EQ(a.acquisitions, b.acquisitions);
+  EXPECT_EQ(a.end, b.end);
+}
+
+TEST(FrontendModel, AFrameAloneInClosedFormEqualsItsTaskProcesses) {
+  // Frames of different shapes, one buffer; FC of the right image asks for its unit after the
+  // left one's end (FD 100 > FC 10) or before it (FD 5 < FC 40: it waits, handed the unit).
+  std::vector<trace::FrameTrace> frames = {
+      frame(0, 100, 50, 10, 5, 20, 30), frame(1, 5, 50, 40, 5, 20, 30), frame(2, 7, 3, 2, 9, 1, 1)};
+  FrontendConfig c = unit_config();
+  c.pipeline_fe_sm = false;
+  // The units on clocks of their own (150 and 333 MHz: starts wait for their edges).
+  c.units[static_cast<std::size_t>(Task::FC)].clock_mhz = 150;
+  c.units[static_cast<std::size_t>(Task::DR)].clock_mhz = 333;
+  const AcceleratorRun des = run_accelerator(frames, c, 0, true);
+  const AcceleratorRun closed = run_accelerator(frames, c, 0, false);
+  expect_same_run(des, closed);
+  // By hand: FD L of frame 0 (100 MHz) ran [0, 100] cycles; DR of frame 0 (333 MHz) starts on
+  // its first edge at or after MO's end and ends 400 of its cycles later.
+  EXPECT_EQ(closed.frames[0].tasks[0].end, sim::ns(1000));
+  const TaskSpan& dr = closed.frames[0].tasks.back();
+  ASSERT_EQ(dr.task, Task::DR);
+  const sim::ClockDomain dr_clock("DR", 333);
+  EXPECT_EQ(dr.start, dr_clock.next_edge(closed.frames[0].tasks[8].end));  // MO's end
+  EXPECT_EQ(dr.end, dr_clock.time_of_cycles(dr_clock.cycles_in(dr.start) + 400));
+  // No task process ran: a frame's events are its process's (start, clock edge), not ten more.
+  EXPECT_LT(closed.events, des.events / 3);
+  // FC of the right image asking at the very end of the left one's (FD 10 = FC 10 cycles on one
+  // clock: both at 20): the unit is released, then taken again (no wait), as the processes do.
+  const FrontendConfig same_clock = unit_config();
+  const std::vector<trace::FrameTrace> tie = {frame(0, 10, 50, 10, 5, 20, 30)};
+  const AcceleratorRun tie_des = run_accelerator(tie, same_clock, 0, true);
+  const AcceleratorRun tie_closed = run_accelerator(tie, same_clock, 0, false);
+  expect_same_run(tie_des, tie_closed);
+  EXPECT_EQ(tie_closed.frames[0].tasks[6].end, tie_closed.frames[0].tasks[7].start);  // FC L, R
+  EXPECT_EQ(tie_closed.queue[static_cast<std::size_t>(Task::FC)], 0.0);
+  EXPECT_LT(tie_closed.events, tie_des.events);
+  // Two buffers: frames overlap (the task processes), the same as with the log on.
+  c.pipeline_fe_sm = true;
+  expect_same_run(run_accelerator(frames, c, 0, true), run_accelerator(frames, c, 0, false));
+  // IF of the right image outlasting DR and LSS: the task processes (it is still running when
+  // the frame goes on), and the same as with the log on.
+  c.pipeline_fe_sm = false;
+  const std::vector<trace::FrameTrace> long_if = {frame(0, 10, 5000, 2, 1, 1, 1),
+                                                  frame(1, 10, 50, 2, 1, 1, 1)};
+  expect_same_run(run_accelerator(long_if, c, sim::us(100), true),
+                  run_accelerator(long_if, c, sim::us(100), false));
+}
+
 TEST(FrontendModel, WritesATimelineOfTheChosenFrames) {
   std::vector<trace::FrameTrace> frames;
   for (int i = 0; i < 4; ++i) frames.push_back(frame(i, 100, 50, 10, 5, 20, 30));

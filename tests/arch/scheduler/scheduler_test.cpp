@@ -171,5 +171,39 @@ TEST(OffloadScheduler, EachKernelTrainsOnTheFirstQuarterOfItsOwnInvocations) {
   EXPECT_FALSE(regression.offload(k));
 }
 
+TEST(OffloadScheduler, EvaluationGivesEachInvocationsDecisionAsTheTrainedScheduler) {
+  // The mixed trace, each policy: the decisions evaluate_schedule gives equal in_training and
+  // offload of the trained scheduler, invocation by invocation.
+  const auto all = mixed_invocations();
+  for (OffloadPolicy policy : {OffloadPolicy::kRegression, OffloadPolicy::kAlways,
+                               OffloadPolicy::kNever, OffloadPolicy::kOracle}) {
+    SCOPED_TRACE(to_string(policy));
+    OffloadScheduler scheduler(policy, 0.25);
+    std::vector<ScheduleDecision> decided;
+    const auto summary = evaluate_schedule(scheduler, all, &decided);
+    ASSERT_EQ(decided.size(), all.size());
+    std::size_t training = 0, offloaded = 0;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      EXPECT_EQ(decided[i].training, scheduler.in_training(all[i])) << i;
+      EXPECT_EQ(decided[i].offloaded, scheduler.offload(all[i])) << i;
+      training += decided[i].training ? 1 : 0;
+      offloaded += decided[i].offloaded && !decided[i].training ? 1 : 0;
+    }
+    EXPECT_EQ(training, 50u + 13u + 25u);
+    std::size_t summarized = 0;
+    for (const KernelScheduleSummary& s : summary) summarized += s.offloaded;
+    EXPECT_EQ(summarized, offloaded);
+  }
+  // A kernel whose invocations are all training ones (one invocation: ⌈0.25⌉ = 1) is not
+  // summarized; its decision is still given.
+  OffloadScheduler regression(OffloadPolicy::kRegression, 0.25);
+  std::vector<KernelInvocation> one(all.begin(), all.begin() + 1);
+  std::vector<ScheduleDecision> decided;
+  EXPECT_TRUE(evaluate_schedule(regression, one, &decided).empty());
+  ASSERT_EQ(decided.size(), 1u);
+  EXPECT_TRUE(decided[0].training);
+  EXPECT_FALSE(decided[0].offloaded);
+}
+
 }  // namespace
 }  // namespace edx::arch
