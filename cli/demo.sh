@@ -82,8 +82,10 @@ run() {
 }
 
 step "the paper's scenario mix at ${car_resolution} (Edx-Car input): generate, trace, mode switch"
+# Its worlds go where the seeds' trace store of step 4 keeps its data (STORE/data): seed 1 is this
+# same mix, whose worlds and vocabulary step 4 then finds made.
 run trace --mix paper --resolution "$car_resolution" --frames "$mix_frames" \
-  --data "$out/data/car_mix" --out "$traces/car_mix.db" --force
+  --data "$traces/seeds/data" --out "$traces/car_mix.db" --force
 
 step "the paper's scenario mix at ${drone_resolution} (Edx-Drone input)"
 run trace --mix paper --resolution "$drone_resolution" --frames "$mix_frames" \

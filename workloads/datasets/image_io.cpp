@@ -8,7 +8,6 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
@@ -59,8 +58,18 @@ void check_png_chunks(const std::vector<unsigned char>& bytes, const std::filesy
 cv::Mat read_gray_image(const std::filesystem::path& file) {
   std::vector<unsigned char> bytes;
   {
+    // One read of the whole file (an istreambuf_iterator copy goes byte by byte: ~2 % of a
+    // trace's CPU time at 1280x720).
+    std::error_code ec;
+    const std::uintmax_t size =
+        std::filesystem::is_regular_file(file, ec) ? std::filesystem::file_size(file, ec) : 0;
     std::ifstream in(file, std::ios::binary);
-    if (in) bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (in && !ec && size > 0) {
+      bytes.resize(static_cast<std::size_t>(size));
+      if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) {
+        bytes.clear();  // shorter than its size said (changed meanwhile): reported as unreadable
+      }
+    }
   }
   const bool png = bytes.size() >= kPngSignature.size() &&
                    std::equal(kPngSignature.begin(), kPngSignature.end(), bytes.begin());

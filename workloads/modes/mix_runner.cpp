@@ -53,14 +53,21 @@ std::shared_ptr<const bow::Vocabulary> load_or_train_vocabulary(const MixRunOpti
       options.data_dir /
       fmt::format("vocabulary-{}x{}-s{}.bin", plan.resolution.width, plan.resolution.height, seed);
   if (fs::exists(file)) return std::make_shared<const bow::Vocabulary>(bow::Vocabulary::load(file));
+  // The training samples frames 0, 4, ..., 96 of a 100-frame run: only those are rendered and
+  // written (frame_stride; the same images as in the full run, so the same vocabulary), and the
+  // training reads each frame of that folder. The folder's name says so: a full 100-frame world
+  // of an older run ("vocabulary-world-...") is not mistaken for it.
+  constexpr int kTrainingStride = 4;
   synthetic::GenerateOptions world;
   world.scenario = synthetic::Scenario::kIndoorUnknown;
   world.frames = 100;
+  world.frame_stride = kTrainingStride;
   world.resolution = plan.resolution;
   world.seed = seed;
   world.threads = options.generator_threads;
-  world.out = options.data_dir / fmt::format("vocabulary-world-{}x{}-s{}", plan.resolution.width,
-                                             plan.resolution.height, seed);
+  world.out =
+      options.data_dir / fmt::format("vocabulary-world-{}x{}-s{}-every{}", plan.resolution.width,
+                                     plan.resolution.height, seed, kTrainingStride);
   if (!fs::exists(world.out / "edx_gen.yaml")) {
     synthetic::generate_dataset(world, [&](std::string_view, int done, int total) {
       if (progress) progress("vocabulary data", done, total);
@@ -68,7 +75,7 @@ std::shared_ptr<const bow::Vocabulary> load_or_train_vocabulary(const MixRunOpti
   }
   bow::TrainingOptions training;
   training.datasets = {{world.out, datasets::DatasetFormat::kEuroc, {}}};
-  training.frame_stride = 4;
+  training.frame_stride = 1;
   training.vocabulary.depth = 4;  // 10^4 words for a few thousand training descriptors
   training.vocabulary.seed = seed;
   bow::TrainedVocabulary trained =

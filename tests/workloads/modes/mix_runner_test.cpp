@@ -9,6 +9,9 @@
 #include <stdexcept>
 
 #include "tests/support/temp_dir.hpp"
+#include "workloads/backend/registration/bow/training.hpp"
+#include "workloads/datasets/dataset.hpp"
+#include "workloads/datasets/synthetic/generator.hpp"
 #include "workloads/trace/reader.hpp"
 
 namespace edx::modes {
@@ -42,6 +45,11 @@ TEST(MixRunner, PaperMixSwitchesModesByScenario) {
     }
   }
 
+  // The vocabulary's world: only the 25 frames its training reads (0, 4, ..., 96 of 100).
+  const auto vocabulary_world = datasets::open_dataset(
+      options.data_dir / "vocabulary-world-376x240-s2-every4", datasets::DatasetFormat::kEuroc);
+  EXPECT_EQ(vocabulary_world->frame_count(), 25u);
+
   const trace::TraceReader reader(options.out);
   EXPECT_EQ(reader.frame_count(), 64u);
   const std::vector<trace::FrameTrace> frames = reader.read_all();
@@ -52,6 +60,41 @@ TEST(MixRunner, PaperMixSwitchesModesByScenario) {
   EXPECT_EQ(frames[63].frame.mode, trace::BackendMode::Registration);
   EXPECT_TRUE(frames[63].frame.map_available);
   EXPECT_FALSE(frames[40].frame.map_available);
+}
+
+/// What the mix runner relies on for its vocabulary: training on every frame of a world generated
+/// with frame_stride n gives the same vocabulary, byte for byte, as training on every n-th frame
+/// of the full world.
+TEST(MixRunner, AStridedWorldTrainsTheSameVocabularyAsTheFullOne) {
+  const edx::testing::TempDir dir;
+  synthetic::GenerateOptions world;
+  world.scenario = synthetic::Scenario::kIndoorUnknown;
+  world.frames = 11;
+  world.resolution = synthetic::Resolution{376, 240};
+  world.seed = 5;
+  world.out = dir.path() / "full";
+  synthetic::generate_dataset(world);
+  world.out = dir.path() / "strided";
+  world.frame_stride = 4;
+  synthetic::generate_dataset(world);
+
+  bow::TrainingOptions training;
+  training.vocabulary.depth = 3;
+  training.vocabulary.seed = 5;
+  training.datasets = {{dir.path() / "full", datasets::DatasetFormat::kEuroc, {}}};
+  training.frame_stride = 4;
+  const bow::TrainedVocabulary full = bow::train_vocabulary(training);
+  training.datasets = {{dir.path() / "strided", datasets::DatasetFormat::kEuroc, {}}};
+  training.frame_stride = 1;
+  const bow::TrainedVocabulary strided = bow::train_vocabulary(training);
+  EXPECT_EQ(full.summary.images, 3u);  // frames 0, 4, 8
+  EXPECT_EQ(strided.summary.images, 3u);
+  EXPECT_GT(full.summary.descriptors, 100u);
+  EXPECT_EQ(strided.summary.descriptors, full.summary.descriptors);
+  full.vocabulary.save(dir.path() / "full.bin");
+  strided.vocabulary.save(dir.path() / "strided.bin");
+  EXPECT_EQ(edx::testing::read_file(dir.path() / "full.bin"),
+            edx::testing::read_file(dir.path() / "strided.bin"));
 }
 
 /// A run refused after it generated its worlds (here by a vocabulary file that is not one)

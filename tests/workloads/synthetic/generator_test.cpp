@@ -13,8 +13,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
+#include "tests/support/temp_dir.hpp"
 #include "tests/workloads/synthetic/synthetic_test_support.hpp"
 #include "workloads/datasets/dataset.hpp"
+#include "workloads/datasets/synthetic/euroc_writer.hpp"
 #include "workloads/datasets/synthetic/scenes.hpp"
 
 namespace edx::synthetic {
@@ -202,6 +204,94 @@ TEST(SyntheticGen, IdenticalArgumentsGiveIdenticalBytes) {
   EXPECT_GT(differing, a.size() / 2);
   EXPECT_NE(a.at("map/mav0/state_groundtruth_estimate0/data.csv"),
             c.at("map/mav0/state_groundtruth_estimate0/data.csv"));
+}
+
+// frame_stride: frames 0, n, 2n, ... of each run with the very images and time stamps they have
+// in the full run (the exposure walk and the noise advance over the skipped frames), the
+// camera rate 20/n Hz, the IMU, ground truth and GPS complete.
+TEST(SyntheticGen, FrameStrideWritesTheFullRunsFramesOnly) {
+  TempDir dir("frame_stride");
+  GenerateOptions full = small_options(Scenario::kOutdoorKnown, dir.path() / "full", 10);
+  generate_dataset(full);
+  GenerateOptions sparse = full;
+  sparse.out = dir.path() / "sparse";
+  sparse.frame_stride = 4;
+  const GenerateSummary summary = generate_dataset(sparse);
+  ASSERT_EQ(summary.runs.size(), 2u);
+  for (const RunSummary& run : summary.runs) {
+    SCOPED_TRACE(run.name);
+    EXPECT_EQ(run.frames, 3);  // frames 0, 4, 8 of 10
+    const fs::path a = full.out / run.name / "mav0";
+    const fs::path b = sparse.out / run.name / "mav0";
+    const auto full_cams = testing::read_csv(a / "cam0" / "data.csv");
+    const auto sparse_cams = testing::read_csv(b / "cam0" / "data.csv");
+    ASSERT_EQ(full_cams.size(), 10u);
+    ASSERT_EQ(sparse_cams.size(), 3u);
+    for (std::size_t i = 0; i < sparse_cams.size(); ++i) {
+      EXPECT_EQ(sparse_cams[i], full_cams[4 * i]);
+      for (const char* cam : {"cam0", "cam1"}) {
+        const cv::Mat x =
+            cv::imread((a / cam / "data" / full_cams[4 * i][1]).string(), cv::IMREAD_UNCHANGED);
+        const cv::Mat y =
+            cv::imread((b / cam / "data" / sparse_cams[i][1]).string(), cv::IMREAD_UNCHANGED);
+        ASSERT_FALSE(x.empty());
+        ASSERT_EQ(x.size(), y.size());
+        EXPECT_EQ(cv::norm(x, y, cv::NORM_INF), 0.0) << cam << " frame " << 4 * i;
+      }
+    }
+    // Frame 4 differs from frame 0 (the test would pass on a camera that never moves).
+    EXPECT_GT(
+        cv::norm(cv::imread((b / "cam0" / "data" / sparse_cams[0][1]).string()),
+                 cv::imread((b / "cam0" / "data" / sparse_cams[1][1]).string()), cv::NORM_INF),
+        0.0);
+    for (const char* file :
+         {"imu0/data.csv", "state_groundtruth_estimate0/data.csv", "gps0/data.csv"}) {
+      EXPECT_EQ(edx::testing::read_file(a / file), edx::testing::read_file(b / file)) << file;
+    }
+    cv::FileStorage cam_yaml((b / "cam0" / "sensor.yaml").string(), cv::FileStorage::READ);
+    EXPECT_DOUBLE_EQ(static_cast<double>(cam_yaml["rate_hz"]), 5.0);
+  }
+  EXPECT_NE(edx::testing::read_file(sparse.out / "edx_gen.yaml").find("frame_stride: 4\n"),
+            std::string::npos);
+  EXPECT_EQ(edx::testing::read_file(full.out / "edx_gen.yaml").find("frame_stride"),
+            std::string::npos);
+  EXPECT_EQ(
+      datasets::open_dataset(sparse.out / "loc", datasets::DatasetFormat::kEuroc)->frame_count(),
+      3u);
+
+  for (const int stride : {0, 11}) {
+    GenerateOptions bad = small_options(Scenario::kIndoorUnknown, dir.path() / "bad", 10);
+    bad.frame_stride = stride;
+    try {
+      generate_dataset(bad);
+      ADD_FAILURE() << "frame stride " << stride << " accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()),
+                "frame stride: expected 1 to 10 (the frames), got " + std::to_string(stride));
+    }
+    EXPECT_FALSE(fs::exists(bad.out));
+  }
+}
+
+// The PNG writer is lossless: what the camera captured is what a reader decodes, for sensor-like
+// noise and for flat and saturated areas.
+TEST(SyntheticGen, WrittenImagesDecodeToTheCapturedPixels) {
+  TempDir dir("png");
+  const StereoRig rig = make_rig(RigKind::kEuroc, Resolution{96, 64});
+  EurocWriter writer(dir.path() / "mav0", rig, kCameraRateHz, "png round trip");
+  cv::Mat left(64, 96, CV_8UC1), right(64, 96, CV_8UC1, cv::Scalar(255));
+  cv::RNG rng(7);
+  rng.fill(left, cv::RNG::UNIFORM, 0, 256);
+  right(cv::Rect(10, 5, 40, 30)).setTo(0);
+  writer.add_frame(kStartTimeNs, left, right);
+  for (const auto& [cam, image] : {std::pair{"cam0", &left}, std::pair{"cam1", &right}}) {
+    const cv::Mat read = cv::imread(
+        (dir.path() / "mav0" / cam / "data" / (std::to_string(kStartTimeNs) + ".png")).string(),
+        cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(read.type(), CV_8UC1) << cam;
+    ASSERT_EQ(read.size(), image->size()) << cam;
+    EXPECT_EQ(cv::norm(read, *image, cv::NORM_INF), 0.0) << cam;
+  }
 }
 
 TEST(SyntheticGen, RejectsBadArguments) {

@@ -122,6 +122,10 @@ void validate(const GenerateOptions& o) {
           fmt::format("map frames: expected 1 to 1000000 frames, got {}", *o.map_frames));
     }
   }
+  if (o.frame_stride < 1 || o.frame_stride > o.frames) {
+    throw std::runtime_error(fmt::format("frame stride: expected 1 to {} (the frames), got {}",
+                                         o.frames, o.frame_stride));
+  }
   if (o.threads < 1) throw std::runtime_error("threads: expected at least 1");
   if (!(o.gps.sigma_m >= 0)) throw std::runtime_error("gps sigma: expected >= 0");
   if (!(o.gps.dropout_rate_per_min >= 0))
@@ -151,6 +155,7 @@ std::string describe(const GenerateOptions& o, const StereoRig& rig,
   y += fmt::format("seed: {}\n", o.seed);
   y += fmt::format("frames_per_run: {}\n", o.frames);
   if (o.map_frames) y += fmt::format("map_frames: {}\n", *o.map_frames);
+  if (o.frame_stride != 1) y += fmt::format("frame_stride: {}\n", o.frame_stride);
   y += fmt::format("rig: {}\n", to_string(rig.kind));
   y += fmt::format("resolution: [{}, {}]\n", rig.width, rig.height);
   y += fmt::format("baseline_m: {}\n", rig.baseline_m);
@@ -242,12 +247,17 @@ GenerateSummary generate_dataset(const GenerateOptions& options, const ProgressF
 
     const fs::path run_dir = name.empty() ? tmp : tmp / name;
     EurocWriter writer(
-        run_dir / "mav0", rig, kCameraRateHz,
+        run_dir / "mav0", rig, kCameraRateHz / options.frame_stride,
         fmt::format("edx synthetic {} ({}{}), {} rig, seed {}", to_string(options.scenario),
                     outdoor ? "street" : "warehouse", name.empty() ? "" : ", " + name + " run",
                     to_string(rig.kind), options.seed));
     StereoCamera camera(scene.world, rig, options.image, run_seed, options.threads);
     for (int k = 0; k < frames; ++k) {
+      if (k % options.frame_stride != 0) {
+        camera.skip();
+        if (progress) progress(name, k + 1, frames);
+        continue;
+      }
       const std::int64_t offset_ns = static_cast<std::int64_t>(k) * kCameraPeriodNs;
       const BodyState state = traj.at(static_cast<double>(offset_ns) * 1e-9);
       const auto t_render = std::chrono::steady_clock::now();
@@ -271,7 +281,7 @@ GenerateSummary generate_dataset(const GenerateOptions& options, const ProgressF
 
     run.name = name;
     run.mav0 = (name.empty() ? out : out / name) / "mav0";
-    run.frames = frames;
+    run.frames = (frames + options.frame_stride - 1) / options.frame_stride;  // written
     run.imu_samples = inertial.imu.size();
     run.duration_s = duration_s;
     for (std::size_t i = 1; i < inertial.ground_truth.size(); ++i) {

@@ -47,6 +47,11 @@ struct GenerateOptions {
   /// more of the world than the loc run (which re-traverses its route from the start) visits:
   /// the map-size option of the registration studies (docs/REGISTRATION.md).
   std::optional<int> map_frames;
+  /// Renders and writes only frames 0, n, 2n, ... of each run (n = frame_stride), with the
+  /// images and time stamps those frames have in the full run (camera rate 20/n Hz); IMU, ground
+  /// truth and GPS stay complete. For data of which only every n-th frame is read (the
+  /// vocabulary training of `edx trace --mix`).
+  int frame_stride = 1;
   std::optional<Resolution> resolution;  ///< default: the rig's native resolution
   std::optional<RigKind> rig;            ///< default: by resolution, else by scenario
   std::uint64_t seed = 1;
@@ -81,7 +86,7 @@ using ProgressFn = std::function<void(std::string_view run, int done, int total)
 struct RunSummary {
   std::string name;            ///< "", "map" or "loc"
   std::filesystem::path mav0;  ///< final location
-  int frames = 0;
+  int frames = 0;              ///< frames written (every frame_stride-th of the run)
   std::size_t imu_samples = 0;
   std::size_t gps_fixes = 0;
   double duration_s = 0;

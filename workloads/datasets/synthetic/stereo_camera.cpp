@@ -100,4 +100,9 @@ StereoImages StereoCamera::capture(const Eigen::Isometry3d& T_world_body) {
   return images;
 }
 
+void StereoCamera::skip() {
+  exposure_.next();
+  ++frame_;
+}
+
 }  // namespace edx::synthetic

@@ -55,6 +55,10 @@ class StereoCamera {
   /// Captures the next frame from body pose T_world_body (frames must be captured in order:
   /// the exposure evolves from frame to frame).
   StereoImages capture(const Eigen::Isometry3d& T_world_body);
+  /// Passes over the next frame without rendering it: the exposure walk and the frame count
+  /// (the noise seed) advance as capture() advances them, so a later frame is the same image as
+  /// in a run that captured every frame.
+  void skip();
 
   PinholeCamera camera() const;
   const StereoRig& rig() const { return rig_; }
