@@ -5,7 +5,9 @@
 
 #include <fmt/format.h>
 
+#include <span>
 #include <stdexcept>
+#include <type_traits>
 
 namespace edx::results {
 namespace {
@@ -433,8 +435,10 @@ const TableSpec* find_table(std::string_view name) {
 
 namespace {
 
+/// `rows` by view: the run's one row is read in place, not copied into a vector (its summary
+/// and config JSON are large).
 template <class Row>
-TableValues values_of(const Table<Row>& table, const std::vector<Row>& rows) {
+TableValues values_of(const Table<Row>& table, std::type_identity_t<std::span<const Row>> rows) {
   TableValues out{&table.spec, {}};
   for (const Row& r : rows) out.rows.push_back(table.values(r));
   return out;
@@ -443,7 +447,7 @@ TableValues values_of(const Table<Row>& table, const std::vector<Row>& rows) {
 }  // namespace
 
 std::vector<TableValues> run_values(const RunRows& rows) {
-  return {values_of(runs_table(), std::vector<RunRow>{rows.run}),
+  return {values_of(runs_table(), {&rows.run, 1}),
           values_of(frames_table(), rows.frame_rows),
           values_of(latency_table(), rows.latency),
           values_of(throughput_table(), rows.throughput),

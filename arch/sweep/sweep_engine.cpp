@@ -409,10 +409,12 @@ void SweepContext::set_trace(std::size_t w, std::shared_ptr<const LoadedTrace> t
 SystemResult SweepContext::execute_simulate(const Platform& platform, std::size_t w) {
   const std::shared_ptr<const LoadedTrace> trace = trace_of(w);
   // Frontend studies are shared between points with the same frontend_study_key (computed once
-  // per process, by the first worker asking).
-  FrontendStudy study =
-      made_once(mutex_, studies_, frontend_study_key(platform) + "\ntrace=" + trace->hash,
-                [&] { return study_frontend(platform, trace->frames, trace->meta, trace->name); });
+  // per process, by the first worker asking), read in place by each point (not copied).
+  const std::shared_ptr<const FrontendStudy> study =
+      made_once(mutex_, studies_, frontend_study_key(platform) + "\ntrace=" + trace->hash, [&] {
+        return std::make_shared<const FrontendStudy>(
+            study_frontend(platform, trace->frames, trace->meta, trace->name));
+      });
   // So are the CPU baseline's DES runs, by baseline_des_key (after the checks simulate_system
   // makes first: a platform that fails them leaves no runs behind for the others).
   platform.validate();
@@ -421,10 +423,9 @@ SystemResult SweepContext::execute_simulate(const Platform& platform, std::size_
   options.baseline =
       made_once(mutex_, baselines_, baseline_des_key(platform) + "\ntrace=" + trace->hash, [&] {
         return std::make_shared<const BaselineRuns>(
-            run_baseline_des(platform, trace->frames, study));
+            run_baseline_des(platform, trace->frames, *study));
       });
-  return simulate_system(platform, trace->frames, trace->meta, trace->name, std::move(study),
-                         options);
+  return simulate_system(platform, trace->frames, trace->meta, trace->name, study, options);
 }
 
 SweepTaskResult SweepContext::execute_local(const SweepTask& task) {

@@ -114,7 +114,7 @@ class SweepContext {
   void add_references(std::size_t grid_workloads);
   std::mutex mutex_;
   std::map<std::size_t, std::shared_future<std::shared_ptr<const LoadedTrace>>> traces_;
-  std::map<std::string, std::shared_future<FrontendStudy>> studies_;
+  std::map<std::string, std::shared_future<std::shared_ptr<const FrontendStudy>>> studies_;
   std::map<std::string, std::shared_future<std::shared_ptr<const BaselineRuns>>> baselines_;
 };
 

@@ -287,15 +287,16 @@ SystemRun run_variant(const std::vector<SystemFrameWork>& work, const Platform& 
 /// Model "des": runs the whole-system DES (system_des.hpp) for both variants, isolated and
 /// streamed (the baseline's from `options.baseline` when given), and replaces the analytical
 /// latencies of `r`'s frames by the isolated runs'.
-/// `accel`, `transfers`: per accelerable invocation, in the order of r.decisions.
+/// `accel`, `transfers`: per accelerable invocation, in the order of r.decisions; `study`: the
+/// platform's frontend study.
 void simulate_platform_des(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
-                           SystemResult& r,
+                           const FrontendStudy& study, SystemResult& r,
                            const std::vector<std::shared_ptr<const OffloadPlan>>& accel,
                            const std::vector<KernelTransfer>& transfers,
                            const SystemSimOptions& options) {
-  const PlatformHostTimes& host = r.frontend.accelerated_host_times();
-  const std::int64_t level0 = static_cast<std::int64_t>(r.frontend.width) * r.frontend.height;
-  const FrontendStudy::PreparedFrame* prepared = prepared_frames(r.frontend, frames.size());
+  const PlatformHostTimes& host = study.accelerated_host_times();
+  const std::int64_t level0 = static_cast<std::int64_t>(study.width) * study.height;
+  const FrontendStudy::PreparedFrame* prepared = prepared_frames(study, frames.size());
   // The accelerated variant's work (the baseline's fields are run_baseline_des's).
   std::vector<SystemFrameWork> work(frames.size());
   std::size_t next = 0;  // index into decisions
@@ -336,7 +337,7 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
   }
   std::shared_ptr<const BaselineRuns> baseline = options.baseline;
   if (!baseline) {
-    baseline = std::make_shared<const BaselineRuns>(run_baseline_des(platform, frames, r.frontend));
+    baseline = std::make_shared<const BaselineRuns>(run_baseline_des(platform, frames, study));
   }
   const BaselineRuns accelerated{run_variant(work, platform, true, true, {}),
                                  run_variant(work, platform, true, false, timeline_options)};
@@ -639,9 +640,14 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   }
 }
 
-SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
-                             const trace::TraceMeta& trace_meta, const std::string& trace_path,
-                             FrontendStudy frontend, const SystemSimOptions& options) {
+namespace {
+
+/// simulate_system on the platform's frontend study `study` (its `platform` name may be another
+/// platform's: the study reads only what frontend_study_key covers); study is the caller's.
+SystemResult simulate_on_study(const Platform& platform,
+                               const std::vector<trace::FrameTrace>& frames,
+                               const trace::TraceMeta& trace_meta, const std::string& trace_path,
+                               const FrontendStudy& study, const SystemSimOptions& options) {
   if (options.timeline && options.timeline_first >= frames.size()) {
     throw std::runtime_error(
         fmt::format("{}: the timeline's first frame {} is past the trace's last ({} frames)",
@@ -656,13 +662,11 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   r.trace_path = trace_path;
   r.config_hash = fnv1a_hex(platform.to_json().dump());
   r.trace_hash = trace_hash(frames.size(), trace_meta);
-  r.frontend = std::move(frontend);
-  r.frontend.platform = platform.name;
 
   // Every accelerable kernel: host time, accelerator time (units + link), SPM check.
   // The study's mapping: frontend_study_key includes the host, so it is this platform's. The
   // kernels' host times and the accelerated backend's are the accelerated system's host's.
-  const PlatformHostTimes& host = r.frontend.accelerated_host_times();
+  const PlatformHostTimes& host = study.accelerated_host_times();
   std::vector<KernelInvocation> invocations;
   std::vector<std::shared_ptr<const OffloadPlan>> accel;
   std::vector<KernelTransfer> transfers;
@@ -711,10 +715,10 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
   // Per frame, both variants.
   r.baseline.variant = "baseline";
   r.accelerated.variant = "accelerated";
-  const std::int64_t extra_dram = r.frontend.memory.extra_dram_bytes_per_frame;
+  const std::int64_t extra_dram = study.memory.extra_dram_bytes_per_frame;
   std::size_t next = 0;  // index into decisions (frame order)
   const std::size_t backend_resources = platform.backend->resource_names().size();
-  const FrontendStudy::PreparedFrame* prepared = prepared_frames(r.frontend, frames.size());
+  const FrontendStudy::PreparedFrame* prepared = prepared_frames(study, frames.size());
   std::vector<double> cpu_fe_end;
   double cpu_fe_clock = 0;
   for (std::size_t f = 0; f < frames.size(); ++f) {
@@ -722,13 +726,13 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     FrameResult base;
     base.frame_id = frame.frame.frame_id;
     base.mode = trace::to_string(frame.frame.mode);
-    base.frontend_ms = r.frontend.frame_cpu_ms[f];
-    base.backend_ms = r.frontend.frame_backend_host_ms[f] + r.frontend.frame_backend_device_ms[f];
+    base.frontend_ms = study.frame_cpu_ms[f];
+    base.backend_ms = study.frame_backend_host_ms[f] + study.frame_backend_device_ms[f];
     base.e2e_ms = base.frontend_ms + base.backend_ms;
     // The host's work (its cores' busy time, as the DES counts it): the chains' host parts and
     // the backend's; it waits while the coprocessor computes. At most the frame.
-    double host_work = r.frontend.frame_backend_host_ms[f];
-    for (const std::vector<ChainTime>& stage : r.frontend.frame_cpu_chains[f]) {
+    double host_work = study.frame_backend_host_ms[f];
+    for (const std::vector<ChainTime>& stage : study.frame_cpu_chains[f]) {
       for (const ChainTime& chain : stage) host_work += chain.host_ms;
     }
     base.host_busy_ms = std::min(host_work, base.e2e_ms);
@@ -737,7 +741,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     cpu_fe_end.push_back(cpu_fe_clock);
 
     FrameResult acc = base;
-    acc.frontend_ms = r.frontend.frame_accel_ms[f];
+    acc.frontend_ms = study.frame_accel_ms[f];
     std::array<cost::FrameActivity, 7> task_activity;
     if (prepared != nullptr) {
       acc.activity = prepared[f].activity;
@@ -747,7 +751,7 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     }
     acc.activity.fpga_present = true;
     acc.activity.dram_bytes = double(extra_dram);
-    acc.activity.link_bytes = double(r.frontend.frame_results_bytes[f]);
+    acc.activity.link_bytes = double(study.frame_results_bytes[f]);
     // The same work by resource (docs/MODEL.md, "Energy per resource").
     for (std::size_t t = 0; t < task_activity.size(); ++t) {
       acc.parts.frontend[t] =
@@ -798,19 +802,38 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
     r.accelerated.frames.push_back(std::move(acc));
   }
   if (options.model == SystemModelKind::kDes) {
-    simulate_platform_des(platform, frames, r, accel, transfers, options);
+    simulate_platform_des(platform, frames, study, r, accel, transfers, options);
   }
   for (FrameResult& f : r.baseline.frames) set_energy(f, platform, false);
   for (FrameResult& f : r.accelerated.frames) set_energy(f, platform, true);
   finish_variant(r.baseline, cpu_fe_end);
-  finish_variant(r.accelerated, r.frontend.frame_pipelined_end_ms);
+  finish_variant(r.accelerated, study.frame_pipelined_end_ms);
 
   std::vector<MemoryStructure> memories;
-  for (const StructureUsage& s : r.frontend.memory.bram.structures) memories.push_back(s.structure);
+  for (const StructureUsage& s : study.memory.bram.structures) memories.push_back(s.structure);
   r.resources = cost::build_resource_report(
       platform.frontend, *platform.backend, platform.cost, *platform.memory, memories,
       Device::by_name(platform.device), platform.scheduler.offload);
   return r;
+}
+
+}  // namespace
+
+SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
+                             const trace::TraceMeta& trace_meta, const std::string& trace_path,
+                             FrontendStudy frontend, const SystemSimOptions& options) {
+  frontend.platform = platform.name;
+  SystemResult r = simulate_on_study(platform, frames, trace_meta, trace_path, frontend, options);
+  r.frontend = std::move(frontend);
+  return r;
+}
+
+SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
+                             const trace::TraceMeta& trace_meta, const std::string& trace_path,
+                             const std::shared_ptr<const FrontendStudy>& frontend,
+                             const SystemSimOptions& options) {
+  if (!frontend) throw std::logic_error("simulate_system: no frontend study");
+  return simulate_on_study(platform, frames, trace_meta, trace_path, *frontend, options);
 }
 
 std::string format_system_result(const SystemResult& r) {

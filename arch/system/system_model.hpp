@@ -155,6 +155,8 @@ struct SystemResult {
   std::string trace_hash;   ///< hex FNV-1a 64 of the trace's meta and frame count
   std::string trace_path;
   Platform config;
+  /// The frontend study (its `platform` this one's); empty when the run was given a shared
+  /// study (simulate_system with a shared_ptr: a sweep's points).
   FrontendStudy frontend;
   VariantResult baseline, accelerated;
   std::vector<KernelDecision> decisions;
@@ -215,6 +217,14 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
 SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
                              const trace::TraceMeta& trace_meta, const std::string& trace_path,
                              FrontendStudy frontend, const SystemSimOptions& options = {});
+
+/// The same on a study shared with other runs (a sweep's points with equal frontend_study_key):
+/// only read, never copied; the result's `frontend` is left empty (its rows and summary do not
+/// hold the study).
+SystemResult simulate_system(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
+                             const trace::TraceMeta& trace_meta, const std::string& trace_path,
+                             const std::shared_ptr<const FrontendStudy>& frontend,
+                             const SystemSimOptions& options = {});
 
 std::string format_system_result(const SystemResult& result);
 

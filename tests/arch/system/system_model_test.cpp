@@ -245,6 +245,31 @@ TEST(SystemModel, AStudysPreparedFramesAreWhatTheModelWouldMakeAndGiveTheSameRes
   EXPECT_EQ(with, without);
 }
 
+// A sweep's points read one shared study in place (named after the first point's platform):
+// each run's summary and rows, frames included, are those of a run on its own copy of the
+// study, to the last bit; the shared study is left as it was and the result holds none.
+TEST(SystemModel, ARunOnASharedStudyEqualsOneOnItsOwnCopy) {
+  const Platform first = test_platform("always");
+  Platform p = first;
+  p.name = "another";
+  const std::vector<trace::FrameTrace> frames = three_frames();
+  const auto shared =
+      std::make_shared<const FrontendStudy>(study_frontend(first, frames, kMeta, "t.db"));
+  const std::string study_before = shared->to_json().dump();
+  const SystemResult own = simulate_system(p, frames, kMeta, "t.db", FrontendStudy(*shared));
+  const SystemResult on_shared = simulate_system(p, frames, kMeta, "t.db", shared);
+  EXPECT_EQ(own.frontend.platform, "another");
+  EXPECT_EQ(on_shared.to_json().dump(), own.to_json().dump());
+  EXPECT_EQ(export_run_rows(result_rows(on_shared, true)).dump(),
+            export_run_rows(result_rows(own, true)).dump());
+  EXPECT_EQ(on_shared.accelerated.frames.size(), 3u);
+  EXPECT_TRUE(on_shared.frontend.frame_accel_ms.empty());
+  EXPECT_EQ(shared->to_json().dump(), study_before);
+  EXPECT_EQ(shared->platform, first.name);
+  EXPECT_THROW(simulate_system(p, frames, kMeta, "t.db", std::shared_ptr<const FrontendStudy>()),
+               std::logic_error);
+}
+
 TEST(SystemModel, InvocationsOfOneShapeShareTheirCostsOnly) {
   std::vector<trace::FrameTrace> frames = {frame(0, BackendMode::Registration, 10'000'000),
                                            frame(1, BackendMode::Registration, 10'000'000)};

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 
+#include "workloads/trace/codec.hpp"
 #include "workloads/trace/reader.hpp"
 #include "workloads/trace/schema.hpp"
 #include "workloads/trace/validate.hpp"
@@ -291,6 +292,71 @@ TEST_F(TraceTest, ReaderNamesTheBadRow) {
   TraceReader reader(path);
   EXPECT_THAT([&] { reader.read_all(); }, ::testing::ThrowsMessage<std::runtime_error>(HasSubstr(
                                               "tasks row (frame 2, seq 1): unknown task 'XX'")));
+}
+
+TEST_F(TraceTest, ReaderNamesTheBadRowOfEachTableAndColumn) {
+  // The row's place is formatted only when a check fails: each table's still names its row.
+  const auto error_after = [&](const std::string& sql) {
+    fs::remove(dir_ / "trace.db");
+    const fs::path path = write_sample(3);
+    {
+      SQLite::Database db(path.string(), SQLite::OPEN_READWRITE);
+      db.exec(sql);
+    }
+    try {
+      TraceReader(path).read_all();
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_THAT(error_after("UPDATE frames SET frontend_host_ns = -5 WHERE frame_id = 1"),
+              HasSubstr("frames row 1: column frontend_host_ns is negative (-5)"));
+  EXPECT_THAT(error_after("UPDATE frames SET gps_available = 2 WHERE frame_id = 0"),
+              HasSubstr("frames row 0: column gps_available must be 0 or 1, is 2"));
+  EXPECT_THAT(error_after("UPDATE tasks SET pixels = 'many' WHERE frame_id = 1 AND seq = 0"),
+              HasSubstr("tasks row (frame 1, seq 0): column pixels is not an integer"));
+  EXPECT_THAT(error_after("UPDATE kernels SET kernel = x'41' WHERE frame_id = 2 AND seq = 1"),
+              HasSubstr("kernels row (frame 2, seq 1): column kernel is not text"));
+  EXPECT_THAT(error_after("UPDATE ops SET m = -1 WHERE frame_id = 0 AND kernel_seq = 1"),
+              HasSubstr("ops row (frame 0, kernel 1, seq 0): column m is negative (-1)"));
+  EXPECT_THAT(error_after("UPDATE tasks SET per_level = '[{}' WHERE frame_id = 0 AND seq = 0"),
+              HasSubstr("tasks row (frame 0, seq 0): per_level is not a JSON array"));
+}
+
+TEST(PerLevelCodec, TheWritersTextAndOtherJsonDecodeAlike) {
+  const std::vector<LevelWork> levels = {{0, 1280, 720, 921600, 35, 140},
+                                         {1, 640, 360, 230400, 0, 0},
+                                         {-3, 2147483647, -2147483648, 0, -7, 999999999999}};
+  const std::string text = encode_per_level(levels);
+  EXPECT_TRUE(text.starts_with(R"([{"height":720,"iterations":140,"level":0,"pixels":921600,)"))
+      << text;
+  EXPECT_EQ(decode_per_level(text), levels);  // the writer's own text (read without a parser)
+  EXPECT_TRUE(decode_per_level("[]").empty());
+  // Text the writer does not produce goes through the JSON parser, to the same values.
+  EXPECT_EQ(decode_per_level(R"([ {"level":0,"width":1280,"height":720,"pixels":921600,)"
+                             R"("points":35,"iterations":140} ])"),
+            std::vector<LevelWork>{levels[0]});
+  EXPECT_EQ(decode_per_level(R"([{"height":720,"iterations":-0,"level":0,"pixels":921600,)"
+                             R"("points":35,"width":1280}])")
+                .at(0)
+                .iterations,
+            0);
+  EXPECT_EQ(decode_per_level(R"([{"height":720,"iterations":1.0,"level":0,"pixels":9,)"
+                             R"("points":35,"width":1280}])")
+                .at(0)
+                .iterations,
+            1);
+  // And what the parser refuses is refused.
+  for (const char* bad : {"[", "[{}",
+                          R"([{"height":07,"iterations":1,"level":0,"pixels":9,)"
+                          R"("points":35,"width":1280}])",
+                          R"([{"height":7,"iterations":1,"level":0,"pixels":9,"points":35,)"
+                          R"("width":1280}] x)",
+                          "{}"}) {
+    EXPECT_THROW(decode_per_level(bad), std::invalid_argument) << bad;
+  }
+  EXPECT_THROW(decode_per_level(R"([{"level":0}])"), std::invalid_argument);
 }
 
 TEST_F(TraceTest, ReaderRejectsNonIncreasingTimestamps) {
