@@ -301,9 +301,10 @@ SegmentRunSummary MixRun::replay(const RecordedSegment& recorded, const MixSegme
   }
   for (const auto& [mode, result] : recorded.accuracy) series_[mode].ate.add(result);
   if (recorded.map) {
-    // Saved by the traced run into the same data folder (the key's); again if removed since.
+    // Saved again, as the traced segment would: a later segment of the same world (a SLAM
+    // measured run) may have saved its own map to the same file since.
     const std::optional<fs::path>& file = recorded.summary.map_saved;
-    if (file && !fs::exists(*file)) backend::slam::save_map(*recorded.map, *file);
+    if (file) backend::slam::save_map(*recorded.map, *file);
     maps_[recorded.world] = recorded.map;
   }
   return recorded.summary;

@@ -81,7 +81,8 @@ std::vector<trace::FrameTrace> without_host_times(std::vector<trace::FrameTrace>
 /// registration run that replays the vio run's mapping segment writes the same rows and measures
 /// the same as the registration run that traces it itself; its mapping frames are the vio run's
 /// records (their host times too: replayed, not traced again). Another workload (other SLAM
-/// options) does not take the entry.
+/// options) does not take the entry. The replay leaves the mapping's map in the data folder, as
+/// tracing it does (a SLAM measured run in between saved its own there).
 TEST(MixRunner, AReplayedMappingSegmentGivesTheSameTraceAsTracingIt) {
   const edx::testing::TempDir dir;
   const synthetic::Resolution resolution{376, 240};
@@ -94,11 +95,20 @@ TEST(MixRunner, AReplayedMappingSegmentGivesTheSameTraceAsTracingIt) {
     return options;
   };
   const MixRunSummary traced = run_mix(options_for(trace::BackendMode::Registration, "a.db"));
+  ASSERT_TRUE(traced.segments[0].map_saved);
+  const std::filesystem::path map_file = *traced.segments[0].map_saved;
+  const std::string mapping_map = edx::testing::read_file(map_file);
 
   const std::shared_ptr<SegmentCache> cache = make_segment_cache();
   MixRunOptions vio = options_for(trace::BackendMode::Vio, "vio.db");
   vio.segment_cache = cache;
   run_mix(vio);
+  // The slam run replays the mapping segment too; its measured segment (SLAM in the same world)
+  // then saves its own map over the mapping's.
+  MixRunOptions slam = options_for(trace::BackendMode::Slam, "slam.db");
+  slam.segment_cache = cache;
+  run_mix(slam);
+  ASSERT_NE(edx::testing::read_file(map_file), mapping_map);
   MixRunOptions registration = options_for(trace::BackendMode::Registration, "b.db");
   registration.segment_cache = cache;
   const MixRunSummary replayed = run_mix(registration);
@@ -113,6 +123,8 @@ TEST(MixRunner, AReplayedMappingSegmentGivesTheSameTraceAsTracingIt) {
   EXPECT_EQ(b[0].frame.mode, trace::BackendMode::Slam);
   EXPECT_EQ(b[12].frame.mode, trace::BackendMode::Registration);
   EXPECT_TRUE(b[12].frame.map_available);
+  // The replay saved the mapping's map again, as tracing it does.
+  EXPECT_EQ(edx::testing::read_file(map_file), mapping_map);
   // The same segments' and modes' figures (ATE, estimates, frames by mode).
   ASSERT_EQ(replayed.segments.size(), 2u);
   for (std::size_t i = 0; i < 2; ++i) {
