@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <fstream>
+#include <memory>
+#include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include "workloads/modes/mix_runner.hpp"
 #include "workloads/trace/reader.hpp"
@@ -118,6 +121,12 @@ std::vector<CharacterizationRun> run_characterization(const CharacterizationOpti
   options.validate();
   fs::create_directories(options.trace_dir);
   std::vector<CharacterizationRun> runs;
+  // A known scenario's runs (vio, slam, registration, one after another) share their first
+  // segment, SLAM over the mapping run: traced by the first of them that is not reused, replayed
+  // by the others (mix_runner.hpp, SegmentCache). One cache per (seed, scenario): the entry goes
+  // with the scenario's last run.
+  std::shared_ptr<SegmentCache> mapping;
+  std::optional<std::pair<std::uint64_t, Scenario>> mapping_of;
   for (int k = 0; k < options.seeds; ++k) {
     const std::uint64_t seed = kCharacterizationFirstSeed + static_cast<std::uint64_t>(k);
     for (const CharacterizationCell& cell : characterization_cells()) {
@@ -136,7 +145,12 @@ std::vector<CharacterizationRun> run_characterization(const CharacterizationOpti
           continue;
         }
       }
+      if (mapping_of != std::pair(seed, cell.scenario)) {
+        mapping = make_segment_cache();
+        mapping_of = std::pair(seed, cell.scenario);
+      }
       MixRunOptions mix;
+      if (synthetic::has_map_run(cell.scenario)) mix.segment_cache = mapping;
       mix.plan = characterization_plan(cell, options.frames, options.resolution, seed);
       mix.data_dir = options.data_dir;
       mix.out = trace;

@@ -41,6 +41,26 @@ struct PosePairs {
   eval::Trajectory truth, estimate;
 };
 
+/// What a traced first segment left: everything a replay adds to the trace and the run.
+struct RecordedSegment {
+  std::vector<trace::FrameTrace> records;  ///< as appended (frame ids from 0)
+  SegmentRunSummary summary;
+  std::map<BackendMode, eval::EvalResult> accuracy;  ///< per mode, added to its pooled ATE
+  std::string world;                                 ///< world_key of its map
+  std::shared_ptr<const backend::slam::Map> map;     ///< its SLAM map (none: no SLAM ran)
+};
+
+}  // namespace
+
+class SegmentCache {
+ public:
+  std::map<std::string, RecordedSegment> entries;  ///< by segment_cache_key
+};
+
+std::shared_ptr<SegmentCache> make_segment_cache() { return std::make_shared<SegmentCache>(); }
+
+namespace {
+
 std::shared_ptr<const bow::Vocabulary> load_or_train_vocabulary(const MixRunOptions& options,
                                                                 const MixProgress& progress) {
   if (!options.vocabulary.empty()) {
@@ -97,6 +117,20 @@ bool needs_registration(const MixPlan& plan) {
 std::string world_key(const MixPlan& plan, const MixSegment& segment) {
   return fmt::format("{}-{}x{}-s{}", segment.world, plan.resolution.width, plan.resolution.height,
                      plan.seed);
+}
+
+/// Everything a first segment's work depends on: the segment, its world's seed and resolution,
+/// the data folder (its images, where its map is saved) and the options of the frontend, the
+/// mode switch, the backends and the vocabulary. Equal keys trace the same rows of work.
+std::string segment_cache_key(const MixRunOptions& options, const MixSegment& segment) {
+  return fmt::format(
+      "{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", world_key(options.plan, segment),
+      segment.name, trace::to_string(segment.scenario),
+      synthetic::to_string(segment.world_scenario), segment.run, segment.frames,
+      segment.mode ? trace::to_string(*segment.mode) : "switch", options.data_dir.string(),
+      options.save_maps, frontend::to_json(options.frontend).dump(),
+      options.mode_switch.to_string(), options.vio.to_json().dump(), options.slam.to_json().dump(),
+      trace::to_string(options.precision), options.vocabulary.string());
 }
 
 /// The datasets of the plan's segments, in order.
@@ -162,6 +196,8 @@ class MixRun {
 
   /// Traces the segment's frames with a fresh frontend and mode switch, then measures each
   /// mode's accuracy on it and keeps (and saves) its SLAM map for the world.
+  /// A first segment recorded in options.segment_cache is replayed instead; a first segment
+  /// not yet there is recorded into it.
   SegmentRunSummary run_segment(const MixSegment& segment, const datasets::Dataset& dataset);
   std::size_t frames() const { return static_cast<std::size_t>(frame_id_); }
   /// Latency and accuracy per mode that ran (registration, vio, slam).
@@ -193,6 +229,7 @@ class MixRun {
     ModeSwitch mode_switch;
     std::map<BackendMode, std::unique_ptr<backend::Backend>> backends;  ///< made on first use
     std::map<BackendMode, PosePairs> poses;  ///< of the frames with an estimate and ground truth
+    std::map<BackendMode, eval::EvalResult> accuracy;  ///< per mode with enough estimates
     SegmentRunSummary summary;
     std::int64_t previous_t_ns = std::numeric_limits<std::int64_t>::min();
   };
@@ -201,7 +238,11 @@ class MixRun {
   std::unique_ptr<backend::Backend> make_backend(BackendMode mode, const Segment& segment) const;
   /// Frame i of the segment through the frontend, the mode switch and the chosen backend, into
   /// the trace and the mode's series.
-  void trace_frame(Segment& segment, std::size_t i);
+  trace::FrameTrace trace_frame(Segment& segment, std::size_t i);
+  /// A traced frame's host times, kernels and estimate into its mode's series.
+  void add_to_series(const trace::FrameTrace& record);
+  /// A recorded first segment into the trace, the series and the maps, as run_segment would.
+  SegmentRunSummary replay(const RecordedSegment& recorded, const MixSegment& segment);
   /// Each mode's ATE on the segment (aligned on its own) into its pooled squared error.
   void add_accuracy(Segment& segment);
   /// The segment's SLAM map, for later segments in its world (saved when save_maps).
@@ -217,18 +258,56 @@ class MixRun {
 };
 
 SegmentRunSummary MixRun::run_segment(const MixSegment& segment, const datasets::Dataset& dataset) {
+  // A first segment's work depends on nothing traced before it (fresh frontend, mode switch and
+  // backends; no map of any world yet): its key says all it depends on.
+  SegmentCache* cache =
+      frame_id_ == 0 && maps_.empty() && series_.empty() ? options_.segment_cache.get() : nullptr;
+  const std::string key = cache ? segment_cache_key(options_, segment) : std::string();
+  if (cache) {
+    if (const auto it = cache->entries.find(key); it != cache->entries.end()) {
+      return replay(it->second, segment);
+    }
+  }
   Segment s(segment, dataset, options_, maps_);
   s.summary.first_frame_id = frame_id_;
   const std::size_t frames =
       std::min<std::size_t>(dataset.frame_count(), static_cast<std::size_t>(segment.frames));
+  RecordedSegment recorded;
   for (std::size_t i = 0; i < frames; ++i) {
-    trace_frame(s, i);
+    trace::FrameTrace record = trace_frame(s, i);
+    if (cache) recorded.records.push_back(std::move(record));
     if (progress_) progress_(segment.name, i + 1, frames);
   }
   s.summary.frames = frames;
   add_accuracy(s);
   keep_map(s);
+  if (cache) {  // only a whole segment is kept
+    recorded.summary = s.summary;
+    recorded.accuracy = s.accuracy;
+    recorded.world = s.world;
+    if (const auto it = maps_.find(s.world); it != maps_.end()) recorded.map = it->second;
+    cache->entries.emplace(key, std::move(recorded));
+  }
   return std::move(s.summary);
+}
+
+SegmentRunSummary MixRun::replay(const RecordedSegment& recorded, const MixSegment& segment) {
+  const std::size_t frames = recorded.records.size();
+  for (std::size_t i = 0; i < frames; ++i) {
+    session_.append(recorded.records[i]);
+    add_to_series(recorded.records[i]);
+    ++frame_id_;
+    if (progress_) progress_(segment.name, i + 1, frames);
+  }
+  for (const auto& [mode, result] : recorded.accuracy) series_[mode].ate.add(result);
+  if (recorded.map) {
+    // Saved again, as the traced segment would: a later segment of the same world (a SLAM
+    // measured run) may have saved its own map to the same file since.
+    const std::optional<fs::path>& file = recorded.summary.map_saved;
+    if (file) backend::slam::save_map(*recorded.map, *file);
+    maps_[recorded.world] = recorded.map;
+  }
+  return recorded.summary;
 }
 
 std::unique_ptr<backend::Backend> MixRun::make_backend(BackendMode mode, const Segment& s) const {
@@ -246,7 +325,7 @@ std::unique_ptr<backend::Backend> MixRun::make_backend(BackendMode mode, const S
   return nullptr;
 }
 
-void MixRun::trace_frame(Segment& s, std::size_t i) {
+trace::FrameTrace MixRun::trace_frame(Segment& s, std::size_t i) {
   const datasets::Dataset& dataset = s.dataset;
   const datasets::StereoFrame images = dataset.load_frame(i);
   frontend::FrontendFrame result = s.frontend.process(images.left, images.right);
@@ -276,12 +355,7 @@ void MixRun::trace_frame(Segment& s, std::size_t i) {
     if (!output.T_world_body) ++s.summary.registration_failures;
   }
 
-  ModeSeries& series = series_[decision.mode];
-  add_kernel_times(series.kernel_ms, series.backend_ms.size(), output.kernels);
-  series.frontend_ms.push_back(static_cast<double>(result.host_ns) * 1e-6);
-  series.backend_ms.push_back(static_cast<double>(record.frame.backend_host_ns) * 1e-6);
   if (output.T_world_body) {
-    ++series.estimated;
     record.frame.estimated_pose = to_pose_array(*output.T_world_body);
     if (truth) {
       PosePairs& p = s.poses[decision.mode];
@@ -291,8 +365,18 @@ void MixRun::trace_frame(Segment& s, std::size_t i) {
   }
   record.kernels = std::move(output.kernels);
   session_.append(record);
+  add_to_series(record);
   ++s.summary.frames_by_mode[trace::to_string(decision.mode)];
   s.previous_t_ns = images.t_ns;
+  return record;
+}
+
+void MixRun::add_to_series(const trace::FrameTrace& record) {
+  ModeSeries& series = series_[record.frame.mode];
+  add_kernel_times(series.kernel_ms, series.backend_ms.size(), record.kernels);
+  series.frontend_ms.push_back(static_cast<double>(record.frame.frontend_host_ns) * 1e-6);
+  series.backend_ms.push_back(static_cast<double>(record.frame.backend_host_ns) * 1e-6);
+  if (record.frame.estimated_pose) ++series.estimated;
 }
 
 void MixRun::add_accuracy(Segment& s) {
@@ -306,6 +390,7 @@ void MixRun::add_accuracy(Segment& s) {
     s.summary.ate_rmse_m[trace::to_string(mode)] = r->ate_m.rmse;
     s.summary.ate_pairs[trace::to_string(mode)] = r->pairs;
     series_[mode].ate.add(*r);
+    s.accuracy.emplace(mode, *r);
   }
 }
 

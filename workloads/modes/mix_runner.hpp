@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -26,6 +27,17 @@
 #include "workloads/modes/mode_switch.hpp"
 
 namespace edx::modes {
+
+/// A mix's first segment traced once and replayed by later runs of the same segment (the
+/// characterization's three runs of a known scenario share their mapping segment): its frames'
+/// records (host times included), its summary, its accuracy and its map. An entry is only used
+/// for a first segment (nothing traced before it, no map yet: its work depends on nothing else)
+/// with the same segment, world, seed, resolution, data folder and options (key in
+/// mix_runner.cpp); the replayed rows are the recorded ones, so the trace is as if traced again
+/// (apart from host times, which differ between any two traces anyway). Not thread-safe: one
+/// cache per sequence of runs.
+class SegmentCache;
+std::shared_ptr<SegmentCache> make_segment_cache();
 
 struct MixRunOptions {
   MixPlan plan;
@@ -53,6 +65,9 @@ struct MixRunOptions {
   std::filesystem::path vocabulary;
   /// When the machine-speed reference suite samples (meta host_speed).
   HostSpeedMeterOptions host_speed;
+  /// Where the first segment is replayed from when traced before, and recorded to otherwise
+  /// (none: always traced).
+  std::shared_ptr<SegmentCache> segment_cache;
 };
 
 /// Latency and accuracy of the frames one mode ran on.

@@ -12,6 +12,7 @@
 #include "workloads/backend/registration/bow/training.hpp"
 #include "workloads/datasets/dataset.hpp"
 #include "workloads/datasets/synthetic/generator.hpp"
+#include "workloads/modes/characterization.hpp"
 #include "workloads/trace/reader.hpp"
 
 namespace edx::modes {
@@ -60,6 +61,97 @@ TEST(MixRunner, PaperMixSwitchesModesByScenario) {
   EXPECT_EQ(frames[63].frame.mode, trace::BackendMode::Registration);
   EXPECT_TRUE(frames[63].frame.map_available);
   EXPECT_FALSE(frames[40].frame.map_available);
+}
+
+/// A trace's records without their host times (the only fields two tracings of the same work
+/// may differ in).
+std::vector<trace::FrameTrace> without_host_times(std::vector<trace::FrameTrace> frames) {
+  for (trace::FrameTrace& f : frames) {
+    f.frame.frontend_host_ns = f.frame.backend_host_ns = 0;
+    for (trace::TaskRecord& t : f.tasks) t.host_ns = 0;
+    for (trace::KernelRecord& k : f.kernels) {
+      k.host_ns = 0;
+      for (trace::OpRecord& op : k.ops) op.host_ns = 0;
+    }
+  }
+  return frames;
+}
+
+/// The characterization's known-scenario runs share their mapping segment (SegmentCache): the
+/// registration run that replays the vio run's mapping segment writes the same rows and measures
+/// the same as the registration run that traces it itself; its mapping frames are the vio run's
+/// records (their host times too: replayed, not traced again). Another workload (other SLAM
+/// options) does not take the entry. The replay leaves the mapping's map in the data folder, as
+/// tracing it does (a SLAM measured run in between saved its own there).
+TEST(MixRunner, AReplayedMappingSegmentGivesTheSameTraceAsTracingIt) {
+  const edx::testing::TempDir dir;
+  const synthetic::Resolution resolution{376, 240};
+  const auto options_for = [&](trace::BackendMode backend, const char* out) {
+    MixRunOptions options;
+    options.plan = characterization_plan({synthetic::Scenario::kIndoorKnown, backend}, 12,
+                                         resolution, kCharacterizationFirstSeed);
+    options.data_dir = dir.path() / "data";
+    options.out = dir.path() / out;
+    return options;
+  };
+  const MixRunSummary traced = run_mix(options_for(trace::BackendMode::Registration, "a.db"));
+  ASSERT_TRUE(traced.segments[0].map_saved);
+  const std::filesystem::path map_file = *traced.segments[0].map_saved;
+  const std::string mapping_map = edx::testing::read_file(map_file);
+
+  const std::shared_ptr<SegmentCache> cache = make_segment_cache();
+  MixRunOptions vio = options_for(trace::BackendMode::Vio, "vio.db");
+  vio.segment_cache = cache;
+  run_mix(vio);
+  // The slam run replays the mapping segment too; its measured segment (SLAM in the same world)
+  // then saves its own map over the mapping's.
+  MixRunOptions slam = options_for(trace::BackendMode::Slam, "slam.db");
+  slam.segment_cache = cache;
+  run_mix(slam);
+  ASSERT_NE(edx::testing::read_file(map_file), mapping_map);
+  MixRunOptions registration = options_for(trace::BackendMode::Registration, "b.db");
+  registration.segment_cache = cache;
+  const MixRunSummary replayed = run_mix(registration);
+
+  const std::vector<trace::FrameTrace> a = trace::TraceReader(dir.path() / "a.db").read_all();
+  const std::vector<trace::FrameTrace> b = trace::TraceReader(dir.path() / "b.db").read_all();
+  const std::vector<trace::FrameTrace> v = trace::TraceReader(dir.path() / "vio.db").read_all();
+  ASSERT_EQ(a.size(), 24u);
+  EXPECT_EQ(without_host_times(a), without_host_times(b));
+  // The mapping frames (SLAM, 0..11) are the vio run's records, host times included.
+  EXPECT_EQ(std::vector(b.begin(), b.begin() + 12), std::vector(v.begin(), v.begin() + 12));
+  EXPECT_EQ(b[0].frame.mode, trace::BackendMode::Slam);
+  EXPECT_EQ(b[12].frame.mode, trace::BackendMode::Registration);
+  EXPECT_TRUE(b[12].frame.map_available);
+  // The replay saved the mapping's map again, as tracing it does.
+  EXPECT_EQ(edx::testing::read_file(map_file), mapping_map);
+  // The same segments' and modes' figures (ATE, estimates, frames by mode).
+  ASSERT_EQ(replayed.segments.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(replayed.segments[i].ate_rmse_m, traced.segments[i].ate_rmse_m) << i;
+    EXPECT_EQ(replayed.segments[i].ate_pairs, traced.segments[i].ate_pairs) << i;
+    EXPECT_EQ(replayed.segments[i].frames_by_mode, traced.segments[i].frames_by_mode) << i;
+    EXPECT_EQ(replayed.segments[i].registration_failures, traced.segments[i].registration_failures);
+    EXPECT_EQ(replayed.segments[i].map_saved, traced.segments[i].map_saved) << i;
+  }
+  EXPECT_EQ(replayed.segments[0].frames_by_mode.at("slam"), 12u);
+  ASSERT_TRUE(replayed.segments[1].ate_rmse_m.count("registration"));
+  ASSERT_EQ(replayed.modes.size(), traced.modes.size());
+  for (std::size_t i = 0; i < replayed.modes.size(); ++i) {
+    EXPECT_EQ(replayed.modes[i].mode, traced.modes[i].mode);
+    EXPECT_EQ(replayed.modes[i].frames, traced.modes[i].frames);
+    EXPECT_EQ(replayed.modes[i].estimated_frames, traced.modes[i].estimated_frames);
+    EXPECT_EQ(replayed.modes[i].ate_rmse_m, traced.modes[i].ate_rmse_m);
+    EXPECT_EQ(replayed.modes[i].ate_pairs, traced.modes[i].ate_pairs);
+  }
+
+  // Other SLAM options: another workload, its mapping segment traced (its own host times).
+  MixRunOptions other = options_for(trace::BackendMode::Slam, "c.db");
+  other.segment_cache = cache;
+  other.slam.window_size += 1;
+  run_mix(other);
+  const std::vector<trace::FrameTrace> c = trace::TraceReader(dir.path() / "c.db").read_all();
+  EXPECT_NE(std::vector(c.begin(), c.begin() + 12), std::vector(v.begin(), v.begin() + 12));
 }
 
 /// What the mix runner relies on for its vocabulary: training on every frame of a world generated
