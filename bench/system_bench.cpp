@@ -1,7 +1,7 @@
 // `edx-bench system`: wall time of the whole-system model (arch/system simulate_system: frontend
 // DES twice, memory plan, backend replay, scheduler, energy, resources) on a trace stretched to
-// N frames in memory, against the goal of 2000 frames in <= 0.1 s (issue 18). Reading the trace and
-// writing results are not timed.
+// N frames in memory, against issue 44's goal of 2000 frames in <= 0.02 s (issue 18's was 0.1 s).
+// Reading the trace and writing results are not timed.
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
@@ -72,14 +72,14 @@ void add_system_bench(CLI::App& app) {
                               {"median_s", median},
                               {"min_s", seconds.front()},
                               {"max_s", seconds.back()},
-                              {"goal_s_per_2000_frames", 0.1},
+                              {"goal_s_per_2000_frames", 0.02},
                               {"s_per_2000_frames", median * 2000.0 / double(args->frames)}};
     if (args->json) {
       fmt::print("{}\n", j.dump(2));
     } else {
       fmt::print(
           "system model: {} frames ({} accelerable kernel invocations) in {:.3f} s median of {} "
-          "(min {:.3f}, max {:.3f}); {:.3f} s per 2000 frames (goal <= 0.1 s)\n",
+          "(min {:.3f}, max {:.3f}); {:.3f} s per 2000 frames (goal <= 0.02 s)\n",
           args->frames, result.decisions.size(), median, args->repeats, seconds.front(),
           seconds.back(), median * 2000.0 / double(args->frames));
     }
