@@ -77,6 +77,18 @@ class SpanIndex {
   std::array<std::size_t, trace::kTasks.size() * kImages> index_{};
 };
 
+/// A frame's task graph, one row per (task, image), in run_frame's spawn order.
+constexpr std::array<std::pair<Task, Image>, 10> kFrameGraph = {{{Task::FD, Image::Left},
+                                                                 {Task::IF, Image::Left},
+                                                                 {Task::FD, Image::Right},
+                                                                 {Task::IF, Image::Right},
+                                                                 {Task::DC, Image::Left},
+                                                                 {Task::LSS, Image::Left},
+                                                                 {Task::FC, Image::Left},
+                                                                 {Task::FC, Image::Right},
+                                                                 {Task::MO, Image::Stereo},
+                                                                 {Task::DR, Image::Stereo}}};
+
 /// A frame's task graph in closed form, when it can run alone: every unit of one copy and idle,
 /// every task of at least one cycle, and nothing else due before DR and LSS have finished (then
 /// no other process runs until the frame goes on, Simulator::try_advance_in_place, so the DES's
@@ -93,27 +105,18 @@ bool run_alone(Simulator& sim, const std::vector<std::unique_ptr<sim::ClockDomai
   for (const std::unique_ptr<Resource>& unit : units) {
     if (unit->capacity() != 1 || unit->in_use() != 0 || unit->queue_length() != 0) return false;
   }
-  // The graph's rows (run_frame's spawn order), their uses and spans.
+  // The graph's rows (kFrameGraph: run_frame's spawn order), their uses and spans.
   enum Row : std::size_t { kFdL, kIfL, kFdR, kIfR, kDc, kLss, kFcL, kFcR, kMo, kDr, kRows };
-  static constexpr std::array<std::pair<Task, Image>, kRows> kGraph = {{{Task::FD, Image::Left},
-                                                                        {Task::IF, Image::Left},
-                                                                        {Task::FD, Image::Right},
-                                                                        {Task::IF, Image::Right},
-                                                                        {Task::DC, Image::Left},
-                                                                        {Task::LSS, Image::Left},
-                                                                        {Task::FC, Image::Left},
-                                                                        {Task::FC, Image::Right},
-                                                                        {Task::MO, Image::Stereo},
-                                                                        {Task::DR, Image::Stereo}}};
+  static_assert(kRows == kFrameGraph.size());
   std::array<TaskSpan*, kRows> row{};
   for (std::size_t r = 0; r < kRows; ++r) {
-    row[r] = &spans[index.at(kGraph[r].first, kGraph[r].second, frame_id)];
+    row[r] = &spans[index.at(kFrameGraph[r].first, kFrameGraph[r].second, frame_id)];
     if (row[r]->cycles <= 0) return false;
   }
   std::array<Resource::Use, kRows> use{};
   std::array<sim::Time, kRows> start{};
   const auto run = [&](Row r, sim::Time ask, sim::Time free) {
-    const sim::ClockDomain& clock = *clocks[static_cast<std::size_t>(kGraph[r].first)];
+    const sim::ClockDomain& clock = *clocks[static_cast<std::size_t>(kFrameGraph[r].first)];
     start[r] = clock.next_edge(std::max(ask, free));
     use[r] = {ask, clock.time_of_cycles(clock.cycles_in(start[r]) +
                                         static_cast<std::uint64_t>(row[r]->cycles))};
@@ -144,7 +147,7 @@ bool run_alone(Simulator& sim, const std::vector<std::unique_ptr<sim::ClockDomai
   }
   // Each unit's uses in its queue order.
   const auto book = [&](Row first, Row second) {
-    Resource& unit = *units[static_cast<std::size_t>(kGraph[first].first)];
+    Resource& unit = *units[static_cast<std::size_t>(kFrameGraph[first].first)];
     if (first == second) {
       unit.book_idle(&use[first], 1);
     } else {
@@ -252,17 +255,9 @@ FrontendFrameTiming prepare_frontend_frame(const trace::FrameTrace& frame,
                     timing.frame_id));
   }
   // Check the graph's rows exist before simulating (errors name the frame).
-  static constexpr std::array<std::pair<Task, Image>, 10> kGraph = {{{Task::FD, Image::Left},
-                                                                     {Task::IF, Image::Left},
-                                                                     {Task::FD, Image::Right},
-                                                                     {Task::IF, Image::Right},
-                                                                     {Task::DC, Image::Left},
-                                                                     {Task::LSS, Image::Left},
-                                                                     {Task::FC, Image::Left},
-                                                                     {Task::FC, Image::Right},
-                                                                     {Task::MO, Image::Stereo},
-                                                                     {Task::DR, Image::Stereo}}};
-  for (const auto& [task, image] : kGraph) find_span(timing.tasks, task, image, timing.frame_id);
+  for (const auto& [task, image] : kFrameGraph) {
+    find_span(timing.tasks, task, image, timing.frame_id);
+  }
   return timing;
 }
 
