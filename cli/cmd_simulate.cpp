@@ -26,6 +26,7 @@ struct SimulateArguments {
   std::size_t timeline_first = 0;
   std::size_t timeline_frames = 10;
   std::string model = "des";
+  int jobs = 0;
   bool json = false;
   SeedOptions seeds;
 };
@@ -36,6 +37,7 @@ void run_seeds(const SimulateArguments& args) {
   const arch::Platform platform = arch::Platform::load(args.config);
   arch::SystemSimOptions options;
   options.model = arch::parse_system_model(args.model);
+  options.threads = jobs_or_cores(args.jobs);
   std::vector<nlohmann::json> trees;
   nlohmann::json runs = nlohmann::json::array();
   const nlohmann::json workload = args.seeds.workload_json();
@@ -80,6 +82,7 @@ void run(const SimulateArguments& args) {
   const std::vector<trace::FrameTrace> frames = reader.read_all();
   arch::SystemSimOptions options;
   options.model = arch::parse_system_model(args.model);
+  options.threads = jobs_or_cores(args.jobs);
   if (!args.timeline.empty()) {
     options.timeline = args.timeline;
     options.timeline_first = args.timeline_first;
@@ -125,6 +128,10 @@ void add_simulate_command(CLI::App& app) {
                   "model it reduces to without contention (cross-check)")
       ->check(CLI::IsMember({"des", "analytical"}))
       ->capture_default_str();
+  cmd->add_option("-j,--jobs", args->jobs,
+                  "Threads for a run's independent parts (the frontend study's, the four DES "
+                  "runs); the figures do not depend on it (default: all cores)")
+      ->check(CLI::Range(1, 256));
   cmd->add_flag("--json", args->json, "Print the figures as JSON (only JSON on stdout)");
   cmd->callback([args] {
     if (args->trace.empty() && !args->seeds.given()) {

@@ -6,7 +6,6 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
 
 #include "arch/sweep/distributed.hpp"
 #include "arch/sweep/sweep.hpp"
@@ -54,7 +53,7 @@ void run(const SweepArguments& args) {
   options.db = args.db;
   options.trace = args.trace;
   options.trace_store = args.trace_store;
-  options.jobs = args.jobs > 0 ? args.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
+  options.jobs = jobs_or_cores(args.jobs);
   options.limit = args.limit;
   options.per_frame = args.per_frame;
   options.tracer = mix_tracer();

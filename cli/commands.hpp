@@ -47,6 +47,9 @@ struct SeedOptions {
 /// Adds the three options (each needing the others; --workload excludes `trace`).
 void add_seed_options(CLI::App& cmd, SeedOptions& seeds, CLI::Option* trace);
 
+/// A `-j,--jobs` value: itself when given (> 0), else the machine's cores (at least 1).
+int jobs_or_cores(int jobs);
+
 /// Accepts a WxH resolution option (datasets::parse_resolution's rules and message).
 CLI::Validator resolution_validator();
 /// Accepts a finite number > 0 (positive) or >= 0; refuses with "expected a number > 0, got

@@ -2,11 +2,13 @@
 // seed options, the workload tracer of sweeps, the --workload/--seeds/--trace-store options.
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <string>
 #include <string_view>
+#include <thread>
 
 #include "cli/commands.hpp"
 #include "edx_revision.hpp"
@@ -14,6 +16,10 @@
 #include "workloads/modes/sweep_workload.hpp"
 
 namespace edx::cli {
+
+int jobs_or_cores(int jobs) {
+  return jobs > 0 ? jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
 
 void check_common_options(CLI::App& app) {
   static constexpr std::array<std::string_view, 14> kPathOptions{

@@ -163,6 +163,11 @@ void write_results(SQLite::Database& db, const results::RunRows& rows) {
   write_run(db, rows.run.run_id, results::run_values(rows));
 }
 
+void write_results(SQLite::Database& db, const std::string& run_id,
+                   const std::vector<results::TableValues>& tables) {
+  write_run(db, run_id, tables);
+}
+
 bool create_results_database(const std::filesystem::path& path,
                              const std::function<void(SQLite::Database&)>& init) {
   if (std::filesystem::exists(path)) return false;

@@ -34,6 +34,10 @@ void create_results_tables(SQLite::Database& db,
                            results::TableGroup group = results::TableGroup::kRun);
 /// Writes (or replaces) the run of `rows` in an open database, inside the caller's transaction.
 void write_results(SQLite::Database& db, const results::RunRows& rows);
+/// The same from the rows as values (results::run_values(rows), made by a sweep's worker so
+/// that the thread owning the database only inserts them).
+void write_results(SQLite::Database& db, const std::string& run_id,
+                   const std::vector<results::TableValues>& tables);
 /// The rows of run `run_id` in every run table, as {run_id, tables: {table: {columns: [names],
 /// rows: [[values...], ...]}}} (integers, reals, text and nulls as JSON): what a sweep worker
 /// that does not own the database sends to the one that does (arch/sweep, MPI).

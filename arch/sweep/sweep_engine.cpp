@@ -20,6 +20,7 @@
 #include <stdexcept>
 
 #include "arch/host/host_model.hpp"
+#include "arch/system/result_rows.hpp"
 #include "common/input_error.hpp"
 #include "common/yaml_fields.hpp"
 #include "workloads/trace/reader.hpp"
@@ -406,14 +407,22 @@ void SweepContext::set_trace(std::size_t w, std::shared_ptr<const LoadedTrace> t
   traces_[w] = ready.get_future().share();
 }
 
+void SweepContext::set_known_host_times(std::size_t w, KnownHostTimes known) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  known_host_times_[w] = std::move(known);
+}
+
 SystemResult SweepContext::execute_simulate(const Platform& platform, std::size_t w) {
   const std::shared_ptr<const LoadedTrace> trace = trace_of(w);
   // Frontend studies are shared between points with the same frontend_study_key (computed once
   // per process, by the first worker asking), read in place by each point (not copied).
   const std::shared_ptr<const FrontendStudy> study =
       made_once(mutex_, studies_, frontend_study_key(platform) + "\ntrace=" + trace->hash, [&] {
+        FrontendStudyOptions study_options;
+        const auto known = known_host_times_.find(w);  // read only once workers run
+        if (known != known_host_times_.end()) study_options.known = &known->second;
         return std::make_shared<const FrontendStudy>(
-            study_frontend(platform, trace->frames, trace->meta, trace->name));
+            study_frontend(platform, trace->frames, trace->meta, trace->name, study_options));
       });
   // So are the CPU baseline's DES runs, by baseline_des_key (after the checks simulate_system
   // makes first: a platform that fails them leaves no runs behind for the others).
@@ -439,8 +448,15 @@ SweepTaskResult SweepContext::execute_local(const SweepTask& task) {
     const Workload& workload = workloads.at(task.workload);
     r.error = trace_into_store(options.tracer, workload.resolved, workload.hash, store);
   } else {
-    r.result =
-        std::make_shared<const SystemResult>(execute_simulate(*task.platform, task.workload));
+    const SystemResult result = execute_simulate(*task.platform, task.workload);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    results::RunRows rows = result_rows(result, options.per_frame);
+    auto run = std::make_shared<SweepTaskResult::LocalRun>();
+    run->tables = results::run_values(rows);
+    run->run_id = std::move(rows.run.run_id);
+    run->summary = std::move(rows.run.summary);
+    r.local_run = std::move(run);
+    return r;
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "arch/platform/platform.hpp"
+#include "arch/results/schema.hpp"
 #include "arch/sweep/sweep.hpp"
 #include "arch/system/frontend_study.hpp"
 #include "arch/system/system_model.hpp"
@@ -64,9 +65,16 @@ struct SweepTaskResult {
   SweepTask task;
   std::string error;  ///< kTrace: why the workload could not be traced ("" when it was)
   double seconds = 0;
-  std::string host;                            ///< where it ran
-  std::shared_ptr<const SystemResult> result;  ///< kSimulate on a local worker
-  nlohmann::json rows;                         ///< kSimulate on a remote one (export_run_rows)
+  std::string host;  ///< where it ran
+  /// kSimulate on a local worker: the run's id, summary and rows as values (result_rows and
+  /// run_values, made by the worker so that the master only stores them).
+  struct LocalRun {
+    std::string run_id;
+    nlohmann::json summary;
+    std::vector<results::TableValues> tables;
+  };
+  std::shared_ptr<const LocalRun> local_run;
+  nlohmann::json rows;  ///< kSimulate on a remote one (export_run_rows)
 };
 
 /// What every process of a sweep knows: the spec, the base platform, the workload points, and
@@ -108,6 +116,9 @@ class SweepContext {
   std::shared_ptr<const LoadedTrace> trace_of(std::size_t w);
   /// Installs a trace loaded elsewhere (frames in memory, or bytes received over MPI).
   void set_trace(std::size_t w, std::shared_ptr<const LoadedTrace> trace);
+  /// Host times already computed on workload `w`'s trace (call before the workers start): its
+  /// frontend studies take them when their host is the one they are of.
+  void set_known_host_times(std::size_t w, KnownHostTimes known);
 
  private:
   /// Fills `references` (and adds the reference workload points) for the grid's workloads.
@@ -116,6 +127,7 @@ class SweepContext {
   std::map<std::size_t, std::shared_future<std::shared_ptr<const LoadedTrace>>> traces_;
   std::map<std::string, std::shared_future<std::shared_ptr<const FrontendStudy>>> studies_;
   std::map<std::string, std::shared_future<std::shared_ptr<const BaselineRuns>>> baselines_;
+  std::map<std::size_t, KnownHostTimes> known_host_times_;  ///< by workload; set before workers
 };
 
 /// Where tasks run.

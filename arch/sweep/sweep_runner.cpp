@@ -172,9 +172,14 @@ struct WorkloadState {
 void prepare_context(SweepContext& context, const std::shared_ptr<const LoadedTrace>& given) {
   if (context.spec.traces_workload()) sweep_engine::open_trace_store(context.store);
   if (!given) return;
-  Platform::parse(context.base).host->host_times(given->frames, given->meta, given->name);
+  const Platform base = Platform::parse(context.base);
+  // Kept for the points' frontend studies whose host is this one (a sweep that leaves the host
+  // alone computes them once, not twice).
+  auto times = std::make_shared<const PlatformHostTimes>(
+      base.host->host_times(given->frames, given->meta, given->name));
   context.workloads[0].trace = given->name;
   context.set_trace(0, given);
+  context.set_known_host_times(0, {component_json(*base.host).dump(), std::move(times)});
 }
 
 /// A results database this sweep creates is removed again if the sweep fails before its first
@@ -574,14 +579,14 @@ class SweepMaster {
     }
     SweepPointResult p = point_result(r.task.point);
     p.computed = true;
-    if (r.result) {
+    if (r.local_run) {
       // The rows hold the run's summary: evaluated from them, it is built once.
-      const results::RunRows rows = result_rows(*r.result, options_.per_frame);
-      p.run_id = rows.run.run_id;
-      evaluate_point(rows.run.summary, p);
+      const SweepTaskResult::LocalRun& run = *r.local_run;
+      p.run_id = run.run_id;
+      evaluate_point(run.summary, p);
       const std::string run_id = p.run_id;
       finish(std::move(p), [&] {
-        write_results(db_, rows);
+        write_results(db_, run.run_id, run.tables);
         drop_claim(run_id);
       });
     } else {

@@ -2,9 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <functional>
 #include <stdexcept>
+#include <tuple>
 
 #include "arch/system/system_model.hpp"
+#include "common/parallel.hpp"
 #include "sim_core/stats.hpp"
 #include "workloads/trace/validate.hpp"
 
@@ -67,39 +70,14 @@ nlohmann::json FrontendStudy::to_json() const {
   return j;
 }
 
-FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
-                             const trace::TraceMeta& trace_meta, const std::string& trace_name,
-                             const FrontendSimOptions& timeline) {
-  if (frames.empty())
-    throw std::runtime_error(fmt::format("{}: the trace has no frames", trace_name));
-  const auto resolution = trace_meta.find("resolution");
-  if (resolution == trace_meta.end()) {
-    throw std::runtime_error(fmt::format("{}: trace meta has no resolution", trace_name));
-  }
-  if (timeline.timeline && timeline.timeline_first >= frames.size()) {
-    throw std::runtime_error(
-        fmt::format("{}: the timeline's first frame {} is past the trace's last ({} frames)",
-                    trace_name, timeline.timeline_first, frames.size()));
-  }
-  for (const trace::FrameTrace& f : frames) {
-    if (f.tasks.empty()) {
-      throw std::runtime_error(fmt::format(
-          "{}: frame {}: no frontend task rows (the frontend model needs a frontend trace)",
-          trace_name, f.frame.frame_id));
-    }
-  }
-  FrontendStudy study;
-  study.platform = platform.name;
-  study.host = platform.baseline_host ? platform.baseline_host : platform.host;
-  study.coprocessor = platform.coprocessor;
-  study.host_times = study.host->host_times(frames, trace_meta, trace_name);
-  if (platform.baseline_host) {
-    study.accelerated_times = platform.host->host_times(frames, trace_meta, trace_name);
-  }
-  study.frames = frames.size();
-  std::tie(study.width, study.height) = parse_wxh(resolution->second, trace_name);
-  const std::int64_t level0 = static_cast<std::int64_t>(study.width) * study.height;
+namespace {
 
+/// The CPU baseline's frontend latency per frame, with the study's chains and backend times
+/// (study.host_times, width and height set).
+std::vector<double> cpu_baseline_ms(const Platform& platform,
+                                    const std::vector<trace::FrameTrace>& frames,
+                                    const trace::TraceMeta& trace_meta,
+                                    const std::string& trace_name, FrontendStudy& study) {
   // The CPU baseline's frontend latency: the traced task graph on the host's cores (its chains
   // side by side, arch/host/frontend_graph.hpp), the rows its coprocessor states on that device
   // (arch/host/coprocessor.hpp).
@@ -149,26 +127,91 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
     study.frame_backend_host_ms.push_back(std::max(0.0, backend_host) + ros.backend_ms);
     study.frame_backend_device_ms.push_back(backend_device);
   }
+  return cpu;
+}
+
+}  // namespace
+
+FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
+                             const trace::TraceMeta& trace_meta, const std::string& trace_name,
+                             const FrontendStudyOptions& options) {
+  const FrontendSimOptions& timeline = options.timeline;
+  if (frames.empty())
+    throw std::runtime_error(fmt::format("{}: the trace has no frames", trace_name));
+  const auto resolution = trace_meta.find("resolution");
+  if (resolution == trace_meta.end()) {
+    throw std::runtime_error(fmt::format("{}: trace meta has no resolution", trace_name));
+  }
+  if (timeline.timeline && timeline.timeline_first >= frames.size()) {
+    throw std::runtime_error(
+        fmt::format("{}: the timeline's first frame {} is past the trace's last ({} frames)",
+                    trace_name, timeline.timeline_first, frames.size()));
+  }
+  for (const trace::FrameTrace& f : frames) {
+    if (f.tasks.empty()) {
+      throw std::runtime_error(fmt::format(
+          "{}: frame {}: no frontend task rows (the frontend model needs a frontend trace)",
+          trace_name, f.frame.frame_id));
+    }
+  }
+  FrontendStudy study;
+  study.platform = platform.name;
+  study.host = platform.baseline_host ? platform.baseline_host : platform.host;
+  study.coprocessor = platform.coprocessor;
+  study.frames = frames.size();
+  // Four independent parts (common::run_jobs: an error is the first part's, in this order, as
+  // when they ran one after another): (a) the host times and the CPU baseline's latency, (b) the
+  // accelerator's frontend one frame at a time, (c) pipelined, (d) the frames' preparation for
+  // the system model. Each part reads the resolution itself: (a) first, as it always did.
+  const auto level0_pixels = [&] {
+    const auto [width, height] = parse_wxh(resolution->second, trace_name);
+    return static_cast<std::int64_t>(width) * height;
+  };
+  std::vector<double> cpu;
   FrontendConfig sequential = platform.frontend;
   sequential.pipeline_fe_sm = false;
   sequential.frame_interval_ms = 0;
-  FrontendSimOptions sim_options;
-  sim_options.link = platform.link;
-  sim_options.transfers = platform.transfers;
-  const FrontendSimResult one_at_a_time =
-      simulate_frontend(frames, level0, sequential, sim_options);
   FrontendConfig pipelined = sequential;
   pipelined.pipeline_fe_sm = true;
-  FrontendSimOptions with_timeline = timeline;
-  with_timeline.link = platform.link;
-  with_timeline.transfers = platform.transfers;
-  const FrontendSimResult overlapped = simulate_frontend(frames, level0, pipelined, with_timeline);
+  FrontendSimResult one_at_a_time, overlapped;
   auto prepared = std::make_shared<std::vector<FrontendStudy::PreparedFrame>>(frames.size());
-  for (std::size_t f = 0; f < frames.size(); ++f) {
-    FrontendStudy::PreparedFrame& p = (*prepared)[f];
-    p.timing = prepare_frontend_frame(frames[f], level0, platform.frontend, platform.transfers);
-    p.activity = frontend_activity(frames[f], platform.frontend, &p.task_activity);
-  }
+  const std::vector<std::function<void()>> parts = {
+      [&] {
+        const KnownHostTimes* known = options.known;
+        if (known != nullptr && known->times &&
+            known->host_key == component_json(*study.host).dump()) {
+          study.host_times = *known->times;
+        } else {
+          study.host_times = study.host->host_times(frames, trace_meta, trace_name);
+        }
+        if (platform.baseline_host) {
+          study.accelerated_times = platform.host->host_times(frames, trace_meta, trace_name);
+        }
+        std::tie(study.width, study.height) = parse_wxh(resolution->second, trace_name);
+        cpu = cpu_baseline_ms(platform, frames, trace_meta, trace_name, study);
+      },
+      [&] {
+        FrontendSimOptions sim_options;
+        sim_options.link = platform.link;
+        sim_options.transfers = platform.transfers;
+        one_at_a_time = simulate_frontend(frames, level0_pixels(), sequential, sim_options);
+      },
+      [&] {
+        FrontendSimOptions with_timeline = timeline;
+        with_timeline.link = platform.link;
+        with_timeline.transfers = platform.transfers;
+        overlapped = simulate_frontend(frames, level0_pixels(), pipelined, with_timeline);
+      },
+      [&] {
+        const std::int64_t level0 = level0_pixels();
+        for (std::size_t f = 0; f < frames.size(); ++f) {
+          FrontendStudy::PreparedFrame& p = (*prepared)[f];
+          p.timing =
+              prepare_frontend_frame(frames[f], level0, platform.frontend, platform.transfers);
+          p.activity = frontend_activity(frames[f], platform.frontend, &p.task_activity);
+        }
+      }};
+  common::run_jobs(parts, timeline.timeline ? 1 : options.threads);
   study.prepared_frames = std::move(prepared);
 
   std::vector<double> accel, fe, sm, tm;

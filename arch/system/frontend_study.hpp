@@ -79,12 +79,33 @@ struct FrontendStudy {
   nlohmann::json to_json() const;
 };
 
+/// Host times a caller already has for the same frames and trace meta (a sweep computes its base
+/// platform's host's to check the trace before its first point): `host_key` is the host's
+/// component_json().dump(), `times` what its host_times(frames, meta, name) returned.
+struct KnownHostTimes {
+  std::string host_key;
+  std::shared_ptr<const PlatformHostTimes> times;
+};
+
+struct FrontendStudyOptions {
+  /// The pipelined run's Perfetto timeline of frames [first, first + count) (link and transfers
+  /// are the platform's).
+  FrontendSimOptions timeline;
+  /// Host times to use when they are the study host's (its key equal), instead of computing
+  /// them again (same values: host_times is a function of the host's parameters, the frames and
+  /// the meta).
+  const KnownHostTimes* known = nullptr;
+  /// Threads for the study's independent parts (the host times and the CPU baseline's chains,
+  /// the two frontend runs, the frames' preparation); the result does not depend on it. One
+  /// when a timeline is written (a failing part must leave no file behind).
+  int threads = 1;
+};
+
 /// `trace_meta`: the trace's meta (resolution "WxH", host_speed); a malformed or missing value is
-/// an error naming `trace_name` and the key. `timeline`: the pipelined run's Perfetto timeline of
-/// frames [first, first + count).
+/// an error naming `trace_name` and the key (the first part's error, in the order above).
 FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::FrameTrace>& frames,
                              const trace::TraceMeta& trace_meta, const std::string& trace_name,
-                             const FrontendSimOptions& timeline = {});
+                             const FrontendStudyOptions& options = {});
 
 std::string format_frontend_study(const FrontendStudy& study);
 

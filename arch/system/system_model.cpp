@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <unordered_map>
@@ -14,6 +15,7 @@
 #include "arch/link/frame_transfers.hpp"
 #include "arch/memory/bram.hpp"
 #include "common/atomic_file.hpp"
+#include "common/parallel.hpp"
 #include "sim_core/time.hpp"
 
 namespace edx::arch {
@@ -277,6 +279,21 @@ results::CauseTable cause_table(const SystemRun& run, const std::vector<FrameRes
 }
 
 /// The runs of a variant on `platform` (system_des.hpp: run_system).
+/// The CPU baseline's work per frame (its frontend study's host times and chains).
+std::vector<SystemFrameWork> baseline_frame_work(const std::vector<trace::FrameTrace>& frames,
+                                                 const FrontendStudy& study) {
+  std::vector<SystemFrameWork> work(frames.size());
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    SystemFrameWork& w = work[f];
+    w.frame_id = frames[f].frame.frame_id;
+    w.frontend_host_ms = study.frame_cpu_ms[f];
+    w.frontend_host_chains = study.frame_cpu_chains[f];
+    w.backend_host_ms = study.frame_backend_host_ms[f];
+    w.backend_device_ms = study.frame_backend_device_ms[f];
+  }
+  return work;
+}
+
 SystemRun run_variant(const std::vector<SystemFrameWork>& work, const Platform& platform,
                       bool accelerated, bool isolated, const SystemTimelineOptions& timeline) {
   return run_system(work, platform.frontend, *platform.backend, *platform.link,
@@ -335,14 +352,31 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
   if (options.timeline) {
     timeline_options = {&timeline, options.timeline_first, options.timeline_count};
   }
+  // Up to four independent runs (common::run_jobs: an error is the first run's in this order,
+  // the order they ran in one after another).
   std::shared_ptr<const BaselineRuns> baseline = options.baseline;
+  BaselineRuns made, accelerated;
+  std::vector<std::function<void()>> des_runs;
   if (!baseline) {
-    baseline = std::make_shared<const BaselineRuns>(run_baseline_des(platform, frames, study));
+    const std::vector<SystemFrameWork> baseline_work = baseline_frame_work(frames, study);
+    des_runs.push_back(
+        [&] { made.isolated = run_variant(baseline_work, platform, false, true, {}); });
+    des_runs.push_back(
+        [&] { made.streamed = run_variant(baseline_work, platform, false, false, {}); });
+    des_runs.push_back([&] { accelerated.isolated = run_variant(work, platform, true, true, {}); });
+    des_runs.push_back(
+        [&] { accelerated.streamed = run_variant(work, platform, true, false, timeline_options); });
+    common::run_jobs(des_runs, options.threads);
+    baseline = std::make_shared<const BaselineRuns>(std::move(made));
+  } else {
+    des_runs.push_back([&] { accelerated.isolated = run_variant(work, platform, true, true, {}); });
+    des_runs.push_back(
+        [&] { accelerated.streamed = run_variant(work, platform, true, false, timeline_options); });
+    common::run_jobs(des_runs, options.threads);
   }
-  const BaselineRuns accelerated{run_variant(work, platform, true, true, {}),
-                                 run_variant(work, platform, true, false, timeline_options)};
   for (const auto& [v, runs] :
-       {std::pair{&r.baseline, baseline.get()}, std::pair{&r.accelerated, &accelerated}}) {
+       {std::pair<VariantResult*, const BaselineRuns*>{&r.baseline, baseline.get()},
+        std::pair<VariantResult*, const BaselineRuns*>{&r.accelerated, &accelerated}}) {
     for (std::size_t f = 0; f < frames.size(); ++f) {
       const SystemFrameTiming& t = runs->isolated.frames[f];
       FrameResult& out = v->frames[f];
@@ -566,15 +600,7 @@ std::string baseline_des_key(const Platform& platform) {
 BaselineRuns run_baseline_des(const Platform& platform,
                               const std::vector<trace::FrameTrace>& frames,
                               const FrontendStudy& study) {
-  std::vector<SystemFrameWork> work(frames.size());
-  for (std::size_t f = 0; f < frames.size(); ++f) {
-    SystemFrameWork& w = work[f];
-    w.frame_id = frames[f].frame.frame_id;
-    w.frontend_host_ms = study.frame_cpu_ms[f];
-    w.frontend_host_chains = study.frame_cpu_chains[f];
-    w.backend_host_ms = study.frame_backend_host_ms[f];
-    w.backend_device_ms = study.frame_backend_device_ms[f];
-  }
+  const std::vector<SystemFrameWork> work = baseline_frame_work(frames, study);
   return {run_variant(work, platform, false, true, {}),
           run_variant(work, platform, false, false, {})};
 }
@@ -612,16 +638,17 @@ SystemResult simulate_system(const Platform& platform, const std::vector<trace::
                              const SystemSimOptions& options) {
   check_precision(platform, trace_meta, trace_path);
   // The analytical model's timeline is the frontend's pipelined run (the frontend study's).
-  FrontendSimOptions frontend_timeline;
+  FrontendStudyOptions study_options;
   if (options.model == SystemModelKind::kAnalytical && options.timeline) {
-    frontend_timeline.timeline = options.timeline;
-    frontend_timeline.timeline_first = options.timeline_first;
-    frontend_timeline.timeline_count = options.timeline_count;
+    study_options.timeline.timeline = options.timeline;
+    study_options.timeline.timeline_first = options.timeline_first;
+    study_options.timeline.timeline_count = options.timeline_count;
   }
+  study_options.threads = options.threads;
   try {
-    return simulate_system(
-        platform, frames, trace_meta, trace_path,
-        study_frontend(platform, frames, trace_meta, trace_path, frontend_timeline), options);
+    return simulate_system(platform, frames, trace_meta, trace_path,
+                           study_frontend(platform, frames, trace_meta, trace_path, study_options),
+                           options);
   } catch (const InputError& e) {
     throw platform.locate(e);  // a key's value the trace takes past what the model holds
   } catch (const sim::TimeRangeError&) {

@@ -113,6 +113,10 @@ struct SystemSimOptions {
   /// written as Perfetto JSON; empty: none.
   std::optional<std::filesystem::path> timeline;
   std::size_t timeline_first = 0, timeline_count = 10;
+  /// Threads for a run's independent parts: the frontend study's (FrontendStudyOptions) and
+  /// the DES's four runs (baseline and accelerated, isolated and streamed). The results do not
+  /// depend on it; a sweep, whose points run side by side already, keeps 1.
+  int threads = 1;
 };
 
 /// The streamed run of a variant (model "des"): frames at the sensor rate or back to back.

@@ -14,7 +14,10 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <utility>
 
 #include "arch/host/host_processor.hpp"
 #include "arch/host/throughput.hpp"
@@ -100,8 +103,23 @@ class Datasheet final : public HostProcessor {
 
     /// The bundled description `name` read as a host map (errors name its file and line).
     /// `share`: take an `efficiency_of`'s efficiency (else leave it named, unresolved).
+    /// Bundled descriptions are read-only resources: each (file, share) is parsed once per
+    /// process and copied from then on (a sweep parses its platform once per point). A file
+    /// that fails to parse is not kept: it fails again, with the same error, every time.
     static Params bundled(const std::string& name, bool share = true) {
       const std::string where = bundled_file(name);
+      static std::mutex mutex;
+      static std::map<std::pair<std::string, bool>, Params> parsed;
+      {
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (auto it = parsed.find({where, share}); it != parsed.end()) return it->second;
+      }
+      Params p = parse_bundled(where, name, share);
+      const std::lock_guard<std::mutex> lock(mutex);
+      return parsed.try_emplace({where, share}, std::move(p)).first->second;
+    }
+
+    static Params parse_bundled(const std::string& where, const std::string& name, bool share) {
       YamlFields yaml(load_yaml_map(read_input_file(where, "processor description"), where, ""),
                       where, "");
       Params p;

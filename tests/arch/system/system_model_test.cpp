@@ -245,6 +245,42 @@ TEST(SystemModel, AStudysPreparedFramesAreWhatTheModelWouldMakeAndGiveTheSameRes
   EXPECT_EQ(with, without);
 }
 
+// A run's independent parts (the study's four, the DES's four runs) on 1, 2 or 4 threads give
+// the same result and rows to the last bit, with and without the baseline's runs given; a study
+// given the host times it would compute (a sweep's check made them) equals one computing them,
+// and host times of another host are not taken.
+TEST(SystemModel, ThreadsAndKnownHostTimesLeaveTheResultAsItIs) {
+  const Platform p = test_platform("always");
+  const std::vector<trace::FrameTrace> frames = three_frames();
+  SystemSimOptions one;
+  const SystemResult reference = simulate_system(p, frames, kMeta, "t.db", one);
+  const std::string rows = export_run_rows(result_rows(reference, true)).dump();
+  for (int threads : {2, 4}) {
+    SystemSimOptions options;
+    options.threads = threads;
+    const SystemResult r = simulate_system(p, frames, kMeta, "t.db", options);
+    EXPECT_EQ(r.to_json().dump(), reference.to_json().dump()) << threads;
+    EXPECT_EQ(export_run_rows(result_rows(r, true)).dump(), rows) << threads;
+  }
+  const FrontendStudy computed = study_frontend(p, frames, kMeta, "t.db");
+  KnownHostTimes known{component_json(*p.host).dump(),
+                       std::make_shared<const PlatformHostTimes>(computed.host_times)};
+  FrontendStudyOptions with_known;
+  with_known.known = &known;
+  with_known.threads = 2;
+  EXPECT_EQ(study_frontend(p, frames, kMeta, "t.db", with_known).to_json().dump(),
+            computed.to_json().dump());
+  // Times of another host (every frame's frontend doubled) are not this host's: not taken.
+  PlatformHostTimes other = computed.host_times;
+  for (double& ms : other.frontend_ms) ms *= 2;
+  known = {"{\"kind\": \"another\"}", std::make_shared<const PlatformHostTimes>(other)};
+  EXPECT_EQ(study_frontend(p, frames, kMeta, "t.db", with_known).to_json().dump(),
+            computed.to_json().dump());
+  known.host_key = component_json(*p.host).dump();  // the same times under this host's key: taken
+  EXPECT_NE(study_frontend(p, frames, kMeta, "t.db", with_known).to_json().dump(),
+            computed.to_json().dump());
+}
+
 // A sweep's points read one shared study in place (named after the first point's platform):
 // each run's summary and rows, frames included, are those of a run on its own copy of the
 // study, to the last bit; the shared study is left as it was and the result holds none.

@@ -8,7 +8,7 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "workloads/datasets/synthetic/parallel.hpp"
+#include "common/parallel.hpp"
 
 namespace edx::synthetic {
 
@@ -304,7 +304,7 @@ void Renderer::render(const std::vector<RenderView>& views, std::vector<cv::Mat>
     if (depth != nullptr)
       (*depth)[i].create(views[i].camera.height, views[i].camera.width, CV_32FC1);
   }
-  parallel_for(static_cast<int>(views.size()), threads_, [&](int i) {
+  common::parallel_for(static_cast<int>(views.size()), threads_, [&](int i) {
     bin_boxes(views_[static_cast<std::size_t>(i)], views[static_cast<std::size_t>(i)]);
   });
   // Work items: (view, tile row), rows of all views interleaved.
@@ -313,7 +313,7 @@ void Renderer::render(const std::vector<RenderView>& views, std::vector<cv::Mat>
     for (int r = 0; r < views_[i].tiles_y; ++r) items.emplace_back(static_cast<int>(i), r);
   }
   std::vector<std::int64_t> tests(items.size(), 0);
-  parallel_for(static_cast<int>(items.size()), threads_, [&](int k) {
+  common::parallel_for(static_cast<int>(items.size()), threads_, [&](int k) {
     const auto [v, r] = items[static_cast<std::size_t>(k)];
     const auto vi = static_cast<std::size_t>(v);
     tests[static_cast<std::size_t>(k)] =

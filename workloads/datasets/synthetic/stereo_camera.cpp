@@ -4,7 +4,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
-#include "workloads/datasets/synthetic/parallel.hpp"
+#include "common/parallel.hpp"
 #include "workloads/datasets/synthetic/random.hpp"
 
 namespace edx::synthetic {
@@ -88,7 +88,7 @@ StereoImages StereoCamera::capture(const Eigen::Isometry3d& T_world_body) {
       options_.enabled ? images.gain_left * (1.0 + options_.stereo_gain_mismatch) : 1.0;
   const std::uint64_t frame = frame_++;
   std::array<cv::Mat, 2> result;
-  parallel_for(2, threads_, [&](int i) {
+  common::parallel_for(2, threads_, [&](int i) {
     const double gain = i == 0 ? images.gain_left : images.gain_right;
     const std::uint64_t noise_seed =
         derive_seed(seed_, i == 0 ? "noise_left" : "noise_right", frame);

@@ -5,11 +5,12 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <thread>
 #include <vector>
 
-namespace edx::synthetic {
+namespace edx::common {
 
 template <class Fn>
 void parallel_for(int count, int threads, Fn&& fn) {
@@ -38,4 +39,21 @@ void parallel_for(int count, int threads, Fn&& fn) {
   if (error) std::rethrow_exception(error);
 }
 
-}  // namespace edx::synthetic
+/// Runs every job once on up to `threads` threads, all of them to the end, then rethrows the
+/// exception of the first job (in the list's order) that threw: the error is the one a run of
+/// the jobs one after another in that order would give, whichever thread finished first.
+inline void run_jobs(const std::vector<std::function<void()>>& jobs, int threads) {
+  std::vector<std::exception_ptr> errors(jobs.size());
+  parallel_for(static_cast<int>(jobs.size()), threads, [&](int i) {
+    try {
+      jobs[static_cast<std::size_t>(i)]();
+    } catch (...) {
+      errors[static_cast<std::size_t>(i)] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+}
+
+}  // namespace edx::common
