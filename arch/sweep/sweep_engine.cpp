@@ -415,10 +415,15 @@ void SweepContext::set_known_host_times(std::size_t w, KnownHostTimes known) {
 SystemResult SweepContext::execute_simulate(const Platform& platform, std::size_t w) {
   const std::shared_ptr<const LoadedTrace> trace = trace_of(w);
   // Frontend studies are shared between points with the same frontend_study_key (computed once
-  // per process, by the first worker asking), read in place by each point (not copied).
+  // per process, by the first worker asking), read in place by each point (not copied). The
+  // study and the baseline's runs take the sweep's threads: the workers whose points need them
+  // wait for them meanwhile (all of them, when the sweep leaves the frontend alone). An MPI
+  // rank runs one task at a time beside the others on the cores: one thread.
+  const int threads = options.distributed ? 1 : options.jobs;
   const std::shared_ptr<const FrontendStudy> study =
       made_once(mutex_, studies_, frontend_study_key(platform) + "\ntrace=" + trace->hash, [&] {
         FrontendStudyOptions study_options;
+        study_options.threads = threads;
         const auto known = known_host_times_.find(w);  // read only once workers run
         if (known != known_host_times_.end()) study_options.known = &known->second;
         return std::make_shared<const FrontendStudy>(
@@ -432,7 +437,7 @@ SystemResult SweepContext::execute_simulate(const Platform& platform, std::size_
   options.baseline =
       made_once(mutex_, baselines_, baseline_des_key(platform) + "\ntrace=" + trace->hash, [&] {
         return std::make_shared<const BaselineRuns>(
-            run_baseline_des(platform, trace->frames, *study));
+            run_baseline_des(platform, trace->frames, *study, threads));
       });
   return simulate_system(platform, trace->frames, trace->meta, trace->name, study, options);
 }

@@ -599,10 +599,13 @@ std::string baseline_des_key(const Platform& platform) {
 
 BaselineRuns run_baseline_des(const Platform& platform,
                               const std::vector<trace::FrameTrace>& frames,
-                              const FrontendStudy& study) {
+                              const FrontendStudy& study, int threads) {
   const std::vector<SystemFrameWork> work = baseline_frame_work(frames, study);
-  return {run_variant(work, platform, false, true, {}),
-          run_variant(work, platform, false, false, {})};
+  BaselineRuns runs;
+  common::run_jobs({[&] { runs.isolated = run_variant(work, platform, false, true, {}); },
+                    [&] { runs.streamed = run_variant(work, platform, false, false, {}); }},
+                   threads);
+  return runs;
 }
 
 void check_precision(const Platform& platform, const trace::TraceMeta& trace_meta,

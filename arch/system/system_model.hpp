@@ -198,10 +198,11 @@ std::string frontend_study_key(const Platform& platform);
 /// trace.
 std::string baseline_des_key(const Platform& platform);
 
-/// The CPU baseline's DES runs of `platform` on `frames`, `study` being its frontend study.
+/// The CPU baseline's DES runs of `platform` on `frames`, `study` being its frontend study; the
+/// isolated and the streamed run on up to `threads` threads (same runs whatever the number).
 BaselineRuns run_baseline_des(const Platform& platform,
                               const std::vector<trace::FrameTrace>& frames,
-                              const FrontendStudy& study);
+                              const FrontendStudy& study, int threads = 1);
 
 /// Throws std::runtime_error, one line naming both, when the trace's precision (meta precision)
 /// is not the platform's (backend.precision): a trace is simulated only at its own arithmetic;
