@@ -3,6 +3,7 @@
 #include <SQLiteCpp/Database.h>
 #include <SQLiteCpp/Statement.h>
 #include <fmt/core.h>
+#include <sqlite3.h>
 
 #include <map>
 #include <stdexcept>
@@ -27,53 +28,86 @@ std::vector<std::pair<std::string, std::string>> table_layout(SQLite::Database& 
   return columns;
 }
 
+/// A query through SQLite's C API (SQLiteCpp's Column objects share the statement's ownership:
+/// a reference count per value read, most of the cost of reading a trace's 70 000 rows).
+class Query {
+ public:
+  Query(SQLite::Database& db, const std::string& sql) : db_(db.getHandle()) {
+    const int rc = sqlite3_prepare_v2(db_, sql.c_str(), -1, &statement_, nullptr);
+    if (rc != SQLITE_OK) throw SQLite::Exception(db_, rc);
+  }
+  Query(const Query&) = delete;
+  Query& operator=(const Query&) = delete;
+  ~Query() { sqlite3_finalize(statement_); }
+  /// The next row (false: no more); errors as SQLiteCpp's.
+  bool step() {
+    const int rc = sqlite3_step(statement_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    throw SQLite::Exception(db_, rc);
+  }
+  sqlite3_stmt* statement() const { return statement_; }
+  std::int64_t int64(int column) const { return sqlite3_column_int64(statement_, column); }
+  const char* column_name(int column) const { return sqlite3_column_name(statement_, column); }
+
+ private:
+  sqlite3* db_;
+  sqlite3_stmt* statement_ = nullptr;
+};
+
 /// Typed access to the current row of a query, with error messages naming file, table, row.
 /// `where` (a callable giving "file: table row ...") is called only when a check fails: a trace
 /// of 70 000 rows formats no text unless it is bad.
 template <typename Where>
 class Row {
  public:
-  Row(SQLite::Statement& query, Where where) : query_(query), where_(std::move(where)) {}
+  Row(const Query& query, Where where)
+      : query_(query), statement_(query.statement()), where_(std::move(where)) {}
 
+  // The values are read through SQLite's C API on the statement (SQLiteCpp's Column objects
+  // share the statement's ownership: a reference count per value read).
   std::int64_t integer(int column) const {
-    const SQLite::Column value = query_.getColumn(column);
-    if (!value.isInteger()) fail(fmt::format("column {} is not an integer", value.getName()));
-    return value.getInt64();
+    if (sqlite3_column_type(statement_, column) != SQLITE_INTEGER) {
+      fail(fmt::format("column {} is not an integer", query_.column_name(column)));
+    }
+    return sqlite3_column_int64(statement_, column);
   }
   std::int64_t count(int column) const {
     const std::int64_t value = integer(column);
     if (value < 0)
-      fail(fmt::format("column {} is negative ({})", query_.getColumnName(column), value));
+      fail(fmt::format("column {} is negative ({})", query_.column_name(column), value));
     return value;
   }
   bool flag(int column) const {
     const std::int64_t value = integer(column);
     if (value != 0 && value != 1) {
-      fail(fmt::format("column {} must be 0 or 1, is {}", query_.getColumnName(column), value));
+      fail(fmt::format("column {} must be 0 or 1, is {}", query_.column_name(column), value));
     }
     return value == 1;
   }
   std::string text(int column) const {
-    const SQLite::Column value = query_.getColumn(column);
-    if (!value.isText()) fail(fmt::format("column {} is not text", value.getName()));
-    return value.getString();
+    if (sqlite3_column_type(statement_, column) != SQLITE_TEXT) {
+      fail(fmt::format("column {} is not text", query_.column_name(column)));
+    }
+    const auto* chars = reinterpret_cast<const char*>(sqlite3_column_text(statement_, column));
+    return std::string(chars, static_cast<std::size_t>(sqlite3_column_bytes(statement_, column)));
   }
   std::optional<PoseArray> pose(int first) const {
     int nulls = 0;
     PoseArray pose{};
     for (int i = 0; i < 7; ++i) {
-      const SQLite::Column value = query_.getColumn(first + i);
-      if (value.isNull()) {
+      const int type = sqlite3_column_type(statement_, first + i);
+      if (type == SQLITE_NULL) {
         ++nulls;
-      } else if (value.isFloat() || value.isInteger()) {
-        pose[static_cast<std::size_t>(i)] = value.getDouble();
+      } else if (type == SQLITE_FLOAT || type == SQLITE_INTEGER) {
+        pose[static_cast<std::size_t>(i)] = sqlite3_column_double(statement_, first + i);
       } else {
-        fail(fmt::format("column {} is not a number", value.getName()));
+        fail(fmt::format("column {} is not a number", query_.column_name(first + i)));
       }
     }
     if (nulls == 7) return std::nullopt;
     if (nulls != 0)
-      fail(fmt::format("pose starting at column {} is partly NULL", query_.getColumnName(first)));
+      fail(fmt::format("pose starting at column {} is partly NULL", query_.column_name(first)));
     return pose;
   }
   template <typename Parse>
@@ -90,7 +124,8 @@ class Row {
   }
 
  private:
-  SQLite::Statement& query_;
+  const Query& query_;
+  sqlite3_stmt* statement_;
   Where where_;
 };
 
@@ -174,9 +209,9 @@ std::vector<FrameTrace> TraceReader::read_all() const {
     SQLite::Database db(file, SQLite::OPEN_READONLY | SQLite::OPEN_NOMUTEX);
     std::map<std::string, std::int64_t> last_timestamp;  // per sequence
 
-    SQLite::Statement frame_query(db, "SELECT * FROM frames ORDER BY frame_id");
-    while (frame_query.executeStep()) {
-      const std::int64_t id = frame_query.getColumn(0).getInt64();
+    Query frame_query(db, "SELECT * FROM frames ORDER BY frame_id");
+    while (frame_query.step()) {
+      const std::int64_t id = frame_query.int64(0);
       const Row row(frame_query, [&] { return fmt::format("{}: frames row {}", file, id); });
       if (id != static_cast<std::int64_t>(frames.size())) {
         row.fail(fmt::format("frame ids must run 0, 1, 2, ...; expected {}", frames.size()));
@@ -213,10 +248,10 @@ std::vector<FrameTrace> TraceReader::read_all() const {
       return frames[static_cast<std::size_t>(id)];
     };
 
-    SQLite::Statement task_query(db, "SELECT * FROM tasks ORDER BY frame_id, seq");
-    while (task_query.executeStep()) {
-      const std::int64_t id = task_query.getColumn(0).getInt64();
-      const std::int64_t seq = task_query.getColumn(1).getInt64();
+    Query task_query(db, "SELECT * FROM tasks ORDER BY frame_id, seq");
+    while (task_query.step()) {
+      const std::int64_t id = task_query.int64(0);
+      const std::int64_t seq = task_query.int64(1);
       const Row row(task_query,
                     [&] { return fmt::format("{}: tasks row (frame {}, seq {})", file, id, seq); });
       FrameTrace& frame = frame_of(row, id);
@@ -233,10 +268,10 @@ std::vector<FrameTrace> TraceReader::read_all() const {
       frame.tasks.push_back(std::move(t));
     }
 
-    SQLite::Statement kernel_query(db, "SELECT * FROM kernels ORDER BY frame_id, seq");
-    while (kernel_query.executeStep()) {
-      const std::int64_t id = kernel_query.getColumn(0).getInt64();
-      const std::int64_t seq = kernel_query.getColumn(1).getInt64();
+    Query kernel_query(db, "SELECT * FROM kernels ORDER BY frame_id, seq");
+    while (kernel_query.step()) {
+      const std::int64_t id = kernel_query.int64(0);
+      const std::int64_t seq = kernel_query.int64(1);
       const Row row(kernel_query, [&] {
         return fmt::format("{}: kernels row (frame {}, seq {})", file, id, seq);
       });
@@ -253,15 +288,15 @@ std::vector<FrameTrace> TraceReader::read_all() const {
       frame.kernels.push_back(std::move(k));
     }
 
-    SQLite::Statement op_query(
+    Query op_query(
         db,
         fmt::format("SELECT frame_id, kernel_seq, seq, op, m, n, k, flags, host_ns, {} AS batch "
                     "FROM ops ORDER BY frame_id, kernel_seq, seq",
                     schema_version_ == 3 ? "1" : "batch"));
-    while (op_query.executeStep()) {
-      const std::int64_t id = op_query.getColumn(0).getInt64();
-      const std::int64_t kernel_seq = op_query.getColumn(1).getInt64();
-      const std::int64_t seq = op_query.getColumn(2).getInt64();
+    while (op_query.step()) {
+      const std::int64_t id = op_query.int64(0);
+      const std::int64_t kernel_seq = op_query.int64(1);
+      const std::int64_t seq = op_query.int64(2);
       const Row row(op_query, [&] {
         return fmt::format("{}: ops row (frame {}, kernel {}, seq {})", file, id, kernel_seq, seq);
       });

@@ -51,9 +51,11 @@ const char* name_of(const NameTable<Enum, N>& table, Enum value) {
 
 template <typename Enum, std::size_t N>
 Enum parse_name(const NameTable<Enum, N>& table, std::string_view kind, const std::string& text) {
-  std::string accepted;
   for (const auto& [entry, name] : table) {
     if (text == name) return entry;
+  }
+  std::string accepted;  // the names, for the error only
+  for (const auto& [entry, name] : table) {
     accepted += accepted.empty() ? name : std::string("|") + name;
   }
   throw std::invalid_argument(fmt::format("unknown {} '{}' (expected {})", kind, text, accepted));

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "workloads/trace/codec.hpp"
 #include "workloads/trace/reader.hpp"
@@ -162,6 +163,31 @@ TEST(TraceLimits, WorkIsBoundedByTheImagesAndOperandsByHostMemory) {
   EXPECT_EQ(error(frame),
             "t.db: frame 0, kernel 1 (kalman_gain), op 0: an operand of m x n = 65536 x 65537 "
             "elements, above the 2^32 no host holds");
+}
+
+// A kernel's detail must be a JSON object: accepted exactly when nlohmann's parser makes an
+// object of it (the check only validates, without building the object), with the row named.
+TEST(TraceLimits, KernelDetailIsAcceptedExactlyWhenItParsesToAnObject) {
+  for (const std::string& detail :
+       {std::string("{}"), std::string(" {\"a\": [1, 2]}\n"), std::string("\xEF\xBB\xBF{}"),
+        std::string("[]"), std::string("1"), std::string("\"{}\""), std::string("{"),
+        std::string("{} {}"), std::string(""), std::string("  "), std::string("{\"a\": }"),
+        std::string("\xEF\xBB\xBF[]")}) {
+    SCOPED_TRACE(detail);
+    FrameTrace frame = sample_frame(0);
+    frame.kernels[1].detail_json = detail;
+    const auto parsed = nlohmann::json::parse(detail, nullptr, false);
+    const bool object = !parsed.is_discarded() && parsed.is_object();
+    if (object) {
+      EXPECT_NO_THROW(validate_frame(frame, "t.db"));
+    } else {
+      EXPECT_THAT([&] { validate_frame(frame, "t.db"); },
+                  ::testing::ThrowsMessage<std::runtime_error>(
+                      HasSubstr("t.db: frame 0, kernel 1 (kalman_gain): detail is not a JSON "
+                                "object: '" +
+                                detail + "'")));
+    }
+  }
 }
 
 TEST_F(TraceTest, WriterRejectsBadFrames) {
