@@ -99,7 +99,12 @@ ProcessHandle Simulator::spawn(Process process, std::string name) {
   record->sim = this;
   record->frame = handle;
   record->id = ++next_process_id_;
-  record->name = name.empty() ? "process#" + std::to_string(record->id) : std::move(name);
+  // Moved straight into the record (a conditional expression would move it twice).
+  if (name.empty()) {
+    record->name = "process#" + std::to_string(record->id);
+  } else {
+    record->name = std::move(name);
+  }
   handle.promise().is_root = true;
   handle.promise().process = record;
   ++live_processes_;

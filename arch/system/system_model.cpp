@@ -730,6 +730,9 @@ SystemResult simulate_on_study(const Platform& platform,
   const std::size_t backend_resources = platform.backend->resource_names().size();
   const FrontendStudy::PreparedFrame* prepared = prepared_frames(study, frames.size());
   std::vector<double> cpu_fe_end;
+  cpu_fe_end.reserve(frames.size());
+  r.baseline.frames.reserve(frames.size());
+  r.accelerated.frames.reserve(frames.size());
   double cpu_fe_clock = 0;
   for (std::size_t f = 0; f < frames.size(); ++f) {
     const trace::FrameTrace& frame = frames[f];
