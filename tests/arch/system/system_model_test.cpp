@@ -294,9 +294,10 @@ TEST(SystemModel, ModeSummariesGroupInterleavedModes) {
     EXPECT_NEAR(v->modes.at("registration").backend_ms.max,
                 std::max({f[1].backend_ms, f[3].backend_ms, f[4].backend_ms}), 1e-12);
   }
-  // The baseline's backend is the trace's: 5, 7 ms (slam) and 10, 20, 30 ms (registration).
-  EXPECT_NEAR(r.baseline.modes.at("slam").backend_ms.mean, 6.0, 1e-9);
-  EXPECT_NEAR(r.baseline.modes.at("registration").backend_ms.mean, 20.0, 1e-9);
+  // The baseline's backend is the trace's on a host of scale 2: 10, 14 ms (slam) and 20, 40,
+  // 60 ms (registration).
+  EXPECT_NEAR(r.baseline.modes.at("slam").backend_ms.mean, 12.0, 1e-9);
+  EXPECT_NEAR(r.baseline.modes.at("registration").backend_ms.mean, 40.0, 1e-9);
 }
 
 TEST(SystemModel, InvocationsOfOneShapeShareTheirCostsOnly) {
