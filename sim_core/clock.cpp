@@ -56,14 +56,8 @@ double ClockDomain::period_ps() const {
   return static_cast<double>(period_num_) / static_cast<double>(period_den_);
 }
 
-Time ClockDomain::time_of_cycles(std::uint64_t n) const {
-  // ceil(n * num / den) in 64 bits when n * num + den - 1 fits (150 MHz: num 20000, n < 9.2e14:
-  // the usual case, no 128-bit division), else with a 128-bit product: n < 2^64 and num <= 2^64
-  // cannot overflow 2^128. Both give the same integer.
-  std::uint64_t narrow = 0;
-  if (!__builtin_mul_overflow(n, period_num_, &narrow) && narrow <= kTimeMax - (period_den_ - 1)) {
-    return (narrow + period_den_ - 1) / period_den_;
-  }
+Time ClockDomain::wide_time_of_cycles(std::uint64_t n) const {
+  // n < 2^64 and num <= 2^64: the product cannot overflow 2^128.
   const Wide product = static_cast<Wide>(n) * period_num_;
   const Wide edge = (product + period_den_ - 1) / period_den_;
   if (edge > kTimeMax) {
@@ -73,18 +67,8 @@ Time ClockDomain::time_of_cycles(std::uint64_t n) const {
   return static_cast<Time>(edge);
 }
 
-std::uint64_t ClockDomain::cycles_in(Time t) const {
-  // floor(t * den / num); den <= 10^12 so the product stays below 2^104 (in 64 bits when it
-  // fits there: the same integer).
-  std::uint64_t narrow = 0;
-  if (!__builtin_mul_overflow(t, period_den_, &narrow)) return narrow / period_num_;
+std::uint64_t ClockDomain::wide_cycles_in(Time t) const {
   return static_cast<std::uint64_t>(static_cast<Wide>(t) * period_den_ / period_num_);
-}
-
-Time ClockDomain::next_edge(Time t) const {
-  const std::uint64_t n = cycles_in(t);
-  const Time edge = time_of_cycles(n);
-  return edge == t ? t : time_of_cycles(n + 1);
 }
 
 }  // namespace edx::sim

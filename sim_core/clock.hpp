@@ -48,13 +48,40 @@ class ClockDomain {
 
   /// Time of rising edge n: ceil(n * period) ps. Edge 0 is at time 0. Throws TimeRangeError
   /// when the edge lies beyond kTimeMax.
-  Time time_of_cycles(std::uint64_t n) const;
+  Time time_of_cycles(std::uint64_t n) const {
+    // ceil(n * num / den) in 64 bits when n * num + den - 1 fits (150 MHz: num 20000, n < 9.2e14:
+    // the usual case, inline), else with a 128-bit product (wide_time_of_cycles): the same
+    // integer.
+    std::uint64_t narrow = 0;
+    if (!__builtin_mul_overflow(n, period_num_, &narrow) && narrow <= kTimeMax - (period_den_ - 1))
+        [[likely]] {
+      return (narrow + period_den_ - 1) / period_den_;
+    }
+    return wide_time_of_cycles(n);
+  }
   /// Number of complete cycles (rising edges) in (0, t]: floor(t / period).
-  std::uint64_t cycles_in(Time t) const;
+  std::uint64_t cycles_in(Time t) const {
+    // floor(t * den / num); den <= 10^12 so the product stays below 2^104 (in 64 bits when it
+    // fits there, inline: the same integer).
+    std::uint64_t narrow = 0;
+    if (!__builtin_mul_overflow(t, period_den_, &narrow)) [[likely]] {
+      return narrow / period_num_;
+    }
+    return wide_cycles_in(t);
+  }
   /// The first edge at or after `t` (t itself when t is an edge).
-  Time next_edge(Time t) const;
+  Time next_edge(Time t) const {
+    const std::uint64_t n = cycles_in(t);
+    const Time edge = time_of_cycles(n);
+    return edge == t ? t : time_of_cycles(n + 1);
+  }
 
  private:
+  /// time_of_cycles with a 128-bit product; throws TimeRangeError beyond kTimeMax.
+  Time wide_time_of_cycles(std::uint64_t n) const;
+  /// cycles_in with a 128-bit product.
+  std::uint64_t wide_cycles_in(Time t) const;
+
   ClockDomain(std::string name, std::uint64_t period_num, std::uint64_t period_den);
 
   std::string name_;

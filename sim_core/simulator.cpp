@@ -99,7 +99,12 @@ ProcessHandle Simulator::spawn(Process process, std::string name) {
   record->sim = this;
   record->frame = handle;
   record->id = ++next_process_id_;
-  record->name = name.empty() ? "process#" + std::to_string(record->id) : std::move(name);
+  // Moved straight into the record (a conditional expression would move it twice).
+  if (name.empty()) {
+    record->name = "process#" + std::to_string(record->id);
+  } else {
+    record->name = std::move(name);
+  }
   handle.promise().is_root = true;
   handle.promise().process = record;
   ++live_processes_;
@@ -140,14 +145,8 @@ TimerAwaiter Simulator::cycles(const ClockDomain& clock, std::uint64_t n, Priori
   return TimerAwaiter(*this, edge_time(clock, n), priority);
 }
 
-Time Simulator::edge_time(const ClockDomain& clock, std::uint64_t n) const {
-  // Edge k = cycles_in(now) is the last edge at or before now; the n-th edge after now is k + n.
-  const Time when =
-      n == 0 ? clock.next_edge(now_) : clock.time_of_cycles(clock.cycles_in(now_) + n);
-  if (when == kTimeMax) {
-    throw TimeRangeError("edx::sim::Simulator::cycles: edge lies at the reserved kTimeMax");
-  }
-  return when;
+void Simulator::throw_reserved_edge() {
+  throw TimeRangeError("edx::sim::Simulator::cycles: edge lies at the reserved kTimeMax");
 }
 
 void Simulator::run() { run_loop(kTimeMax); }

@@ -271,8 +271,17 @@ class Simulator {
     }
     return now_ + duration;
   }
-  /// The time cycles(clock, n) resumes at; throws TimeRangeError at kTimeMax.
-  Time edge_time(const ClockDomain& clock, std::uint64_t n) const;
+  /// The time cycles(clock, n) resumes at; throws TimeRangeError at kTimeMax. Edge k =
+  /// cycles_in(now) is the last edge at or before now; the n-th edge after now is k + n.
+  Time edge_time(const ClockDomain& clock, std::uint64_t n) const {
+    const Time when =
+        n == 0 ? clock.next_edge(now_) : clock.time_of_cycles(clock.cycles_in(now_) + n);
+    if (when == kTimeMax) [[unlikely]] {
+      throw_reserved_edge();
+    }
+    return when;
+  }
+  [[noreturn]] static void throw_reserved_edge();
 
   void schedule(Time when, Priority priority, void* target, detail::ProcessRecord* process,
                 const Event* event) {

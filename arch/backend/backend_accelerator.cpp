@@ -30,6 +30,9 @@ sim::Task<void> BackendAccelerator::run(const trace::KernelRecord& kernel) {
 sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::string label,
                                         OffloadTimes times) {
   const sim::Time start = sim_->now();
+  // The other copies an op takes (empty for a unit of one copy, the usual): one list for the
+  // kernel, emptied after each op, so an op neither allocates nor destroys one.
+  std::vector<sim::Lease> more;
   for (const OpTiming& t : plan.ops) {
     sim::Resource& unit = *units_[t.unit];
     const sim::ClockDomain& clock = *clocks_[t.unit];
@@ -37,9 +40,7 @@ sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::stri
     // An op issued between its unit's clock edges starts on the next one.
     if (clock.next_edge(sim_->now()) != sim_->now()) co_await sim_->advance_cycles(clock, 0);
     sim::Lease first = co_await unit.acquire();
-    // Every other copy free now shares the op's work (a unit of one copy, the usual, allocates
-    // no list).
-    std::vector<sim::Lease> more;
+    // Every other copy free now shares the op's work.
     while (1 + more.size() < unit.capacity()) {
       sim::Lease copy = unit.try_acquire();
       if (!copy) break;

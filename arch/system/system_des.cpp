@@ -414,40 +414,53 @@ class SystemSimulation {
   /// Transfer 2, the spill reads, the kernel on the units, the spill writes, transfer 3 (spill
   /// traffic serialized with the units: the conservative reading, docs/MODEL.md "SPM spills").
   /// Its causes go to `causes`: each transfer's to its link direction (the spill's to
-  /// backend.spill), the units' run and wait to their resources.
+  /// backend.spill), the units' run and wait to their resources. The four transfers are legs of
+  /// one loop in this coroutine (a coroutine per transfer would only add a frame each).
   sim::Task<void> offload(const OffloadWork& o, sim::Time* causes) {
     constexpr Direction kIn = Direction::HostToFpga, kOut = Direction::FpgaToHost;
-    co_await timed_transfer(o, o.input_bytes, kIn, CauseLayout::link(kIn), " in", causes);
-    if (o.spill_read_bytes > 0 || !contention_) {
-      co_await timed_transfer(o, o.spill_read_bytes, kIn, CauseLayout::kSpill, " spill in", causes);
+    /// One transfer: its bytes and direction, the cause its time goes to (a link's run cause,
+    /// or backend.spill's), its timeline label's suffix, and whether it is made at all (a spill
+    /// only when there is one, or with contention off: then its idle time, 0 for 0 bytes).
+    struct Leg {
+      std::int64_t bytes;
+      Direction direction;
+      std::size_t cause;
+      const char* suffix;
+      bool made;
+    };
+    const std::array<Leg, 4> legs = {{
+        {o.input_bytes, kIn, CauseLayout::link(kIn), " in", true},
+        {o.spill_read_bytes, kIn, CauseLayout::kSpill, " spill in",
+         o.spill_read_bytes > 0 || !contention_},
+        {o.spill_write_bytes, kOut, CauseLayout::kSpill, " spill out",
+         o.spill_write_bytes > 0 || !contention_},
+        {o.output_bytes, kOut, CauseLayout::link(kOut), " out", true},
+    }};
+    for (std::size_t i = 0; i < legs.size(); ++i) {
+      if (i == 2) {  // the kernel, between the reads and the writes
+        if (contention_) {
+          co_await backend_->run(*o.plan, label(o, ""),
+                                 OffloadTimes{causes + CauseLayout::backend(0)});
+        } else {
+          // On an idle accelerator: its plan's compute time, split by resource.
+          const sim::Time compute = sim::seconds(o.plan->compute_s);
+          co_await sim_.advance(compute);
+          attribute_compute(*o.plan, compute, causes);
+        }
+      }
+      const Leg& leg = legs[i];
+      if (!leg.made) continue;
+      // On the link (contention off: its idle time); the time it took split into run (its
+      // time on the idle link) and wait.
+      const sim::Time asked = sim_.now();
+      const sim::Time idle = link_kind_->transfer_time(leg.bytes);
+      if (contention_) {
+        co_await link_->transfer(leg.bytes, leg.direction, label(o, leg.suffix));
+      } else {
+        co_await sim_.advance(idle);
+      }
+      split_transfer(causes, leg.cause, sim_.now() - asked, idle);
     }
-    if (contention_) {
-      co_await backend_->run(*o.plan, label(o, ""), OffloadTimes{causes + CauseLayout::backend(0)});
-    } else {
-      // On an idle accelerator: its plan's compute time, split by resource.
-      const sim::Time compute = sim::seconds(o.plan->compute_s);
-      co_await sim_.advance(compute);
-      attribute_compute(*o.plan, compute, causes);
-    }
-    if (o.spill_write_bytes > 0 || !contention_) {
-      co_await timed_transfer(o, o.spill_write_bytes, kOut, CauseLayout::kSpill, " spill out",
-                              causes);
-    }
-    co_await timed_transfer(o, o.output_bytes, kOut, CauseLayout::link(kOut), " out", causes);
-  }
-
-  /// One transfer of an offload on the link (contention off: its idle time), its time added to
-  /// `cause` (a link's run cause, or backend.spill's) of `causes`.
-  sim::Task<void> timed_transfer(const OffloadWork& o, std::int64_t bytes, Direction direction,
-                                 std::size_t cause, const char* suffix, sim::Time* causes) {
-    const sim::Time asked = sim_.now();
-    const sim::Time idle = link_kind_->transfer_time(bytes);
-    if (contention_) {
-      co_await link_->transfer(bytes, direction, label(o, suffix));
-    } else {
-      co_await sim_.advance(idle);
-    }
-    split_transfer(causes, cause, sim_.now() - asked, idle);
   }
 
   /// `compute` ps of a plan on an idle accelerator, split over its resources in proportion to

@@ -116,9 +116,19 @@ ModeSummary summarize(const std::vector<const FrameResult*>& frames) {
 void finish_variant(VariantResult& v, const std::vector<double>& fe_end_ms) {
   std::map<std::string, std::vector<const FrameResult*>> by_mode;
   double total_ms = 0;
+  // A run of frames of one mode looks its list up once (map references stay valid); "all" is
+  // created after the first frame's mode, as a look-up per frame would.
+  std::vector<const FrameResult*>* all = nullptr;
+  std::vector<const FrameResult*>* mode = nullptr;
+  const std::string* mode_name = nullptr;
   for (const FrameResult& f : v.frames) {
-    by_mode[f.mode].push_back(&f);
-    by_mode["all"].push_back(&f);
+    if (mode_name == nullptr || *mode_name != f.mode) {
+      mode = &by_mode[f.mode];
+      mode_name = &f.mode;
+    }
+    mode->push_back(&f);
+    if (all == nullptr) all = &by_mode["all"];
+    all->push_back(&f);
     total_ms += f.e2e_ms;
   }
   for (const auto& [mode, frames] : by_mode) v.modes[mode] = summarize(frames);
@@ -750,6 +760,9 @@ SystemResult simulate_on_study(const Platform& platform,
   const std::size_t backend_resources = platform.backend->resource_names().size();
   const FrontendStudy::PreparedFrame* prepared = prepared_frames(study, frames.size());
   std::vector<double> cpu_fe_end;
+  cpu_fe_end.reserve(frames.size());
+  r.baseline.frames.reserve(frames.size());
+  r.accelerated.frames.reserve(frames.size());
   double cpu_fe_clock = 0;
   for (std::size_t f = 0; f < frames.size(); ++f) {
     const trace::FrameTrace& frame = frames[f];

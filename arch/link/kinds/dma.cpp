@@ -139,22 +139,28 @@ class DmaLink final : public Link {
     sim::Time wire_time(std::int64_t bytes) const {
       // bytes / (GBps * 1e9) s = bytes * 1000 / GBps ps
       const double picoseconds = static_cast<double>(bytes) * 1e3 / bandwidth_gb_per_s;
-      // llround is undefined past 2^63; a tiny bandwidth must not wrap into a short time.
-      constexpr double kLimitPs = 9223372036854775808.0;  // 2^63
-      if (!std::isfinite(picoseconds) || picoseconds < 0.0 || picoseconds >= kLimitPs) {
-        throw std::out_of_range(fmt::format(
-            "link.bandwidth_gb_per_s {}: {} bytes would take {:g} s on the wire, beyond "
-            "the simulated time range (2^63 ps, 107 days)",
-            bandwidth_gb_per_s, bytes, picoseconds * 1e-12));
+      // llround is undefined past 2^63; a tiny bandwidth must not wrap into a short time. The
+      // test is false for NaN and infinities too (isfinite and the range in one); the error is
+      // built out of line, so this inlines into the chunk loops.
+      if (!(picoseconds >= 0.0 && picoseconds < kLimitPs)) [[unlikely]] {
+        throw_wire_range(bytes, picoseconds);
       }
       return static_cast<sim::Time>(round_nonnegative(picoseconds));
     }
+    /// wire_time's error: link.bandwidth_gb_per_s named, the transfer's seconds.
+    [[noreturn]] [[gnu::noinline]] void throw_wire_range(std::int64_t bytes,
+                                                         double picoseconds) const {
+      throw std::out_of_range(
+          fmt::format("link.bandwidth_gb_per_s {}: {} bytes would take {:g} s on the wire, beyond "
+                      "the simulated time range (2^63 ps, 107 days)",
+                      bandwidth_gb_per_s, bytes, picoseconds * 1e-12));
+    }
+    static constexpr double kLimitPs = 9223372036854775808.0;  ///< 2^63
     /// True when wire_time(bytes) does not throw (wire time monotone in bytes: then no smaller
     /// count throws either).
     bool wire_in_range(std::int64_t bytes) const {
       const double picoseconds = static_cast<double>(bytes) * 1e3 / bandwidth_gb_per_s;
-      return std::isfinite(picoseconds) && picoseconds >= 0.0 &&
-             picoseconds < 9223372036854775808.0;  // 2^63, as wire_time
+      return picoseconds >= 0.0 && picoseconds < kLimitPs;  // as wire_time (false for NaN, inf)
     }
     /// The chunk of `bytes` at byte `offset` of a transfer: wire(offset + bytes) - wire(offset).
     sim::Time chunk_wire_time(std::int64_t offset, std::int64_t bytes) const {

@@ -6,6 +6,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -304,6 +305,35 @@ TEST(SystemModel, ARunOnASharedStudyEqualsOneOnItsOwnCopy) {
   EXPECT_EQ(shared->platform, first.name);
   EXPECT_THROW(simulate_system(p, frames, kMeta, "t.db", std::shared_ptr<const FrontendStudy>()),
                std::logic_error);
+}
+
+// Frames of two modes interleaved (slam, registration, slam, registration, registration): each
+// mode's summary holds its own frames only, "all" every frame, whatever the order they come in.
+TEST(SystemModel, ModeSummariesGroupInterleavedModes) {
+  const std::vector<trace::FrameTrace> frames = {
+      frame(0, BackendMode::Slam, 5'000'000), frame(1, BackendMode::Registration, 10'000'000),
+      frame(2, BackendMode::Slam, 7'000'000), frame(3, BackendMode::Registration, 20'000'000),
+      frame(4, BackendMode::Registration, 30'000'000)};
+  const SystemResult r = simulate_system(test_platform("always"), frames, kMeta, "t.db");
+  for (const VariantResult* v : {&r.baseline, &r.accelerated}) {
+    SCOPED_TRACE(v->variant);
+    ASSERT_EQ(v->frames.size(), 5u);
+    const auto& f = v->frames;
+    EXPECT_EQ(v->modes.size(), 3u);
+    EXPECT_EQ(v->modes.at("slam").frames, 2u);
+    EXPECT_EQ(v->modes.at("registration").frames, 3u);
+    EXPECT_EQ(v->modes.at("all").frames, 5u);
+    EXPECT_NEAR(v->modes.at("slam").backend_ms.mean, (f[0].backend_ms + f[2].backend_ms) / 2,
+                1e-12);
+    EXPECT_NEAR(v->modes.at("registration").backend_ms.mean,
+                (f[1].backend_ms + f[3].backend_ms + f[4].backend_ms) / 3, 1e-12);
+    EXPECT_NEAR(v->modes.at("registration").backend_ms.max,
+                std::max({f[1].backend_ms, f[3].backend_ms, f[4].backend_ms}), 1e-12);
+  }
+  // The baseline's backend is the trace's on a host of scale 2: 10, 14 ms (slam) and 20, 40,
+  // 60 ms (registration).
+  EXPECT_NEAR(r.baseline.modes.at("slam").backend_ms.mean, 12.0, 1e-9);
+  EXPECT_NEAR(r.baseline.modes.at("registration").backend_ms.mean, 40.0, 1e-9);
 }
 
 TEST(SystemModel, InvocationsOfOneShapeShareTheirCostsOnly) {
