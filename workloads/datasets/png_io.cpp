@@ -203,12 +203,13 @@ std::vector<png_bytep> row_pointers(const cv::Mat& image) {
   return rows;
 }
 
-}  // namespace
-
+/// True when `bytes` start with the 8-byte PNG signature (PNG spec, sec. 5.2).
 bool has_png_signature(std::span<const unsigned char> bytes) {
   return bytes.size() >= kPngSignature.size() &&
          std::equal(kPngSignature.begin(), kPngSignature.end(), bytes.begin());
 }
+
+}  // namespace
 
 cv::Mat decode_png_gray(std::span<const unsigned char> bytes, const std::filesystem::path& file) {
   if (!has_png_signature(bytes)) {

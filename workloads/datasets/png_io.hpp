@@ -11,9 +11,6 @@
 
 namespace edx::datasets {
 
-/// True when `bytes` start with the 8-byte PNG signature (PNG spec, sec. 5.2).
-bool has_png_signature(std::span<const unsigned char> bytes);
-
 /// Decodes the PNG `bytes` (read from `file`, named in errors) to 8-bit gray (CV_8UC1), pixel
 /// for pixel as OpenCV 4.6's cv::imdecode(bytes, cv::IMREAD_GRAYSCALE): the same libpng
 /// transformations, so every PNG kind gives the same pixels. 16-bit samples keep their high byte
