@@ -7,12 +7,12 @@
 #include <filesystem>
 #include <map>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
 #include "fuzz/fuzz_input.hpp"
 #include "workloads/datasets/dataset.hpp"
+#include "workloads/datasets/png_io.hpp"
 
 namespace edx::fuzz {
 
@@ -33,7 +33,7 @@ struct DatasetSkeleton {
     cv::randu(image, 0, 255);
     for (const std::string& relative : images) {
       std::filesystem::create_directories((root / relative).parent_path());
-      cv::imwrite((root / relative).string(), image);
+      datasets::write_png_gray(root / relative, image);
     }
   }
   /// Replaces the file the first byte selects with the rest of the input; returns it.

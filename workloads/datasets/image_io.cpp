@@ -1,59 +1,16 @@
 #include "workloads/datasets/image_io.hpp"
 
 #include <fmt/core.h>
-#include <zlib.h>
 
-#include <algorithm>
-#include <array>
 #include <cstdint>
-#include <cstring>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <vector>
 
+#include "workloads/datasets/png_io.hpp"
+
 namespace edx::datasets {
-namespace {
-
-constexpr std::array<unsigned char, 8> kPngSignature = {0x89, 'P',  'N',  'G',
-                                                        '\r', '\n', 0x1a, '\n'};
-
-std::uint32_t big_endian_u32(const unsigned char* p) {
-  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
-         std::uint32_t{p[3]};
-}
-
-/// Walks a PNG's chunks (PNG spec, sec. 5.3: length, type, data, CRC-32 of type and data) up to
-/// IEND, so that a truncated or damaged file is one error of ours rather than a line libpng
-/// prints on its own before OpenCV returns an empty image. Not covered: a deflate stream damaged
-/// under valid CRCs (only a deliberately crafted file), which libpng still reports itself.
-void check_png_chunks(const std::vector<unsigned char>& bytes, const std::filesystem::path& file) {
-  std::size_t at = kPngSignature.size();
-  while (true) {
-    if (bytes.size() - at < 12) {
-      throw std::runtime_error(fmt::format(
-          "{}: truncated PNG ({} bytes, ends before its IEND chunk)", file.string(), bytes.size()));
-    }
-    const std::uint64_t length = big_endian_u32(&bytes[at]);
-    if (length > bytes.size() - at - 12) {
-      throw std::runtime_error(fmt::format(
-          "{}: truncated PNG ({} bytes; the chunk at byte {} declares {} bytes of data)",
-          file.string(), bytes.size(), at, length));
-    }
-    const unsigned char* type = &bytes[at + 4];
-    const uLong crc = ::crc32(::crc32(0L, Z_NULL, 0), type, static_cast<uInt>(length + 4));
-    if (crc != big_endian_u32(type + 4 + length)) {
-      throw std::runtime_error(
-          fmt::format("{}: damaged PNG (the {} chunk at byte {} fails its CRC)", file.string(),
-                      std::string(reinterpret_cast<const char*>(type), 4), at));
-    }
-    if (std::memcmp(type, "IEND", 4) == 0) return;
-    at += 12 + length;
-  }
-}
-
-}  // namespace
 
 cv::Mat read_gray_image(const std::filesystem::path& file) {
   std::vector<unsigned char> bytes;
@@ -71,20 +28,11 @@ cv::Mat read_gray_image(const std::filesystem::path& file) {
       }
     }
   }
-  const bool png = bytes.size() >= kPngSignature.size() &&
-                   std::equal(kPngSignature.begin(), kPngSignature.end(), bytes.begin());
-  if (png) check_png_chunks(bytes, file);
-  cv::Mat image;
-  try {
-    if (!bytes.empty()) image = cv::imdecode(bytes, cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception& e) {
-    throw std::runtime_error(fmt::format("{}: cannot read image: {}", file.string(), e.what()));
-  }
-  if (image.empty()) {
+  if (bytes.empty()) {
     throw std::runtime_error(
-        fmt::format("{}: cannot read image (missing, unreadable or not an image)", file.string()));
+        fmt::format("{}: cannot read image (missing, unreadable or empty)", file.string()));
   }
-  return image;
+  return decode_png_gray(bytes, file);
 }
 
 cv::Mat read_gray_image(const std::filesystem::path& file, cv::Size expected_size,

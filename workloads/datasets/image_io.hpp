@@ -8,8 +8,9 @@
 
 namespace edx::datasets {
 
-/// Reads `file` as 8-bit grayscale; throws std::runtime_error naming the file when it cannot be
-/// decoded.
+/// Reads the PNG `file` as 8-bit grayscale (decode_png_gray, png_io.hpp: the pixels of
+/// cv::imread(file, cv::IMREAD_GRAYSCALE)); throws std::runtime_error naming the file when it is
+/// missing, empty, not a PNG ("expected a PNG image") or cannot be decoded.
 cv::Mat read_gray_image(const std::filesystem::path& file);
 
 /// Reads `file` as 8-bit grayscale. Throws std::runtime_error naming the file when it cannot be

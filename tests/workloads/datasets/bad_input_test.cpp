@@ -209,7 +209,11 @@ TEST_F(TinyEuroc, UnreadableImageNamesTheFile) {
   const fs::path image = testing::tiny_euroc_image(root(), "cam0", 4);
   testing::write_text(image, "this is not a PNG file");
   const auto dataset = open_dataset(root(), DatasetFormat::kEuroc);
-  EXPECT_CONTAINS(error_of([&] { dataset->load_frame(4); }), image.string() + ": cannot read");
+  EXPECT_EQ(error_of([&] { dataset->load_frame(4); }),
+            image.string() + ": cannot read image: not a PNG file (expected a PNG image)");
+  testing::write_text(image, "");
+  EXPECT_EQ(error_of([&] { dataset->load_frame(4); }),
+            image.string() + ": cannot read image (missing, unreadable or empty)");
 }
 
 TEST_F(TinyEuroc, GpsSigmaMustBePositive) {
@@ -344,7 +348,7 @@ TEST(ReadGrayImage, ATruncatedOrDamagedPngIsOneErrorNamingTheFile) {
   EXPECT_EQ(error_of([&] { read_gray_image(damaged); }),
             damaged.string() + ": damaged PNG (the IDAT chunk at byte 33 fails its CRC)");
   // Every cut and every flipped byte is refused with one line (error_of checks it); a cut
-  // inside the 8-byte signature is not a PNG for OpenCV either.
+  // inside the 8-byte signature is not a PNG at all.
   for (std::size_t size = 0; size < bytes.size(); size += 13) {
     const fs::path file = write_bytes("cut_any.png", {bytes.begin(), bytes.begin() + size});
     EXPECT_NE(error_of([&] { read_gray_image(file); }), "") << "cut at " << size;

@@ -3,8 +3,9 @@
 #include <fmt/format.h>
 
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
+
+#include "workloads/datasets/png_io.hpp"
 
 namespace edx::synthetic {
 
@@ -73,22 +74,14 @@ EurocWriter::EurocWriter(fs::path mav0, const StereoRig& rig, double camera_rate
 
 void EurocWriter::add_frame(datasets::TimestampNs t_ns, const cv::Mat& left, const cv::Mat& right) {
   const std::string name = std::to_string(t_ns) + ".png";
-  // Without IMWRITE_PNG_COMPRESSION OpenCV writes with libpng's SUB filter (each byte minus its
-  // left neighbour) and zlib's fastest level; the Huffman-only strategy then skips the string
-  // matching that finds almost nothing in sensor noise. Same pixels as compression level 1 with
-  // libpng's adaptive filters, at about a third of the encoding time, ~1/3 faster to decode, and
-  // files within a few per cent of its size (docs/BENCH.md, "Issue 44 point 3, the demo's
-  // tracing").
-  const std::vector<int> params = {cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY};
+  // libpng's SUB filter (each byte minus its left neighbour), zlib's fastest level and the
+  // Huffman-only strategy, which skips the string matching that finds almost nothing in sensor
+  // noise: the bytes cv::imwrite wrote with IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY (png_io.hpp). Same
+  // pixels as compression level 1 with libpng's adaptive filters, at about a third of the
+  // encoding time, ~1/3 faster to decode, and files within a few per cent of its size
+  // (docs/BENCH.md, "Issue 44 point 3, the demo's tracing").
   for (const auto& [cam, image] : {std::pair{"cam0", &left}, std::pair{"cam1", &right}}) {
-    const fs::path path = mav0_ / cam / "data" / name;
-    bool ok = false;
-    try {
-      ok = cv::imwrite(path.string(), *image, params);
-    } catch (const cv::Exception& e) {
-      throw std::runtime_error(path.string() + ": cannot write image: " + e.what());
-    }
-    if (!ok) throw std::runtime_error(path.string() + ": cannot write image");
+    datasets::write_png_gray(mav0_ / cam / "data" / name, *image);
   }
   frames_.push_back(t_ns);
 }
