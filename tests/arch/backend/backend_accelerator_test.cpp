@@ -186,6 +186,108 @@ TEST(BackendAccelerator, CopiesOfAUnitShareAnOpOrServeTwoKernels) {
   EXPECT_EQ(end_chain, accel2.clock(0).time_of_cycles(312));
 }
 
+/// What a run of the accelerator leaves: its counters, kernel latencies and each unit's
+/// statistics.
+struct AccelState {
+  std::uint64_t kernels, ops;
+  std::vector<double> latencies_us;
+  std::vector<std::uint64_t> acquisitions;
+  std::vector<double> busy_integral, busy_max, queue_integral;
+};
+AccelState state_of(const BackendAccelerator& accel) {
+  AccelState s{accel.kernels(), accel.ops(), accel.kernel_latency_us().samples(), {}, {}, {}, {}};
+  for (std::size_t u = 0; u < accel.config().units.size(); ++u) {
+    s.acquisitions.push_back(accel.unit(u)->acquisitions());
+    s.busy_integral.push_back(accel.unit(u)->busy().integral());
+    s.busy_max.push_back(accel.unit(u)->busy().max());
+    s.queue_integral.push_back(accel.unit(u)->queue().integral());
+  }
+  return s;
+}
+
+TEST(BackendAccelerator, KernelAloneInClosedFormEqualsItsOpProcess) {
+  // A kernel that can run alone (units of one copy, idle, nothing else due before its end) is
+  // booked in closed form; with a timeline the same ops run as the process. Both must leave the
+  // same times, attribution and statistics. Process a: at 1000 ps (between edges) a chain gemm
+  // (300 cycles), transpose (18), gemm (300), alone: its first op waits for edge 1 (6667 ps at
+  // 150 MHz), it ends at edge 619; then the chain again at once, while process b's projection
+  // (gemm, 300 cycles) is due at edge 700: not alone, b's gemm waits for a's first one.
+  const BackendConfig c = small_config();
+  const std::size_t gemm = testing::unit_index(c, "gemm");
+  const std::size_t transpose = testing::unit_index(c, "transpose");
+  const KernelAccelResult chain =
+      accelerate_kernel(kernel_of("chain", {OpRecord{Op::Gemm, 3, 100, 4, 0, 0},
+                                            OpRecord{Op::Transpose, 7, 5, 0, 0, 0},
+                                            OpRecord{Op::Gemm, 3, 100, 4, 0, 0}}),
+                        c);
+  const KernelAccelResult projection =
+      accelerate_kernel(kernel_of("projection", {OpRecord{Op::Gemm, 3, 100, 4, 0, 0}}), c);
+  struct Outcome {
+    std::vector<sim::Time> first, second, b;  ///< each kernel's causes (OffloadTimes)
+    sim::Time end_first = 0, end_second = 0, end_b = 0;
+    AccelState state;
+  };
+  const auto scenario = [&](bool with_timeline) {
+    sim::Simulator sim;
+    BackendAccelerator accel(sim, c);
+    sim::Timeline timeline;
+    if (with_timeline) accel.set_timeline(timeline, "backend");
+    Outcome o;
+    o.first.assign(2 * c.units.size(), 0);
+    o.second = o.first;
+    o.b = o.first;
+    sim.spawn([](sim::Simulator& s, BackendAccelerator& a, const KernelAccelResult& k,
+                 Outcome& out) -> sim::Process {
+      co_await s.delay(sim::ps(1000));
+      co_await a.run(k, "", OffloadTimes{out.first.data()});
+      out.end_first = s.now();
+      co_await a.run(k, "", OffloadTimes{out.second.data()});
+      out.end_second = s.now();
+    }(sim, accel, chain, o));
+    sim.spawn([](sim::Simulator& s, BackendAccelerator& a, const KernelAccelResult& k,
+                 Outcome& out) -> sim::Process {
+      co_await s.delay(a.clock(0).time_of_cycles(700));
+      co_await a.run(k, "", OffloadTimes{out.b.data()});
+      out.end_b = s.now();
+    }(sim, accel, projection, o));
+    sim.run();
+    o.state = state_of(accel);
+    return o;
+  };
+  const Outcome closed = scenario(false), process = scenario(true);
+  const sim::ClockDomain clock("backend", 150.0);
+  const auto edge = [&](std::uint64_t n) { return clock.time_of_cycles(n); };
+  // The kernel alone, by hand: gemm 1-301 (waited 5667 ps for edge 1), transpose 301-319,
+  // gemm 319-619.
+  EXPECT_EQ(closed.end_first, edge(619));
+  EXPECT_EQ(closed.first[2 * gemm], edge(301) - edge(1) + edge(619) - edge(319));
+  EXPECT_EQ(closed.first[2 * gemm + 1], 6667 - 1000);
+  EXPECT_EQ(closed.first[2 * transpose], edge(319) - edge(301));
+  EXPECT_EQ(closed.first[2 * transpose + 1], 0);
+  // Then a's gemm 619-919, b's 919-1219 (it waited from 700), a's transpose 919-937, a's gemm
+  // waits for b's: 1219-1519.
+  EXPECT_EQ(closed.end_b, edge(1219));
+  EXPECT_EQ(closed.end_second, edge(1519));
+  EXPECT_EQ(closed.b[2 * gemm + 1], edge(919) - edge(700));
+  EXPECT_EQ(closed.second[2 * gemm + 1], edge(1219) - edge(937));
+  // The same as the process, to the picosecond and the statistic.
+  EXPECT_EQ(closed.first, process.first);
+  EXPECT_EQ(closed.second, process.second);
+  EXPECT_EQ(closed.b, process.b);
+  EXPECT_EQ(closed.end_first, process.end_first);
+  EXPECT_EQ(closed.end_second, process.end_second);
+  EXPECT_EQ(closed.end_b, process.end_b);
+  EXPECT_EQ(closed.state.kernels, 3u);
+  EXPECT_EQ(closed.state.ops, 7u);
+  EXPECT_EQ(closed.state.kernels, process.state.kernels);
+  EXPECT_EQ(closed.state.ops, process.state.ops);
+  EXPECT_EQ(closed.state.latencies_us, process.state.latencies_us);
+  EXPECT_EQ(closed.state.acquisitions, process.state.acquisitions);
+  EXPECT_EQ(closed.state.busy_integral, process.state.busy_integral);
+  EXPECT_EQ(closed.state.busy_max, process.state.busy_max);
+  EXPECT_EQ(closed.state.queue_integral, process.state.queue_integral);
+}
+
 TEST(BackendAccelerator, KernelThatSpillsRunsItsOpsOnTheUnits) {
   // Out of core the units take the same cycles; the spill traffic is the caller's (the system
   // DES puts it on the link), so the kernel alone takes its Σ op cycles.
