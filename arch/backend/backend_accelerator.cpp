@@ -27,76 +27,9 @@ sim::Task<void> BackendAccelerator::run(const trace::KernelRecord& kernel) {
   co_await run(plan);
 }
 
-/// The ops of a kernel that can run alone, in closed form: no timeline, every unit it uses of
-/// one copy, idle with no waiter, and nothing else due before its last op ends
-/// (Simulator::try_advance_in_place). Then the process below would take each unit at once and
-/// move the clock in place (no event, no other process in between), so each op, issued at the
-/// previous one's end t (the kernel's start for the first), runs
-///   begin = next_edge(t),  end = time_of_cycles(cycles_in(begin) + cycles)   (end = begin for 0)
-/// on one copy (cycles: the plan's when it planned one copy, else op_cycles on one), and its unit
-/// carries the use [begin, end] (Resource::book_idle: the statistics acquire and release leave).
-/// The times of `times`, ops_ and the clock end as the process leaves them.
-bool BackendAccelerator::run_alone(const KernelAccelResult& plan, OffloadTimes times) {
-  if (timeline_ != nullptr) return false;
-  op_spans_.resize(plan.ops.size());
-  sim::Time t = sim_->now();
-  try {
-    for (std::size_t i = 0; i < plan.ops.size(); ++i) {
-      const OpTiming& op = plan.ops[i];
-      const sim::Resource* unit = units_[op.unit].get();
-      if (unit == nullptr || unit->capacity() != 1 || unit->in_use() != 0 ||
-          unit->queue_length() != 0) {
-        return false;
-      }
-      const sim::ClockDomain& clock = *clocks_[op.unit];
-      OpSpan& s = op_spans_[i];
-      s.issued = t;
-      s.begin = clock.next_edge(t);
-      const std::int64_t cycles = op.copies == 1 ? op.cycles : op_cycles(op.op, 1, config_);
-      s.end =
-          cycles > 0
-              ? clock.time_of_cycles(clock.cycles_in(s.begin) + static_cast<std::uint64_t>(cycles))
-              : s.begin;
-      // Edge kTimeMax is reserved (Simulator::edge_time): the process raises its error.
-      if (s.begin == sim::kTimeMax || s.end == sim::kTimeMax) return false;
-      s.planned_end =
-          cycles == op.cycles
-              ? s.end
-              : std::min(s.end, clock.time_of_cycles(clock.cycles_in(s.begin) +
-                                                     static_cast<std::uint64_t>(op.cycles)));
-      t = s.end;
-    }
-  } catch (const sim::TimeRangeError&) {
-    return false;  // the process raises it where its op does
-  }
-  if (!sim_->try_advance_in_place(t)) return false;
-  unit_uses_.resize(units_.size());
-  for (std::vector<sim::Resource::Use>& uses : unit_uses_) uses.clear();
-  for (std::size_t i = 0; i < plan.ops.size(); ++i) {
-    const OpTiming& op = plan.ops[i];
-    const OpSpan& s = op_spans_[i];
-    unit_uses_[op.unit].push_back({s.begin, s.end});
-    if (times.ps != nullptr) {
-      const std::size_t r = resource_index_[op.unit];
-      times.run(r, s.planned_end - s.begin);
-      times.wait(r, (s.begin - s.issued) + (s.end - s.planned_end));
-    }
-    ops_.add();
-  }
-  for (std::size_t u = 0; u < units_.size(); ++u) {
-    if (!unit_uses_[u].empty()) units_[u]->book_idle(unit_uses_[u].data(), unit_uses_[u].size());
-  }
-  return true;
-}
-
 sim::Task<void> BackendAccelerator::run(const KernelAccelResult& plan, std::string label,
                                         OffloadTimes times) {
   const sim::Time start = sim_->now();
-  if (run_alone(plan, times)) {
-    kernels_.add();
-    latency_us_.add(sim::to_us(sim_->now() - start));
-    co_return;  // no timeline: run_alone needs none
-  }
   // The other copies an op takes (empty for a unit of one copy, the usual): one list for the
   // kernel, emptied after each op, so an op neither allocates nor destroys one.
   std::vector<sim::Lease> more;

@@ -78,10 +78,6 @@ class BackendAccelerator final : public OffloadModel {
   const sim::SampleSet& kernel_latency_us() const noexcept { return latency_us_; }
 
  private:
-  /// run()'s ops in closed form when the kernel can run alone (see the .cpp); false (nothing
-  /// changed) when it cannot.
-  bool run_alone(const KernelAccelResult& plan, OffloadTimes times);
-
   sim::Simulator* sim_;
   BackendConfig config_;
   std::vector<std::unique_ptr<sim::ClockDomain>> clocks_;
@@ -92,13 +88,6 @@ class BackendAccelerator final : public OffloadModel {
   sim::Timeline* timeline_ = nullptr;
   std::vector<sim::Timeline::TrackId> unit_tracks_;
   sim::Timeline::TrackId kernel_track_{};
-  /// run_alone's scratch (kept between kernels: no allocation a kernel): each op's times, and
-  /// each unit's uses in op order.
-  struct OpSpan {
-    sim::Time issued = 0, begin = 0, end = 0, planned_end = 0;
-  };
-  std::vector<OpSpan> op_spans_;
-  std::vector<std::vector<sim::Resource::Use>> unit_uses_;
 };
 
 }  // namespace edx::arch
