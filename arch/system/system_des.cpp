@@ -184,7 +184,9 @@ class SystemSimulation {
         layout_(accelerated ? backend.resource_names() : std::vector<std::string>{}),
         timeline_(timeline) {
     system.validate();
-    cause_ps_.assign(work.size() * layout_.size(), 0);
+    // Rows are zeroed as frames are taken (open_row): one row's fill is a few stores, the whole
+    // table's at once a large memset per run. Reserved whole, so rows never move.
+    cause_ps_.reserve(work.size() * layout_.size());
     if (accelerated_) {
       frontend_.emplace(sim_, frontend);
       link_ = link.make_model(sim_);
@@ -196,12 +198,10 @@ class SystemSimulation {
       }
     }
     frames_.resize(work.size());
-    fe_.resize(work.size());
     admissions_.resize(work.size());
-    for (std::size_t f = 0; f < work.size(); ++f) {
-      frames_[f].frame_id = work[f].frame_id;
-      if (accelerated_) fe_[f] = work[f].frontend;
-    }
+    for (std::size_t f = 0; f < work.size(); ++f) frames_[f].frame_id = work[f].frame_id;
+    // A timeline writes every frame's spans at the end: each keeps its own record then.
+    if (accelerated_ && timeline_.timeline != nullptr) fe_.resize(work.size());
     if (timeline_.timeline != nullptr) set_up_timeline();
   }
 
@@ -267,6 +267,7 @@ class SystemSimulation {
     camera_queue_items_.pop_front();
     camera_queue_.set(static_cast<double>(camera_queue_items_.size()));
     if (!(!isolated_ && system_.sensor_fps > 0)) frames_[f].arrival = sim_.now();
+    open_row(f);
     co_return f;
   }
 
@@ -286,17 +287,31 @@ class SystemSimulation {
     co_await results_.put(kEnd);
   }
 
+  /// A frame on the frontend accelerator: a copy of its prepared record (the run fills its
+  /// spans), kept per frame with a timeline, else a spare record (as many as frames in flight:
+  /// copying into one reuses its rows' storage, no allocation a frame).
   sim::Process accelerator_frame(std::size_t f, sim::Lease buffer) {
-    co_await frontend_->run_frame(fe_[f], contention_ ? link_.get() : frontend_link_.get());
-    finish_frontend_frame(fe_[f]);
-    frames_[f].start = fe_[f].start;
+    std::unique_ptr<FrontendFrameTiming> spare;
+    if (fe_.empty()) {
+      if (spare_fe_.empty()) {
+        spare = std::make_unique<FrontendFrameTiming>();
+      } else {
+        spare = std::move(spare_fe_.back());
+        spare_fe_.pop_back();
+      }
+    }
+    FrontendFrameTiming& fe = spare ? *spare : fe_[f];
+    fe = work_[f].frontend;
+    co_await frontend_->run_frame(fe, contention_ ? link_.get() : frontend_link_.get());
+    finish_frontend_frame(fe);
+    frames_[f].start = fe.start;
     frames_[f].frontend_end = sim_.now();
     sim::Time* causes = row(f);
-    attribute_frontend(fe_[f], fe_[f].start, causes);
-    const std::int64_t bytes = fe_[f].transfer_bytes;
-    split_transfer(causes, CauseLayout::link(Direction::FpgaToHost),
-                   fe_[f].end - fe_[f].transfer_start,
+    attribute_frontend(fe, fe.start, causes);
+    const std::int64_t bytes = fe.transfer_bytes;
+    split_transfer(causes, CauseLayout::link(Direction::FpgaToHost), fe.end - fe.transfer_start,
                    bytes > 0 ? link_kind_->transfer_time(bytes) : 0);
+    if (spare) spare_fe_.push_back(std::move(spare));
     co_await results_.put(f);  // waits while the results queue is full, holding the buffer
     buffer.release();
   }
@@ -611,6 +626,7 @@ class SystemSimulation {
     if (timeline_.timeline != nullptr) write_timeline_window();
     r.frames = std::move(frames_);
     r.causes = layout_.names();
+    cause_ps_.resize(work_.size() * layout_.size());  // the rows of frames never taken: 0
     r.cause_ps = std::move(cause_ps_);
     return r;
   }
@@ -636,12 +652,19 @@ class SystemSimulation {
   bool camera_closed_ = false;
   std::size_t dropped_ = 0;
   std::vector<SystemFrameTiming> frames_;
-  std::vector<FrontendFrameTiming> fe_;
+  std::vector<FrontendFrameTiming> fe_;  ///< with a timeline: each frame's (else empty)
+  std::vector<std::unique_ptr<FrontendFrameTiming>> spare_fe_;  ///< records of frames done
   std::vector<sim::Lease> admissions_;
   CauseLayout layout_;
   std::vector<sim::Time> cause_ps_;  ///< frames × layout_.size() (SystemRun::cause_ps)
-  /// Frame f's row of cause_ps_.
+  /// Frame f's row of cause_ps_ (opened: open_row).
   sim::Time* row(std::size_t f) { return cause_ps_.data() + f * layout_.size(); }
+  /// Zeroes the rows up to frame f's when it is taken (frames are taken in order; reserved, so
+  /// no row moves). Every row() of a frame comes after its next_frame().
+  void open_row(std::size_t f) {
+    const std::size_t end = (f + 1) * layout_.size();
+    if (cause_ps_.size() < end) cause_ps_.resize(end);
+  }
   SystemTimelineOptions timeline_;
   /// Spans that may overlap (frames in flight, frames waiting in a queue) on as many tracks as
   /// they need: each goes to the first track free at its start ("frames", "frames 2", ...), so

@@ -477,12 +477,13 @@ class DmaModel final : public LinkModel {
       // Every slot now holds one of the last K arrivals; ascending order is a min-heap.
       for (std::int64_t i = 0; i < k; ++i) slots[static_cast<std::size_t>(i)] = arrival(n - k + i);
     } else {
-      const auto later = std::greater<sim::Time>();
-      for (std::int64_t j = 0; j < n; ++j) {
-        std::pop_heap(slots.begin(), slots.end(), later);
-        slots.back() = arrival(j);
-        std::push_heap(slots.begin(), slots.end(), later);
-      }
+      // The loop pops the n smallest slots (all <= t) and pushes the n arrivals (all >= t,
+      // ascending: wire() does not decrease): the k - n largest old ones stay. Sorted, those
+      // first and the arrivals after them: the same values, in ascending order (a min-heap),
+      // without n pops and pushes.
+      std::sort(slots.begin(), slots.end());
+      std::move(slots.begin() + n, slots.end(), slots.begin());
+      for (std::int64_t j = 0; j < n; ++j) slots[static_cast<std::size_t>(k - n + j)] = arrival(j);
     }
     l.wire->free_at = start + wire;
     l.wire->busy.add(wire);

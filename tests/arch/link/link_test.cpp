@@ -454,6 +454,14 @@ TEST(DmaLinkContention, TransfersOnAnIdleLinkBookedWholeEqualTheChunkProcessMode
   expect_booked_equals_chunk_processes(lcg_jobs(4242, 30, 600000, 3000000), long_transfer_links());
 }
 
+TEST(DmaLinkContention, ShortTransfersOnAnIdleLinkBookedWholeEqualTheChunkProcessModel) {
+  // Transfers of fewer chunks than slots (below 40 kB: at most ten 4 KiB chunks, mostly under
+  // eight), mostly alone on the link (starts spread over 0.4 ms) and booked whole with their
+  // slots replaced at once (book_idle), among others that overlap and reuse those slots: the
+  // same completion times as chunk processes.
+  expect_booked_equals_chunk_processes(lcg_jobs(31337, 60, 40000, 400000), long_transfer_links());
+}
+
 TEST(DmaLinkStats, TransfersBookedWholeCountTheirChunksAndWireTime) {
   // One process, three transfers one after the other on an idle link (each booked whole):
   // 10000 B (3 chunks), 1 MiB (256) and 1 B (1) host to FPGA; the wire carried each for its

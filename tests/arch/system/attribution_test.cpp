@@ -75,6 +75,47 @@ TEST(Attribution, SensorFasterThanThePipeline) {
   }
 }
 
+TEST(Attribution, DroppedFramesKeepRowsOfZero) {
+  // A camera at 800 FPS (frame k arrives at 1.25 k ms), a camera queue of one, a frontend of
+  // 3 ms and a backend of 2 ms on cores of their own: the frontend takes a frame at 0, 3, 6, 9
+  // and 12 ms; each backend ends 2 ms after the next take (its frontend's end). Dropping the
+  // newest keeps frames 0, 1, 3, 5, 8 (started at 0, 3, 6, 9, 12: camera waits 0, 1.75, 2.25,
+  // 2.75, 2 ms); dropping the oldest keeps 0, 2, 4, 7, 9 (waits 0, 0.5, 1, 0.25, 0.75 ms). The
+  // last frame dropped (newest) or the dropped ones between taken ones (oldest): every row is
+  // there, zero for a dropped frame, and a kept frame's adds up to its latency.
+  SystemConfig system;
+  system.sensor_fps = 800;
+  system.queue_depth = 1;
+  struct Case {
+    DropPolicy drop;
+    std::vector<std::size_t> kept;
+    std::vector<double> camera_wait_ms;
+  };
+  for (const Case& c : {Case{DropPolicy::kNewest, {0, 1, 3, 5, 8}, {0, 1.75, 2.25, 2.75, 2}},
+                        Case{DropPolicy::kOldest, {0, 2, 4, 7, 9}, {0, 0.5, 1, 0.25, 0.75}}}) {
+    system.drop = c.drop;
+    const SystemRun r = run_baseline(host_frames(10, 3, 2), system, 2);
+    ASSERT_EQ(r.cause_ps.size(), 10 * r.causes.size());
+    EXPECT_EQ(r.dropped, 5u);
+    for (std::size_t f = 0, k = 0; f < 10; ++f) {
+      const bool kept = k < c.kept.size() && c.kept[k] == f;
+      EXPECT_EQ(r.frames[f].dropped, !kept) << f;
+      if (!kept) {
+        EXPECT_EQ(frame_sum(r, f), 0) << f;
+        for (std::size_t i = 0; i < r.causes.size(); ++i) {
+          EXPECT_EQ(r.cause_ps[f * r.causes.size() + i], 0) << f << " " << r.causes[i];
+        }
+        continue;
+      }
+      EXPECT_NEAR(r.frames[f].start * 1e-9, 3.0 * double(k), 1e-6) << f;
+      EXPECT_NEAR(cause_ms(r, f, "sensor.wait"), c.camera_wait_ms[k], 1e-6) << f;
+      EXPECT_NEAR(cause_ms(r, f, "host.run"), 5.0, 1e-9) << f;
+      EXPECT_EQ(frame_sum(r, f), r.frames[f].end - r.frames[f].arrival) << f;
+      ++k;
+    }
+  }
+}
+
 /// A platform of round numbers (the system model tests'), `link` and `backend` its keys.
 Platform platform(const std::string& link, const std::string& backend) {
   return Platform::parse(
