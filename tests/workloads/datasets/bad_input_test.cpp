@@ -5,6 +5,7 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
+#include "tests/support/error_of.hpp"
 #include "tests/workloads/datasets/tiny_datasets.hpp"
 #include "workloads/datasets/dataset.hpp"
 #include "workloads/datasets/image_io.hpp"
@@ -15,19 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::TempFolder;
 
-/// The message of the std::runtime_error `open` throws ("" when none). Checks it is one line.
-template <typename Action>
-std::string error_of(Action action) {
-  try {
-    action();
-  } catch (const std::runtime_error& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(message.find('\n'), std::string::npos) << "not one line: " << message;
-    return message;
-  }
-  ADD_FAILURE() << "no std::runtime_error thrown";
-  return "";
-}
+using edx::testing::error_of;
 
 std::string open_error(const fs::path& path, DatasetFormat format = DatasetFormat::kEuroc,
                        const DatasetOptions& options = {}) {

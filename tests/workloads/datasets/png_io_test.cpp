@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/error_of.hpp"
 #include "tests/workloads/datasets/tiny_datasets.hpp"
 
 namespace edx::datasets {
@@ -247,19 +248,7 @@ TEST(PngIo, WriterGivesCvImwritesBytes) {
                                                            cv::IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY}));
 }
 
-/// The message of the std::runtime_error `action` throws, checked to be one line.
-template <typename Action>
-std::string error_of(Action action) {
-  try {
-    action();
-  } catch (const std::runtime_error& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-    return message;
-  }
-  ADD_FAILURE() << "no std::runtime_error thrown";
-  return "";
-}
+using edx::testing::error_of;
 
 /// Rewrites the CRC-32 of the chunk at `at` (after its data was changed on purpose).
 void fix_crc(Bytes& png, std::size_t at) {
