@@ -445,10 +445,19 @@ std::optional<double> RowCoster::kernel(const KernelRecord& kernel) {
     it = kernels_.emplace(kernel.kernel, kind).first;
   }
   const KernelKind& kind = it->second;
-  // work_of's values in its order (all of them: one may throw), then try_predict's sum.
-  const nlohmann::json detail = kernel_detail(kernel, kind.uses_detail);
+  // work_of's values in its order (all of them: one may throw), then try_predict's sum; the
+  // detail as kernel_detail makes it, parsed once per text.
+  static const nlohmann::json kNoDetail = nlohmann::json::object();
+  const nlohmann::json* detail = &kNoDetail;
+  if (kind.uses_detail && kernel.detail_json != "{}") {
+    auto found = details_.find(kernel.detail_json);
+    if (found == details_.end()) {
+      found = details_.emplace(kernel.detail_json, kernel_detail(kernel, true)).first;
+    }
+    detail = &found->second;
+  }
   x_.clear();
-  for (const KernelFeature& f : *kind.features) x_.push_back(f.value(kernel, detail));
+  for (const KernelFeature& f : *kind.features) x_.push_back(f.value(kernel, *detail));
   if (kind.cost == nullptr) return std::nullopt;
   return kind.cost->predict(x_);
 }
