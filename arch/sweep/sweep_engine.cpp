@@ -486,7 +486,9 @@ void LocalExecutor::finish() {
 
 bool LocalExecutor::has_idle_worker() {
   std::lock_guard<std::mutex> lock(mutex_);
-  return busy_ < jobs_;
+  // One task more than workers waits queued: a worker that ends a task starts the next at once,
+  // while the master stores the one it ended and admits the following point.
+  return busy_ < jobs_ + 1;
 }
 
 void LocalExecutor::start(SweepTask task) {

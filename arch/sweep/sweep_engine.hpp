@@ -134,7 +134,8 @@ class SweepContext {
 class SweepExecutor {
  public:
   virtual ~SweepExecutor() = default;
-  /// Whether a worker can take a task now.
+  /// Whether a task can be started now (a worker takes it now, or, on a local executor, as soon
+  /// as one ends its task: one task waits queued).
   virtual bool has_idle_worker() = 0;
   virtual void start(SweepTask task) = 0;
   /// The next finished task (blocks; only called with tasks in flight).
@@ -163,7 +164,7 @@ class LocalExecutor : public SweepExecutor {
   std::condition_variable task_ready_, result_ready_;
   std::deque<SweepTask> tasks_;
   std::deque<SweepTaskResult> results_;
-  int busy_ = 0;  ///< tasks started and not yet taken back by wait/poll
+  int busy_ = 0;  ///< tasks started and not yet taken back by wait/poll (at most jobs + 1)
   bool stop_ = false;
   std::vector<std::thread> threads_;
 };
