@@ -65,6 +65,15 @@ TEST(BadValue, SystemModelAndMemoryOptionsAreOneLineErrors) {
                   EDX_SOURCE_DIR, trace));
   EXPECT_EQ(model.exit_code, 2);
   EXPECT_EQ(model.err, "edx: --model: fast not in {des,analytical} (see edx --help)\n");
+  for (const char* jobs : {"0", "257", "two"}) {
+    const CommandResult threads =
+        run_command(fmt::format("{} simulate --config '{}/configs/edx_car.yaml' --trace '{}' -j {}",
+                                edx(), EDX_SOURCE_DIR, trace, jobs));
+    EXPECT_EQ(threads.exit_code, 2) << jobs;
+    EXPECT_EQ(threads.err, fmt::format("edx: --jobs: Value {} not in range 1 to 256 (see edx "
+                                       "--help)\n",
+                                       jobs));
+  }
   const fs::path config = dir.path() / "p.yaml";
   std::ofstream(config) << "name: p\nsystem:\n  drop: sometimes\n";
   const CommandResult drop = run_command(
