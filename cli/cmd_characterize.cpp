@@ -33,6 +33,7 @@ struct CharacterizeArguments {
   std::string platform;
   std::string out;
   std::string data;
+  int jobs = 0;
   bool force = false;
   bool json = false;
 };
@@ -68,6 +69,7 @@ void run(const CharacterizeArguments& args) {
   options.trace_dir = out / "traces";
   options.data_dir = args.data.empty() ? out / "data" : fs::path(args.data);
   options.overwrite = args.force;
+  options.threads = jobs_or_cores(args.jobs);
   options.validate();
   ProgressBar bar("characterize");
   const std::vector<modes::CharacterizationRun> runs = modes::run_characterization(
@@ -119,6 +121,10 @@ void add_characterize_command(CLI::App& app) {
                   "the generated worlds (data/); a run already traced there is reused")
       ->required();
   cmd->add_option("--data", args->data, "Folder of the generated worlds (default OUT/data)");
+  cmd->add_option("-j,--jobs", args->jobs,
+                  "Runs traced at once (each scenario's runs of a seed one after another); the "
+                  "runs and figures do not depend on it (default: all cores)")
+      ->check(CLI::Range(1, 256));
   cmd->add_flag("--force", args->force, "Trace every run again");
   cmd->add_flag("--json", args->json, "Print the study as JSON (only JSON on stdout)");
   cmd->callback([args] { run(*args); });

@@ -27,6 +27,7 @@ struct CheckArguments {
   std::string run_id;
   std::string targets;
   std::string characterization;
+  int jobs = 0;
   bool json = false;
   SeedOptions seeds;
 };
@@ -67,7 +68,7 @@ void run(const CheckArguments& args) {
   } else {
     const arch::Platform platform = arch::Platform::load(args.config);
     if (args.seeds.given()) {
-      for (const arch::SeedTrace& s : args.seeds.traces()) {
+      for (const arch::SeedTrace& s : args.seeds.traces(jobs_or_cores(args.jobs))) {
         reports::SimulatedRun run = reports::simulate_for_check(platform, s.trace, baselines);
         add(std::move(run.metrics), fmt::format("{} (seed {})", run.run_id, s.seed));
       }
@@ -108,6 +109,10 @@ void add_check_command(CLI::App& app) {
   cmd->add_option("--characterization", args->characterization,
                   "characterization.json of edx characterize: adds its targets (the paper's "
                   "Sec. III orderings and frame rates); without it they are listed as not run");
+  cmd->add_option("-j,--jobs", args->jobs,
+                  "Threads for the seeds' tracing (--seeds: the missing seeds traced at once); "
+                  "the figures do not depend on it (default: all cores)")
+      ->check(CLI::Range(1, 256));
   cmd->add_flag("--json", args->json, "Print the table as JSON");
   cmd->callback([args] {
     if (args->results.empty() && args->config.empty()) {

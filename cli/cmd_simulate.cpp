@@ -42,7 +42,7 @@ void run_seeds(const SimulateArguments& args) {
   nlohmann::json runs = nlohmann::json::array();
   const nlohmann::json workload = args.seeds.workload_json();
   const std::string group = args.seeds.group();
-  for (const arch::SeedTrace& s : args.seeds.traces()) {
+  for (const arch::SeedTrace& s : args.seeds.traces(options.threads)) {
     const trace::TraceReader reader(s.trace.string());
     const arch::SystemResult result = arch::simulate_system(
         platform, reader.read_all(), reader.meta(), s.trace.string(), options);
@@ -130,7 +130,8 @@ void add_simulate_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("-j,--jobs", args->jobs,
                   "Threads for a run's independent parts (the frontend study's, the four DES "
-                  "runs); the figures do not depend on it (default: all cores)")
+                  "runs) and for the seeds' tracing (--seeds: the missing seeds traced at once); "
+                  "the figures do not depend on it (default: all cores)")
       ->check(CLI::Range(1, 256));
   cmd->add_flag("--json", args->json, "Print the figures as JSON (only JSON on stdout)");
   cmd->callback([args] {

@@ -38,8 +38,8 @@ arch::WorkloadTracer mix_tracer();
 struct SeedOptions {
   std::string workload, seeds, store;
   bool given() const { return !workload.empty(); }
-  /// Each seed's trace, traced into the store when missing.
-  std::vector<arch::SeedTrace> traces() const;
+  /// Each seed's trace, traced into the store when missing, `threads` seeds at once.
+  std::vector<arch::SeedTrace> traces(int threads) const;
   /// The workload file's parameters (without seed) and their group (arch::seed_group).
   nlohmann::json workload_json() const;
   std::string group() const;

@@ -118,12 +118,13 @@ nlohmann::json SeedOptions::workload_json() const { return arch::load_workload_f
 
 std::string SeedOptions::group() const { return arch::seed_group(mix_tracer(), workload_json()); }
 
-std::vector<arch::SeedTrace> SeedOptions::traces() const {
-  return arch::trace_seeds(mix_tracer(), arch::load_workload_file(workload),
-                           arch::parse_seed_list(seeds), store, [this](std::uint64_t seed) {
-                             fmt::print(stderr, "edx: seed {}: tracing {} into {}\n", seed,
-                                        workload, store);
-                           });
+std::vector<arch::SeedTrace> SeedOptions::traces(int threads) const {
+  return arch::trace_seeds(
+      mix_tracer(), arch::load_workload_file(workload), arch::parse_seed_list(seeds), store,
+      [this](std::uint64_t seed) {
+        fmt::print(stderr, "edx: seed {}: tracing {} into {}\n", seed, workload, store);
+      },
+      threads);
 }
 
 }  // namespace edx::cli

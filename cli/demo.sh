@@ -128,7 +128,7 @@ printf 'mix: paper\nframes: %s\nresolution: %s\n' "$mix_frames" "$car_resolution
   >"$out/car_mix_workload.yaml"
 seeds=(--workload "$out/car_mix_workload.yaml" --seeds 1-3 --trace-store "$traces/seeds")
 for config in "$root/configs/edx_car.yaml" "$root"/configs/baselines/*.yaml; do
-  run simulate --config "$config" "${seeds[@]}" --out "$results"
+  run simulate --config "$config" "${seeds[@]}" --out "$results" -j "$jobs"
 done
 for excerpt in "${excerpts[@]}"; do
   config="$root/configs/edx_car.yaml"
@@ -142,7 +142,8 @@ run sweep "$root/sweeps/gemm_block.yaml" --trace "$traces/car_mix.db" --db "$res
 run export "$results" --sweep gemm_block --out "$out/gemm_block.csv"
 
 step "characterization: each backend on each scenario, its error and frame rate (paper Sec. III)"
-run characterize "${characterization[@]}" --out "$out/characterization" --data "$out/data"
+run characterize "${characterization[@]}" --out "$out/characterization" --data "$out/data" \
+  -j "$jobs"
 
 step "report: HTML page with plots"
 run report "$results" --out "$report" --trace "$traces/car_mix.db" \
@@ -151,11 +152,12 @@ run report "$results" --out "$report" --trace "$traces/car_mix.db" \
 step "paper check: Edx-Car on the car mix over seeds 1-3 against the paper's figures (reports/paper_targets.yaml)"
 # The seeds' traces of the simulate step: every figure as its mean and 95 % interval, each
 # verdict inside, across or outside the tolerance.
-printf '$ edx check --config configs/edx_car.yaml --workload %s --seeds 1-3 --trace-store %s --characterization %s\n' \
-  "$out/car_mix_workload.yaml" "$traces/seeds" "$out/characterization/characterization.json" >&2
+printf '$ edx check --config configs/edx_car.yaml --workload %s --seeds 1-3 --trace-store %s --characterization %s -j %s\n' \
+  "$out/car_mix_workload.yaml" "$traces/seeds" "$out/characterization/characterization.json" \
+  "$jobs" >&2
 check_status=0
 "$edx" check --config "$root/configs/edx_car.yaml" "${seeds[@]}" \
-  --characterization "$out/characterization/characterization.json" || check_status=$?
+  --characterization "$out/characterization/characterization.json" -j "$jobs" || check_status=$?
 if ((check_status > 1)); then
   printf 'demo: step failed: edx check (exit %d)\n' "$check_status" >&2
   exit 1

@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <map>
 #include <stdexcept>
@@ -22,6 +23,7 @@
 #include "arch/host/host_model.hpp"
 #include "arch/system/result_rows.hpp"
 #include "common/input_error.hpp"
+#include "common/parallel.hpp"
 #include "common/yaml_fields.hpp"
 #include "workloads/trace/reader.hpp"
 
@@ -198,18 +200,21 @@ std::filesystem::path traced_workload(const WorkloadTracer& tracer, const nlohma
 std::vector<SeedTrace> trace_seeds(const WorkloadTracer& tracer, const nlohmann::json& workload,
                                    const std::vector<std::uint64_t>& seeds,
                                    const std::filesystem::path& store,
-                                   const std::function<void(std::uint64_t seed)>& tracing) {
+                                   const std::function<void(std::uint64_t seed)>& tracing,
+                                   int threads) {
   sweep_engine::open_trace_store(store);
   std::vector<SeedTrace> out;
+  std::vector<std::function<void()>> jobs;
   for (std::uint64_t seed : seeds) {
     nlohmann::json w = workload;
     w["seed"] = std::to_string(seed);
-    if (tracing) {
-      const std::string hash = workload_hash(tracer.resolve(w), tracer.version);
-      if (!std::filesystem::is_regular_file(store / (hash + ".db"))) tracing(seed);
-    }
-    out.push_back({seed, traced_workload(tracer, w, store)});
+    const std::string hash = workload_hash(tracer.resolve(w), tracer.version);
+    out.push_back({seed, store / (hash + ".db")});
+    if (std::filesystem::is_regular_file(out.back().trace)) continue;
+    if (tracing) tracing(seed);
+    jobs.emplace_back([&tracer, &store, w] { traced_workload(tracer, w, store); });
   }
+  common::run_jobs(jobs, threads);
   return out;
 }
 

@@ -46,12 +46,17 @@ struct SeedTrace {
   std::filesystem::path trace;
 };
 
-/// traced_workload of `workload` with each of `seeds` (its `seed` parameter), in order;
-/// `tracing` (optional) is told of each seed about to be traced (not found in the store).
+/// traced_workload of `workload` with each of `seeds` (its `seed` parameter), in seed order;
+/// `tracing` (optional) is told of each seed about to be traced (not found in the store), in
+/// seed order, before any tracing starts. The missing seeds are traced on up to `threads`
+/// threads at once (as a sweep's workers trace: the tracer serializes its data folder's use per
+/// seed), every one to its end; then the error of the first failing seed in order is thrown.
+/// The traces do not depend on `threads`.
 std::vector<SeedTrace> trace_seeds(const WorkloadTracer& tracer, const nlohmann::json& workload,
                                    const std::vector<std::uint64_t>& seeds,
                                    const std::filesystem::path& store,
-                                   const std::function<void(std::uint64_t seed)>& tracing = {});
+                                   const std::function<void(std::uint64_t seed)>& tracing = {},
+                                   int threads = 1);
 
 /// The group of a workload's seeds: workload_hash of its resolved parameters without `seed`.
 std::string seed_group(const WorkloadTracer& tracer, const nlohmann::json& workload);

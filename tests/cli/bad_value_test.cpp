@@ -90,6 +90,26 @@ TEST(BadValue, SystemModelAndMemoryOptionsAreOneLineErrors) {
                 ":3: frontend.input_buffering: expected on_chip_double or dram, got 'sram'\n");
 }
 
+TEST(BadValue, CharacterizeAndCheckJobsAreOneLineErrors) {
+  const TempDir dir;
+  const fs::path out = dir.path() / "c";
+  for (const char* jobs : {"0", "257", "two"}) {
+    const CommandResult characterize = run_command(fmt::format(
+        "{} characterize --seeds 1 --frames 8 --out '{}' -j {}", edx(), out.string(), jobs));
+    EXPECT_EQ(characterize.exit_code, 2) << jobs;
+    EXPECT_EQ(characterize.err,
+              fmt::format("edx: --jobs: Value {} not in range 1 to 256 (see edx --help)\n", jobs));
+    const CommandResult check =
+        run_command(fmt::format("{} check --config '{}/configs/edx_car.yaml' --trace "
+                                "'{}/tests/data/golden/golden_mix.db' --jobs {}",
+                                edx(), EDX_SOURCE_DIR, EDX_SOURCE_DIR, jobs));
+    EXPECT_EQ(check.exit_code, 2) << jobs;
+    EXPECT_EQ(check.err,
+              fmt::format("edx: --jobs: Value {} not in range 1 to 256 (see edx --help)\n", jobs));
+  }
+  EXPECT_FALSE(fs::exists(out));  // nothing traced, nothing written
+}
+
 TEST(BadValue, FilesThatAreNotDatabasesAreNamedAndLeftAlone) {
   const TempDir dir;
   const fs::path junk = dir.path() / "junk.db";

@@ -4,11 +4,15 @@
 
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <utility>
 
+#include "common/parallel.hpp"
+#include "workloads/frontend/task_timer.hpp"
 #include "workloads/modes/mix_runner.hpp"
 #include "workloads/trace/reader.hpp"
 
@@ -65,6 +69,9 @@ void CharacterizationOptions::validate() const {
     throw std::invalid_argument(fmt::format("resolution: expected at least 64x48, got {}x{}",
                                             resolution.width, resolution.height));
   }
+  if (threads < 1 || threads > 256) {
+    throw std::invalid_argument(fmt::format("threads: expected 1 to 256, got {}", threads));
+  }
 }
 
 nlohmann::json CharacterizationRun::to_json() const {
@@ -114,19 +121,48 @@ std::optional<CharacterizationRun> reusable(const fs::path& trace, const fs::pat
   }
 }
 
+/// The run's measured segment's figures, its record written beside its trace (whole or not at
+/// all: it marks the run done).
+CharacterizationRun record_run(const CharacterizationCell& cell, std::uint64_t seed,
+                               const fs::path& trace, const MixRunSummary& summary,
+                               const fs::path& record) {
+  const SegmentRunSummary& measured = summary.segments.back();
+  CharacterizationRun run;
+  run.cell = cell;
+  run.seed = seed;
+  run.trace = trace;
+  run.first_frame_id = measured.first_frame_id;
+  run.frames = measured.frames;
+  const std::string mode = trace::to_string(cell.backend);
+  if (const auto it = measured.ate_rmse_m.find(mode); it != measured.ate_rmse_m.end()) {
+    run.ate_rmse_m = it->second;
+    run.ate_pairs = measured.ate_pairs.at(mode);
+  }
+  run.registration_failures = measured.registration_failures;
+  const fs::path partial = record.string() + ".partial";
+  std::ofstream(partial) << run.to_json().dump(2) << "\n";
+  fs::rename(partial, record);
+  return run;
+}
+
 }  // namespace
 
 std::vector<CharacterizationRun> run_characterization(const CharacterizationOptions& options,
                                                       const CharacterizationProgress& progress) {
   options.validate();
   fs::create_directories(options.trace_dir);
-  std::vector<CharacterizationRun> runs;
-  // A known scenario's runs (vio, slam, registration, one after another) share their first
-  // segment, SLAM over the mapping run: traced by the first of them that is not reused, replayed
-  // by the others (mix_runner.hpp, SegmentCache). One cache per (seed, scenario): the entry goes
-  // with the scenario's last run.
-  std::shared_ptr<SegmentCache> mapping;
-  std::optional<std::pair<std::uint64_t, Scenario>> mapping_of;
+  // Every run in order (seeds, then cells); a run whose trace and record are there is reused
+  // (checked first: a trace of the other precision is refused before any work).
+  struct Pending {
+    std::size_t index;  ///< its place in the runs
+    CharacterizationCell cell;
+    std::uint64_t seed;
+    std::string name;
+    MixRunOptions mix;
+    fs::path record;
+  };
+  std::vector<std::optional<CharacterizationRun>> runs;
+  std::vector<Pending> pending;
   for (int k = 0; k < options.seeds; ++k) {
     const std::uint64_t seed = kCharacterizationFirstSeed + static_cast<std::uint64_t>(k);
     for (const CharacterizationCell& cell : characterization_cells()) {
@@ -139,49 +175,72 @@ std::vector<CharacterizationRun> run_characterization(const CharacterizationOpti
                                            trace::to_string(cell.backend), seed);
       const fs::path trace = options.trace_dir / (name + ".db");
       const fs::path record = options.trace_dir / (name + ".json");
+      runs.emplace_back();
       if (!options.overwrite) {
-        if (std::optional<CharacterizationRun> done = reusable(trace, record, options.precision)) {
-          runs.push_back(std::move(*done));
-          continue;
-        }
-      }
-      if (mapping_of != std::pair(seed, cell.scenario)) {
-        mapping = make_segment_cache();
-        mapping_of = std::pair(seed, cell.scenario);
+        runs.back() = reusable(trace, record, options.precision);
+        if (runs.back()) continue;
       }
       MixRunOptions mix;
-      if (synthetic::has_map_run(cell.scenario)) mix.segment_cache = mapping;
       mix.plan = characterization_plan(cell, options.frames, options.resolution, seed);
       mix.data_dir = options.data_dir;
       mix.out = trace;
       mix.overwrite = true;
       mix.generator_threads = options.generator_threads;
       mix.precision = options.precision;
-      const MixRunSummary summary =
-          run_mix(mix, [&](std::string_view stage, std::size_t done, std::size_t total) {
-            if (progress) progress(name, stage, done, total);
-          });
-      const SegmentRunSummary& measured = summary.segments.back();
-      CharacterizationRun run;
-      run.cell = cell;
-      run.seed = seed;
-      run.trace = trace;
-      run.first_frame_id = measured.first_frame_id;
-      run.frames = measured.frames;
-      const std::string mode = trace::to_string(cell.backend);
-      if (const auto it = measured.ate_rmse_m.find(mode); it != measured.ate_rmse_m.end()) {
-        run.ate_rmse_m = it->second;
-        run.ate_pairs = measured.ate_pairs.at(mode);
-      }
-      run.registration_failures = measured.registration_failures;
-      // The record last, whole or not at all: it marks the run done.
-      const fs::path partial = record.string() + ".partial";
-      std::ofstream(partial) << run.to_json().dump(2) << "\n";
-      fs::rename(partial, record);
-      runs.push_back(std::move(run));
+      // The maps stay in memory (registration's mapping segment hands its map over within the
+      // run); saved, runs of two seeds traced at once would write one <world>-map.json together.
+      mix.save_maps = false;
+      pending.push_back({runs.size() - 1, cell, seed, name, std::move(mix), record});
     }
   }
-  return runs;
+  // The progress of runs traced at once, one call at a time.
+  std::mutex progress_mutex;
+  const auto progress_of = [&](const std::string& name) -> MixProgress {
+    return [&progress, &progress_mutex, name](std::string_view stage, std::size_t done,
+                                              std::size_t total) {
+      if (!progress) return;
+      const std::lock_guard lock(progress_mutex);
+      progress(name, stage, done, total);
+    };
+  };
+  // The worlds, maps' worlds and vocabularies first, one run after another (no two threads make
+  // the same files; a no-op for what is there), OpenCV single-threaded as when run_mix made
+  // them. A data folder this made goes again when that fails (run_mix's rule).
+  const bool data_dir_is_new = !fs::exists(options.data_dir);
+  try {
+    const frontend::TracingThreads single_threaded(false);
+    for (const Pending& p : pending) prepare_mix_data(p.mix, progress_of(p.name));
+  } catch (...) {
+    std::error_code ignored;
+    if (data_dir_is_new) fs::remove_all(options.data_dir, ignored);
+    throw;
+  }
+  // Then the tracing, one job per (seed, scenario): a known scenario's runs (vio, slam,
+  // registration, in this order) share their first segment, SLAM over the mapping run, traced by
+  // the first of them and replayed by the others (mix_runner.hpp, SegmentCache, one per group,
+  // not thread-safe: the group's runs stay on one thread, in order). Groups run on
+  // options.threads threads; each run writes its own trace, record and slot of `runs`.
+  std::vector<std::function<void()>> jobs;
+  for (std::size_t first = 0; first < pending.size();) {
+    std::size_t last = first + 1;
+    const auto group_of = [](const Pending& p) { return std::pair(p.seed, p.cell.scenario); };
+    while (last < pending.size() && group_of(pending[last]) == group_of(pending[first])) ++last;
+    jobs.emplace_back([&, first, last] {
+      const std::shared_ptr<SegmentCache> mapping = make_segment_cache();
+      for (std::size_t i = first; i < last; ++i) {
+        Pending& p = pending[i];
+        if (synthetic::has_map_run(p.cell.scenario)) p.mix.segment_cache = mapping;
+        const MixRunSummary summary = run_mix(p.mix, progress_of(p.name));
+        runs[p.index] = record_run(p.cell, p.seed, p.mix.out, summary, p.record);
+      }
+    });
+    first = last;
+  }
+  common::run_jobs(jobs, options.threads);
+  std::vector<CharacterizationRun> out;
+  out.reserve(runs.size());
+  for (std::optional<CharacterizationRun>& r : runs) out.push_back(std::move(*r));
+  return out;
 }
 
 }  // namespace edx::modes

@@ -53,16 +53,20 @@ struct CharacterizationOptions {
   int seeds = 3;                                ///< kCharacterizationFirstSeed and the next ones
   int frames = 400;                             ///< of the measured (and the mapping) run
   synthetic::Resolution resolution{1280, 720};  ///< Edx-Car's cameras
-  std::filesystem::path data_dir;               ///< generated worlds, maps, vocabulary
+  std::filesystem::path data_dir;               ///< generated worlds, vocabulary
   std::filesystem::path trace_dir;              ///< one trace per run
   int generator_threads = 2;
+  /// Runs traced at once: each (seed, scenario)'s runs on one thread, in order (they share the
+  /// mapping segment), groups on `threads` threads; the worlds are made first, one after another.
+  /// The runs, their traces' rows and their figures do not depend on it (host times aside).
+  int threads = 1;
   bool overwrite = false;  ///< replace traces already there (else they are reused)
   /// The backends' offloadable kernels' arithmetic (meta precision). A trace already there of
   /// another precision is an error, not reused.
   trace::Precision precision = trace::Precision::kFp64;
   /// The scenarios to run (empty: all four): a study of some of them, e.g. longer indoor runs.
   std::vector<synthetic::Scenario> scenarios;
-  /// Throws std::invalid_argument naming the option (seeds, frames, resolution).
+  /// Throws std::invalid_argument naming the option (seeds, frames, resolution, threads).
   void validate() const;
 };
 
@@ -80,12 +84,15 @@ struct CharacterizationRun {
   static CharacterizationRun from_json(const nlohmann::json& j);
 };
 
-/// Progress: the run ("indoor_known vio s1001"), its stage, done, total.
+/// Progress: the run ("indoor_known-vio-s1001"), its stage, done, total; one call at a time
+/// (runs traced at once take turns).
 using CharacterizationProgress = std::function<void(std::string_view run, std::string_view stage,
                                                     std::size_t done, std::size_t total)>;
 
-/// Runs every cell on every seed (characterization_cells × seeds). A run whose trace exists and
-/// whose record (<trace>.json) is beside it is reused unless `overwrite`.
+/// Runs every cell on every seed (characterization_cells × seeds), in that order. A run whose
+/// trace exists and whose record (<trace>.json) is beside it is reused unless `overwrite`. On a
+/// failure every group still runs to its end (or its first failing run), then the first failure
+/// in run order is thrown.
 std::vector<CharacterizationRun> run_characterization(
     const CharacterizationOptions& options, const CharacterizationProgress& progress = {});
 

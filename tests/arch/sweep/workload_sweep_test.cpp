@@ -9,9 +9,14 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <fstream>
+#include <mutex>
 #include <set>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "arch/results/results_db.hpp"
 #include "arch/sweep/sweep.hpp"
@@ -19,6 +24,7 @@
 #include "arch/sweep/workload.hpp"
 #include "tests/arch/sweep/sweep_fixture.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "workloads/trace/reader.hpp"
 
 namespace edx::arch {
 namespace {
@@ -419,6 +425,73 @@ TEST(Seeds, EachSeedIsTracedOnceIntoTheStore) {
   const std::vector<SeedTrace> again = trace_seeds(tracer, nlohmann::json::object(), {3, 4}, store);
   EXPECT_EQ(traced, 4);
   EXPECT_EQ(again[0].trace, first[2].trace);
+}
+
+/// The missing seeds traced at once (threads 2) give the traces of one thread: the same files
+/// (hash names) with the same rows, in seed order; the "tracing" messages come first, in seed
+/// order; the first failing seed's error is the one thrown.
+TEST(Seeds, TwoThreadsTraceTheSeedsAtOnceIntoTheSameTraces) {
+  edx::testing::TempDir dir;
+  std::mutex mutex;
+  std::condition_variable met;
+  int active = 0, peak = 0;
+  std::vector<std::string> events;
+  const auto event = [&](std::string e) {
+    const std::lock_guard lock(mutex);
+    events.push_back(std::move(e));
+  };
+  // Seeds 5 and 6 fail; a tracer waits (up to 20 s) until two have been tracing at once.
+  const WorkloadTracer tracer{
+      [](const nlohmann::json& w) {
+        return nlohmann::json{{"seed", std::stoi(w.at("seed").get<std::string>())}};
+      },
+      [&](const nlohmann::json& resolved, const fs::path& out, const fs::path&) {
+        const int seed = resolved.at("seed").get<int>();
+        event(fmt::format("trace {}", seed));
+        {
+          std::unique_lock lock(mutex);
+          peak = std::max(peak, ++active);
+          met.notify_all();
+          met.wait_for(lock, std::chrono::seconds(20), [&] { return peak >= 2; });
+          --active;
+        }
+        if (seed >= 5) throw std::runtime_error(fmt::format("seed {} broke", seed));
+        trace::TraceWriter writer(out, sweep_trace_meta());
+        for (int i = 0; i < 4; ++i) writer.append(sweep_frame(i, 1000 * seed + 500 * i));
+        writer.finish();
+      },
+      "v1"};
+  const auto message = [&](std::uint64_t seed) { event(fmt::format("tracing {}", seed)); };
+  const std::vector<SeedTrace> two =
+      trace_seeds(tracer, nlohmann::json::object(), {3, 1, 2}, dir.path() / "two", message, 2);
+  EXPECT_EQ(peak, 2);  // two seeds traced at once
+  ASSERT_GE(events.size(), 6u);
+  EXPECT_EQ(std::vector(events.begin(), events.begin() + 3),
+            (std::vector<std::string>{"tracing 3", "tracing 1", "tracing 2"}));
+  peak = 2;  // one thread: no waiting for a second
+  const std::vector<SeedTrace> one =
+      trace_seeds(tracer, nlohmann::json::object(), {3, 1, 2}, dir.path() / "one", {}, 1);
+  ASSERT_EQ(two.size(), 3u);
+  ASSERT_EQ(one.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(two[i].seed, (std::vector<std::uint64_t>{3, 1, 2})[i]);
+    EXPECT_EQ(one[i].seed, two[i].seed);
+    const std::string file = workload_hash({{"seed", static_cast<int>(two[i].seed)}}, "v1") + ".db";
+    EXPECT_EQ(two[i].trace, dir.path() / "two" / file);
+    EXPECT_EQ(one[i].trace, dir.path() / "one" / file);
+    EXPECT_EQ(trace::TraceReader(two[i].trace).read_all(),
+              trace::TraceReader(one[i].trace).read_all());
+  }
+  // Seeds 5 and 6 fail at once: seed 5's error (the first in order) is thrown, seed 4 is stored.
+  peak = 0;
+  EXPECT_THAT(
+      [&] {
+        trace_seeds(tracer, nlohmann::json::object(), {4, 5, 6}, dir.path() / "two", {}, 2);
+      },
+      ::testing::ThrowsMessage<std::runtime_error>(
+          HasSubstr(R"(workload {"seed":"5"}: seed 5 broke)")));
+  EXPECT_TRUE(
+      fs::is_regular_file(dir.path() / "two" / (workload_hash({{"seed", 4}}, "v1") + ".db")));
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "tests/support/temp_dir.hpp"
+#include "tests/support/trace_rows.hpp"
 #include "workloads/backend/registration/bow/training.hpp"
 #include "workloads/datasets/dataset.hpp"
 #include "workloads/datasets/synthetic/generator.hpp"
@@ -63,19 +64,7 @@ TEST(MixRunner, PaperMixSwitchesModesByScenario) {
   EXPECT_FALSE(frames[40].frame.map_available);
 }
 
-/// A trace's records without their host times (the only fields two tracings of the same work
-/// may differ in).
-std::vector<trace::FrameTrace> without_host_times(std::vector<trace::FrameTrace> frames) {
-  for (trace::FrameTrace& f : frames) {
-    f.frame.frontend_host_ns = f.frame.backend_host_ns = 0;
-    for (trace::TaskRecord& t : f.tasks) t.host_ns = 0;
-    for (trace::KernelRecord& k : f.kernels) {
-      k.host_ns = 0;
-      for (trace::OpRecord& op : k.ops) op.host_ns = 0;
-    }
-  }
-  return frames;
-}
+using edx::testing::without_host_times;
 
 /// The characterization's known-scenario runs share their mapping segment (SegmentCache): the
 /// registration run that replays the vio run's mapping segment writes the same rows and measures
