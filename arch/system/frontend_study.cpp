@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <exception>
 #include <functional>
 #include <stdexcept>
 #include <tuple>
@@ -161,8 +162,9 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   study.frames = frames.size();
   // Four independent parts (common::run_jobs: an error is the first part's, in this order, as
   // when they ran one after another): (a) the host times and the CPU baseline's latency, (b) the
-  // accelerator's frontend one frame at a time, (c) pipelined, (d) the frames' preparation for
-  // the system model. Each part reads the resolution itself: (a) first, as it always did.
+  // accelerator's frontend one frame at a time, (c) pipelined and the memory plan its buffers
+  // need, (d) the frames' preparation for the system model. Each part reads the resolution
+  // itself: (a) first, as it always did.
   const auto level0_pixels = [&] {
     const auto [width, height] = parse_wxh(resolution->second, trace_name);
     return static_cast<std::int64_t>(width) * height;
@@ -174,6 +176,8 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   FrontendConfig pipelined = sequential;
   pipelined.pipeline_fe_sm = true;
   FrontendSimResult one_at_a_time, overlapped;
+  FrontendMemoryPlan memory;
+  std::exception_ptr memory_error;
   auto prepared = std::make_shared<std::vector<FrontendStudy::PreparedFrame>>(frames.size());
   const std::vector<std::function<void()>> parts = {
       [&] {
@@ -201,6 +205,15 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
         with_timeline.link = platform.link;
         with_timeline.transfers = platform.transfers;
         overlapped = simulate_frontend(frames, level0_pixels(), pipelined, with_timeline);
+        // The memory plan sizes the pipelined run's buffers: made here, beside the other parts,
+        // its error kept to be raised after theirs (it came after all four of them).
+        try {
+          const auto [width, height] = parse_wxh(resolution->second, trace_name);
+          memory = plan_frontend_memory(frames, overlapped, width, height, pipelined,
+                                        Device::by_name(platform.device), *platform.memory);
+        } catch (...) {
+          memory_error = std::current_exception();
+        }
       },
       [&] {
         const std::int64_t level0 = level0_pixels();
@@ -212,6 +225,7 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
         }
       }};
   common::run_jobs(parts, timeline.timeline ? 1 : options.threads);
+  if (memory_error) std::rethrow_exception(memory_error);
   study.prepared_frames = std::move(prepared);
 
   std::vector<double> accel, fe, sm, tm;
@@ -238,8 +252,7 @@ FrontendStudy study_frontend(const Platform& platform, const std::vector<trace::
   study.fps_without_pipelining = one_at_a_time.throughput_fps;
   study.fps_with_pipelining = overlapped.throughput_fps;
   study.utilization = overlapped.utilization;
-  study.memory = plan_frontend_memory(frames, overlapped, study.width, study.height, pipelined,
-                                      Device::by_name(platform.device), *platform.memory);
+  study.memory = std::move(memory);
   return study;
 }
 

@@ -83,6 +83,24 @@ class KernelShapeMemo {
   std::unordered_map<const trace::KernelRecord*, Costs, ShapeHash, SameShape> costs_;
 };
 
+/// Bounds of up to `parts` runs of consecutive frames with about as many kernel rows each
+/// (b[0] = 0, b.back() = frames.size(); one run when `parts` <= 1): the runs a pass over the
+/// frames' kernels splits into to go side by side.
+std::vector<std::size_t> frame_runs(const std::vector<trace::FrameTrace>& frames, int parts) {
+  std::vector<std::size_t> bounds{0};
+  std::size_t total = 0;
+  for (const trace::FrameTrace& f : frames) total += f.kernels.size();
+  const std::size_t n = static_cast<std::size_t>(std::max(1, parts));
+  std::size_t seen = 0;
+  for (std::size_t f = 0; f < frames.size() && bounds.size() < n; ++f) {
+    seen += frames[f].kernels.size();
+    // Run i ends at the first frame whose running count reaches i/n of the kernels.
+    if (seen * n >= total * bounds.size() && f + 1 < frames.size()) bounds.push_back(f + 1);
+  }
+  bounds.push_back(frames.size());
+  return bounds;
+}
+
 /// The study's prepared frames when it has them for these `frames` (FrontendStudy::
 /// prepared_frames), else nullptr.
 const FrontendStudy::PreparedFrame* prepared_frames(const FrontendStudy& study,
@@ -384,21 +402,23 @@ void simulate_platform_des(const Platform& platform, const std::vector<trace::Fr
         [&] { accelerated.streamed = run_variant(work, platform, true, false, timeline_options); });
     common::run_jobs(des_runs, options.threads);
   }
-  for (const auto& [v, runs] :
-       {std::pair<VariantResult*, const BaselineRuns*>{&r.baseline, baseline.get()},
-        std::pair<VariantResult*, const BaselineRuns*>{&r.accelerated, &accelerated}}) {
+  // Each variant's frames and summaries from its runs (the two side by side).
+  const auto summarize_variant = [&](VariantResult& v, const BaselineRuns& runs) {
     for (std::size_t f = 0; f < frames.size(); ++f) {
-      const SystemFrameTiming& t = runs->isolated.frames[f];
-      FrameResult& out = v->frames[f];
+      const SystemFrameTiming& t = runs.isolated.frames[f];
+      FrameResult& out = v.frames[f];
       out.frontend_ms = sim::to_ms(t.frontend_end - t.start);
       out.backend_ms = sim::to_ms(t.end - t.backend_start);
       out.e2e_ms = sim::to_ms(t.end - t.start);
       out.host_busy_ms = std::min(t.host_busy_ms, out.e2e_ms);
     }
-    v->isolated_causes = cause_table(runs->isolated, v->frames);
-    v->stream = summarize_stream(runs->streamed, v->frames, platform.system.sensor_fps, platform);
-    v->streamed_causes = cause_table(runs->streamed, v->frames);
-  }
+    v.isolated_causes = cause_table(runs.isolated, v.frames);
+    v.stream = summarize_stream(runs.streamed, v.frames, platform.system.sensor_fps, platform);
+    v.streamed_causes = cause_table(runs.streamed, v.frames);
+  };
+  common::run_jobs({[&] { summarize_variant(r.baseline, *baseline); },
+                    [&] { summarize_variant(r.accelerated, accelerated); }},
+                   options.threads);
   if (options.timeline) {
     r.timeline_json = timeline.to_json().dump();
     r.timeline_first = options.timeline_first;
@@ -707,42 +727,71 @@ SystemResult simulate_on_study(const Platform& platform,
   // The study's mapping: frontend_study_key includes the host, so it is this platform's. The
   // kernels' host times and the accelerated backend's are the accelerated system's host's.
   const PlatformHostTimes& host = study.accelerated_host_times();
+  // The accelerable kernels in trace order, costed in up to `options.threads` runs of frames
+  // side by side (frame_runs), each with its own shape memo, then joined in order: a shape's
+  // costs are a function of the shape and the platform, so which run costs it changes nothing,
+  // and an error is the first run's, as one pass over the frames would meet it.
+  struct Candidates {
+    std::vector<KernelDecision> decisions;
+    std::vector<KernelInvocation> invocations;
+    std::vector<std::shared_ptr<const OffloadPlan>> accel;
+    std::vector<KernelTransfer> transfers;
+  };
+  const auto collect = [&](std::size_t first, std::size_t last, Candidates& out) {
+    KernelShapeMemo memo(platform);
+    for (std::size_t f = first; f < last; ++f) {
+      const trace::FrameTrace& frame = frames[f];
+      for (std::size_t k = 0; k < frame.kernels.size(); ++k) {
+        const trace::KernelRecord& kernel = frame.kernels[k];
+        if (!platform.scheduler.offloads(kernel.kernel) || !has_ops(kernel)) continue;
+        const KernelShapeMemo::Costs& costs = memo.costs(kernel);
+        const OffloadPlan* a = costs.plan.get();
+        KernelDecision d;
+        d.frame_id = frame.frame.frame_id;
+        d.kernel_seq = static_cast<int>(k);
+        d.kernel = kernel.kernel;
+        d.size = double(kernel.m);
+        d.host_ms = host.kernel_ms[f][k];
+        d.compute_ms = 1e3 * a->compute_s;
+        d.transfer_ms = 1e3 * costs.link_s;
+        d.fits_spm = a->fits_local_memory;
+        d.spill_ms = 1e3 * costs.spill_s;
+        d.spill_bytes = a->spill.bytes();
+        d.accel_ms = d.compute_ms + d.transfer_ms + d.spill_ms;
+        KernelInvocation inv;
+        inv.frame_index = f;
+        inv.kernel = kernel.kernel;
+        inv.size = d.size;
+        inv.host_s = 1e-3 * d.host_ms;
+        // The scheduler's estimate is the same analytical profile + idle-link time (spills
+        // included: a kernel whose spill costs more than the host saves stays there).
+        inv.accel_s = inv.accel_estimate_s = 1e-3 * d.accel_ms;
+        out.invocations.push_back(inv);
+        out.decisions.push_back(std::move(d));
+        out.accel.push_back(costs.plan);
+        out.transfers.push_back(costs.transfer);
+      }
+    }
+  };
+  const std::vector<std::size_t> bounds = frame_runs(frames, options.threads);
+  std::vector<Candidates> runs(bounds.size() - 1);
+  std::vector<std::function<void()>> costing;
+  for (std::size_t i = 0; i + 1 < bounds.size(); ++i) {
+    costing.push_back([&, i] { collect(bounds[i], bounds[i + 1], runs[i]); });
+  }
+  common::run_jobs(costing, options.threads);
   std::vector<KernelInvocation> invocations;
   std::vector<std::shared_ptr<const OffloadPlan>> accel;
   std::vector<KernelTransfer> transfers;
-  KernelShapeMemo memo(platform);
-  for (std::size_t f = 0; f < frames.size(); ++f) {
-    const trace::FrameTrace& frame = frames[f];
-    for (std::size_t k = 0; k < frame.kernels.size(); ++k) {
-      const trace::KernelRecord& kernel = frame.kernels[k];
-      if (!platform.scheduler.offloads(kernel.kernel) || !has_ops(kernel)) continue;
-      const KernelShapeMemo::Costs& costs = memo.costs(kernel);
-      const OffloadPlan* a = costs.plan.get();
-      KernelDecision d;
-      d.frame_id = frame.frame.frame_id;
-      d.kernel_seq = static_cast<int>(k);
-      d.kernel = kernel.kernel;
-      d.size = double(kernel.m);
-      d.host_ms = host.kernel_ms[f][k];
-      d.compute_ms = 1e3 * a->compute_s;
-      d.transfer_ms = 1e3 * costs.link_s;
-      d.fits_spm = a->fits_local_memory;
-      d.spill_ms = 1e3 * costs.spill_s;
-      d.spill_bytes = a->spill.bytes();
-      d.accel_ms = d.compute_ms + d.transfer_ms + d.spill_ms;
-      KernelInvocation inv;
-      inv.frame_index = f;
-      inv.kernel = kernel.kernel;
-      inv.size = d.size;
-      inv.host_s = 1e-3 * d.host_ms;
-      // The scheduler's estimate is the same analytical profile + idle-link time (spills
-      // included: a kernel whose spill costs more than the host saves stays there).
-      inv.accel_s = inv.accel_estimate_s = 1e-3 * d.accel_ms;
-      invocations.push_back(inv);
-      r.decisions.push_back(d);
-      accel.push_back(costs.plan);
-      transfers.push_back(costs.transfer);
-    }
+  for (Candidates& c : runs) {
+    const auto append = [](auto& to, auto& from) {
+      to.insert(to.end(), std::make_move_iterator(from.begin()),
+                std::make_move_iterator(from.end()));
+    };
+    append(r.decisions, c.decisions);
+    append(invocations, c.invocations);
+    append(accel, c.accel);
+    append(transfers, c.transfers);
   }
   OffloadScheduler scheduler(platform.scheduler.policy, platform.scheduler.training_fraction);
   std::vector<ScheduleDecision> decided;
@@ -847,10 +896,16 @@ SystemResult simulate_on_study(const Platform& platform,
   if (options.model == SystemModelKind::kDes) {
     simulate_platform_des(platform, frames, study, r, accel, transfers, options);
   }
-  for (FrameResult& f : r.baseline.frames) set_energy(f, platform, false);
-  for (FrameResult& f : r.accelerated.frames) set_energy(f, platform, true);
-  finish_variant(r.baseline, cpu_fe_end);
-  finish_variant(r.accelerated, study.frame_pipelined_end_ms);
+  // Each variant's energy and summaries (the two side by side).
+  common::run_jobs({[&] {
+                      for (FrameResult& f : r.baseline.frames) set_energy(f, platform, false);
+                      finish_variant(r.baseline, cpu_fe_end);
+                    },
+                    [&] {
+                      for (FrameResult& f : r.accelerated.frames) set_energy(f, platform, true);
+                      finish_variant(r.accelerated, study.frame_pipelined_end_ms);
+                    }},
+                   options.threads);
 
   std::vector<MemoryStructure> memories;
   for (const StructureUsage& s : study.memory.bram.structures) memories.push_back(s.structure);
