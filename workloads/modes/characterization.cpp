@@ -188,7 +188,8 @@ std::vector<CharacterizationRun> run_characterization(const CharacterizationOpti
       mix.generator_threads = options.generator_threads;
       mix.precision = options.precision;
       // The maps stay in memory (registration's mapping segment hands its map over within the
-      // run); saved, runs of two seeds traced at once would write one <world>-map.json together.
+      // run); saved, a seed's scenarios without and with a map, which share their world, would
+      // write one <world>-map.json together from two threads.
       mix.save_maps = false;
       pending.push_back({runs.size() - 1, cell, seed, name, std::move(mix), record});
     }
